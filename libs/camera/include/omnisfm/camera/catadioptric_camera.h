@@ -1,0 +1,100 @@
+#pragma once
+// The exact, generally noncentral, catadioptric camera: an inner camera looking at a mirror of
+// revolution placed by a 5-DOF mirror-to-camera transform.
+//
+// Projection of X (frame C): the mirror point m(s, phi) where the angle of incidence equals the
+// angle of reflection between the directions to X and to the inner camera (the camera's centre, or
+// -z for an orthographic camera). With w = unit(camera - m) + unit(X - m), the two equations
+//   F(s, phi) = ( w . dm/ds ,  w . e_phi ) = 0
+// (w along the normal) are solved by Newton's method from the aligned solution, then m is
+// projected by the inner camera. Derivatives come from the implicit function theorem:
+//   d(s, phi)/dy = -(dF/d(s, phi))^-1 dF/dy   for y = X, shape, the mirror pose.
+//
+// Unprojection: inner camera ray -> first intersection with the mirror -> reflected ray, returned
+// as an origin on the mirror and a unit direction, in frame C.
+//
+// A point or pixel with no valid reflection (behind the mirror, beyond the rim, in the camera's own
+// reflection, on the axis, at the camera) is reported invalid; outputs are then left unspecified.
+//
+// Parameters, wherever they appear as one vector: the inner camera's, then the mirror shape's,
+// then the mirror pose (rx ry tx ty tz).
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "omnisfm/camera/inner_camera.h"
+#include "omnisfm/camera/mirror_pose.h"
+#include "omnisfm/camera/mirror_profile.h"
+
+namespace omnisfm::camera {
+
+// Where a projected point reflects, in the mirror frame.
+struct Reflection {
+  double s = 0, phi = 0;      // profile parameter and azimuth
+  Eigen::Vector3d point_C;    // the mirror point in frame C
+  int iterations = 0;         // Newton iterations used
+};
+
+class CatadioptricCamera {
+ public:
+  CatadioptricCamera(std::unique_ptr<InnerCamera> inner, std::unique_ptr<MirrorProfile> mirror,
+                     const MirrorPose& mirror_pose, int image_width, int image_height);
+  CatadioptricCamera(const CatadioptricCamera& other);
+  CatadioptricCamera& operator=(const CatadioptricCamera& other);
+  CatadioptricCamera(CatadioptricCamera&&) noexcept = default;
+  CatadioptricCamera& operator=(CatadioptricCamera&&) noexcept = default;
+
+  // Pixel of a point X in frame C. J_X: d pixel / d X. J_params: d pixel / d params(), a
+  // 2 x num_params() column-major array. Returns false where X has no valid reflection.
+  bool project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
+               Eigen::Matrix<double, 2, 3>* J_X = nullptr, double* J_params = nullptr,
+               Reflection* reflection = nullptr) const;
+
+  // The reflected ray of a pixel, in frame C: origin on the mirror, unit direction.
+  bool unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,
+                 Eigen::Vector3d* direction) const;
+
+  int num_params() const;
+  std::vector<std::string> param_names() const;
+  Eigen::VectorXd params() const;
+  // Returns false, changing nothing, when any part is out of its domain.
+  bool set_params(const Eigen::VectorXd& params);
+  int shape_param_offset() const { return inner_->num_params(); }
+  int pose_param_offset() const { return inner_->num_params() + mirror_->num_shape_params(); }
+
+  const InnerCamera& inner() const { return *inner_; }
+  const MirrorProfile& mirror() const { return *mirror_; }
+  const MirrorPose& mirror_pose() const { return pose_; }
+  void set_mirror_pose(const MirrorPose& pose);
+  int image_width() const { return width_; }
+  int image_height() const { return height_; }
+  bool in_image(const Eigen::Vector2d& pixel) const {
+    return pixel.x() >= -0.5 && pixel.y() >= -0.5 && pixel.x() <= width_ - 0.5 &&
+           pixel.y() <= height_ - 0.5;
+  }
+
+ private:
+  // Rebuilds what is derived from the parameters: rotation, the starting-guess table.
+  void refresh();
+  double initial_parameter(const Eigen::Vector3d& X_M) const;
+
+  std::unique_ptr<InnerCamera> inner_;
+  std::unique_ptr<MirrorProfile> mirror_;
+  MirrorPose pose_;
+  int width_ = 0, height_ = 0;
+
+  // Derived from the parameters by refresh().
+  Eigen::Matrix3d R_;                   // camera_from_mirror
+  Eigen::Matrix3d dR_drx_, dR_dry_;
+  Eigen::Vector3d centre_M_;            // inner camera centre in frame M (central cameras)
+  Eigen::Vector3d toward_camera_M_;     // -z of C in frame M (orthographic cameras)
+  double domain_lo_ = 0, domain_hi_ = 0;
+  double patch_z_mid_ = 0;              // a representative height of the valid patch
+  double box_rho_max_ = 0, box_z_min_ = 0, box_z_max_ = 0;  // bounding region of the patch
+  // Aligned, far-point starting guess: outgoing polar angle (decreasing) -> profile parameter.
+  std::vector<double> guess_angle_, guess_s_;
+};
+
+}  // namespace omnisfm::camera

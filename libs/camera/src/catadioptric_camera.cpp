@@ -1,0 +1,391 @@
+#include "omnisfm/camera/catadioptric_camera.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace omnisfm::camera {
+namespace {
+
+constexpr int kMaxNewtonIterations = 30;
+constexpr int kGuessTableSize = 64;
+constexpr int kUnprojectMarchSteps = 24;
+// Steps below this fraction of the solve domain (and radians in azimuth) mean convergence: far
+// below 1e-9 px for any realistic focal length, since Newton converges quadratically.
+constexpr double kStepTolerance = 1e-13;
+// A reflection must face both the camera and the point by more than this cosine.
+constexpr double kMinGrazingCosine = 1e-9;
+
+// The mirror surface and its local frame at (s, phi), in frame M.
+struct SurfacePoint {
+  MeridianPoint meridian;
+  Eigen::Vector3d m, dm_ds, d2m_ds2, e_rho, e_phi;
+
+  SurfacePoint(const MirrorProfile& mirror, double s, double phi, MeridianShapeJacobian* J_shape) {
+    mirror.evaluate(s, &meridian, J_shape);
+    const double c = std::cos(phi), sn = std::sin(phi);
+    e_rho << c, sn, 0;
+    e_phi << -sn, c, 0;
+    m << meridian.rho * c, meridian.rho * sn, meridian.z;
+    dm_ds << meridian.drho * c, meridian.drho * sn, meridian.dz;
+    d2m_ds2 << meridian.d2rho * c, meridian.d2rho * sn, meridian.d2z;
+  }
+
+  // Unit normal on the reflective (camera) side: the meridian tangent turned toward -z, since s
+  // grows away from the axis.
+  Eigen::Vector3d outward_normal() const {
+    return (meridian.dz * e_rho - meridian.drho * Eigen::Vector3d::UnitZ()).normalized();
+  }
+};
+
+Eigen::Matrix3d tangent_projector(const Eigen::Vector3d& unit) {
+  return Eigen::Matrix3d::Identity() - unit * unit.transpose();
+}
+
+}  // namespace
+
+CatadioptricCamera::CatadioptricCamera(std::unique_ptr<InnerCamera> inner,
+                                       std::unique_ptr<MirrorProfile> mirror,
+                                       const MirrorPose& mirror_pose, int image_width,
+                                       int image_height)
+    : inner_(std::move(inner)),
+      mirror_(std::move(mirror)),
+      pose_(mirror_pose),
+      width_(image_width),
+      height_(image_height) {
+  if (!inner_ || !mirror_) throw std::invalid_argument("catadioptric camera: missing part");
+  if (width_ <= 0 || height_ <= 0)
+    throw std::invalid_argument("catadioptric camera: image size must be positive");
+  if (!pose_.as_vector().allFinite())
+    throw std::invalid_argument("catadioptric camera: mirror pose must be finite");
+  refresh();
+}
+
+CatadioptricCamera::CatadioptricCamera(const CatadioptricCamera& other)
+    : inner_(other.inner_->clone()),
+      mirror_(other.mirror_->clone()),
+      pose_(other.pose_),
+      width_(other.width_),
+      height_(other.height_) {
+  refresh();
+}
+
+CatadioptricCamera& CatadioptricCamera::operator=(const CatadioptricCamera& other) {
+  if (this != &other) *this = CatadioptricCamera(other);
+  return *this;
+}
+
+void CatadioptricCamera::set_mirror_pose(const MirrorPose& pose) {
+  pose_ = pose;
+  refresh();
+}
+
+int CatadioptricCamera::num_params() const {
+  return inner_->num_params() + mirror_->num_shape_params() + 5;
+}
+
+std::vector<std::string> CatadioptricCamera::param_names() const {
+  std::vector<std::string> names = inner_->param_names();
+  for (const auto& n : mirror_->shape_param_names()) names.push_back(n);
+  for (const char* n : {"mirror_rx", "mirror_ry", "mirror_tx", "mirror_ty", "mirror_tz"})
+    names.emplace_back(n);
+  return names;
+}
+
+Eigen::VectorXd CatadioptricCamera::params() const {
+  Eigen::VectorXd v(num_params());
+  v << inner_->params(), mirror_->shape_params(), pose_.as_vector();
+  return v;
+}
+
+bool CatadioptricCamera::set_params(const Eigen::VectorXd& v) {
+  if (v.size() != num_params() || !v.allFinite()) return false;
+  const int ni = inner_->num_params(), ns = mirror_->num_shape_params();
+  const Eigen::VectorXd old_inner = inner_->params();
+  if (!inner_->set_params(v.head(ni))) return false;
+  if (!mirror_->set_shape_params(v.segment(ni, ns))) {
+    inner_->set_params(old_inner);
+    return false;
+  }
+  pose_ = MirrorPose::from_vector(v.tail<5>());
+  refresh();
+  return true;
+}
+
+void CatadioptricCamera::refresh() {
+  R_ = pose_.rotation();
+  pose_.rotation_derivatives(&dR_drx_, &dR_dry_);
+  centre_M_ = -R_.transpose() * pose_.translation();
+  toward_camera_M_ = -R_.row(2).transpose();
+  mirror_->solve_domain(&domain_lo_, &domain_hi_);
+
+  // Bounding region of the valid patch, for unprojection.
+  box_rho_max_ = 0;
+  box_z_min_ = INFINITY;
+  box_z_max_ = -INFINITY;
+  constexpr int kPatchSamples = 64;
+  for (int i = 0; i <= kPatchSamples; ++i) {
+    const double s = mirror_->s_min() + (mirror_->s_max() - mirror_->s_min()) * i / kPatchSamples;
+    MeridianPoint p;
+    mirror_->evaluate(s, &p, nullptr);
+    box_rho_max_ = std::max(box_rho_max_, p.rho);
+    box_z_min_ = std::min(box_z_min_, p.z);
+    box_z_max_ = std::max(box_z_max_, p.z);
+    if (i == kPatchSamples / 2) patch_z_mid_ = p.z;
+  }
+
+  // The aligned, far-point solution: where a ray leaves the mirror, as a function of s, for a
+  // camera on the axis at the height of the actual one.
+  guess_angle_.resize(kGuessTableSize);
+  guess_s_.resize(kGuessTableSize);
+  for (int i = 0; i < kGuessTableSize; ++i) {
+    const double s = domain_hi_ * (i + 0.5) / kGuessTableSize;
+    const SurfacePoint sp(*mirror_, s, 0.0, nullptr);
+    const Eigen::Vector3d n = sp.outward_normal();
+    const Eigen::Vector3d u =
+        inner_->is_orthographic()
+            ? Eigen::Vector3d(0, 0, -1)
+            : (Eigen::Vector3d(0, 0, centre_M_.z()) - sp.m).normalized();
+    const Eigen::Vector3d out = 2 * u.dot(n) * n - u;
+    guess_s_[i] = s;
+    guess_angle_[i] = std::atan2(out.x(), out.z());
+  }
+}
+
+double CatadioptricCamera::initial_parameter(const Eigen::Vector3d& X_M) const {
+  const double angle = std::atan2(std::hypot(X_M.x(), X_M.y()), X_M.z() - patch_z_mid_);
+  // The nearest tabulated outgoing angle; the table need not be monotonic.
+  int best = 0;
+  double best_error = INFINITY;
+  for (int i = 0; i < kGuessTableSize; ++i) {
+    const double e = std::abs(guess_angle_[i] - angle);
+    if (e < best_error) {
+      best_error = e;
+      best = i;
+    }
+  }
+  return guess_s_[best];
+}
+
+bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
+                                 Eigen::Matrix<double, 2, 3>* J_X, double* J_params,
+                                 Reflection* reflection) const {
+  // The camera's own centre sees only itself.
+  if (!X.allFinite() || (!inner_->is_orthographic() && X.norm() < 1e-12)) return false;
+  const Eigen::Vector3d& t = pose_.translation();
+  const Eigen::Vector3d X_M = R_.transpose() * (X - t);
+  const bool central = !inner_->is_orthographic();
+  const bool want_jacobians = J_X || J_params;
+
+  double s = initial_parameter(X_M);
+  double phi = std::atan2(X_M.y(), X_M.x());
+  const double s_scale = domain_hi_;
+
+  // Newton's method on F(s, phi) = (w . dm/ds, w . e_phi), w = unit(camera - m) + unit(X - m).
+  MeridianShapeJacobian J_shape;
+  Eigen::Vector3d u, v, w;
+  double du = 0, dv = 0;
+  Eigen::Matrix3d W;
+  Eigen::Matrix2d A;
+  bool converged = false;
+  int iteration = 0;
+  int boundary_hits = 0;
+  SurfacePoint sp(*mirror_, s, phi, nullptr);
+  for (; iteration < kMaxNewtonIterations; ++iteration) {
+    sp = SurfacePoint(*mirror_, s, phi, nullptr);
+    if (central) {
+      const Eigen::Vector3d to_camera = centre_M_ - sp.m;
+      du = to_camera.norm();
+      u = to_camera / du;
+    } else {
+      u = toward_camera_M_;
+    }
+    const Eigen::Vector3d to_point = X_M - sp.m;
+    dv = to_point.norm();
+    if (!(dv > 1e-12) || (central && !(du > 1e-12))) return false;
+    v = to_point / dv;
+    w = u + v;
+
+    // dw/dm: unit vectors toward fixed points turn as m moves.
+    W = -tangent_projector(v) / dv;
+    if (central) W -= tangent_projector(u) / du;
+    const double rho = sp.meridian.rho, drho = sp.meridian.drho;
+    const Eigen::Vector3d W_ts = W * sp.dm_ds, W_ephi = W * sp.e_phi;
+    const Eigen::Vector2d F(w.dot(sp.dm_ds), w.dot(sp.e_phi));
+    A << sp.dm_ds.dot(W_ts) + w.dot(sp.d2m_ds2), rho * sp.dm_ds.dot(W_ephi) + drho * w.dot(sp.e_phi),
+        sp.e_phi.dot(W_ts), rho * sp.e_phi.dot(W_ephi) - w.dot(sp.e_rho);
+    const double det = A.determinant();
+    if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
+    Eigen::Vector2d step = -(Eigen::Matrix2d() << A(1, 1), -A(0, 1), -A(1, 0), A(0, 0)).finished() *
+                           F / det;
+    if (std::abs(step[0]) < kStepTolerance * s_scale && std::abs(step[1]) < kStepTolerance) {
+      converged = true;
+      break;
+    }
+    // Damp wild first steps; the solution is near the aligned guess.
+    step[0] = std::clamp(step[0], -0.25 * s_scale, 0.25 * s_scale);
+    step[1] = std::clamp(step[1], -0.5, 0.5);
+    s += step[0];
+    phi += step[1];
+    if (s < domain_lo_ || s > domain_hi_) {
+      s = std::clamp(s, domain_lo_, domain_hi_);
+      if (++boundary_hits > 2) return false;
+    }
+  }
+  if (!converged) return false;
+  // The same point named with a positive profile parameter; the derivatives below keep the
+  // solver's (s, phi), which sp describes.
+  const double s_positive = std::abs(s);
+  const double phi_positive = std::remainder(s < 0 ? phi + M_PI : phi, 2 * M_PI);
+  if (!mirror_->is_valid_parameter(s_positive)) return false;
+
+  // The reflection must happen on the mirror's front face, seen by both camera and point.
+  const Eigen::Vector3d normal = sp.outward_normal();
+  if (!(u.dot(normal) > kMinGrazingCosine) || !(v.dot(normal) > kMinGrazingCosine)) return false;
+
+  const Eigen::Vector3d m_C = R_ * sp.m + t;
+  Eigen::Matrix<double, 2, 3> J_pixel_mC;
+  if (!inner_->project(m_C, pixel, want_jacobians ? &J_pixel_mC : nullptr, J_params)) return false;
+  if (reflection) *reflection = {s_positive, phi_positive, m_C, iteration};
+  if (!want_jacobians) return true;
+
+  // Implicit function theorem: d(s, phi)/dy = -A^-1 dF/dy, so dm/dy = K dF/dy (+ direct terms).
+  Eigen::Matrix<double, 3, 2> B;
+  B << sp.dm_ds, sp.meridian.rho * sp.e_phi;
+  const Eigen::Matrix<double, 3, 2> K = -B * A.inverse();
+  Eigen::Matrix<double, 2, 3> P;
+  P << sp.dm_ds.transpose(), sp.e_phi.transpose();
+  const Eigen::Matrix<double, 2, 3> dF_dXM = P * tangent_projector(v) / dv;
+  const Eigen::Matrix<double, 2, 3> J_pixel_mM = J_pixel_mC * R_;
+
+  if (J_X) *J_X = J_pixel_mM * K * dF_dXM * R_.transpose();
+  if (!J_params) return true;
+
+  Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic>> J(J_params, 2, num_params());
+  // The inner camera's columns were written by inner_->project.
+
+  const int ns = mirror_->num_shape_params();
+  if (ns > 0) {
+    mirror_->evaluate(s, &sp.meridian, &J_shape);
+    for (int j = 0; j < ns; ++j) {
+      const Eigen::Vector3d dm = sp.e_rho * J_shape(0, j) + Eigen::Vector3d::UnitZ() * J_shape(1, j);
+      const Eigen::Vector3d dts =
+          sp.e_rho * J_shape(2, j) + Eigen::Vector3d::UnitZ() * J_shape(3, j);
+      const Eigen::Vector2d dF(sp.dm_ds.dot(W * dm) + w.dot(dts), sp.e_phi.dot(W * dm));
+      J.col(shape_param_offset() + j) = J_pixel_mM * (K * dF + dm);
+    }
+  }
+
+  // Mirror pose: X_M = R^T (X - t); camera centre c_M = -R^T t; toward-camera u_M = -R^T z.
+  const Eigen::Matrix<double, 2, 3> dF_dcentre =
+      central ? Eigen::Matrix<double, 2, 3>(P * tangent_projector(u) / du)
+              : Eigen::Matrix<double, 2, 3>::Zero();
+  const int po = pose_param_offset();
+  const Eigen::Matrix3d* dRs[2] = {&dR_drx_, &dR_dry_};
+  for (int j = 0; j < 2; ++j) {
+    const Eigen::Matrix3d dRt = dRs[j]->transpose();
+    Eigen::Vector2d dF = dF_dXM * (dRt * (X - t));
+    if (central)
+      dF += dF_dcentre * (-dRt * t);
+    else
+      dF += P * (-dRt.col(2));
+    J.col(po + j) = J_pixel_mC * (*dRs[j] * sp.m + R_ * (K * dF));
+  }
+  const Eigen::Matrix<double, 2, 3> dF_dt = -(dF_dXM + dF_dcentre) * R_.transpose();
+  J.middleCols<3>(po + 2) = J_pixel_mC * (Eigen::Matrix3d::Identity() + R_ * K * dF_dt);
+  return true;
+}
+
+bool CatadioptricCamera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,
+                                   Eigen::Vector3d* direction) const {
+  Eigen::Vector3d o_C, d_C;
+  if (!pixel.allFinite() || !inner_->unproject(pixel, &o_C, &d_C)) return false;
+  const Eigen::Vector3d& t = pose_.translation();
+  const Eigen::Vector3d o = R_.transpose() * (o_C - t);
+  const Eigen::Vector3d d = R_.transpose() * d_C;
+
+  // The stretch of the ray inside the bounding cylinder and slab of the valid patch.
+  const double margin = 0.05 * (box_z_max_ - box_z_min_ + box_rho_max_);
+  double lo = 0, hi = INFINITY;
+  const double z_lo = box_z_min_ - margin, z_hi = box_z_max_ + margin;
+  if (std::abs(d.z()) > 1e-15) {
+    double a = (z_lo - o.z()) / d.z(), b = (z_hi - o.z()) / d.z();
+    if (a > b) std::swap(a, b);
+    lo = std::max(lo, a);
+    hi = std::min(hi, b);
+  } else if (o.z() < z_lo || o.z() > z_hi) {
+    return false;
+  }
+  const double radius = box_rho_max_ + margin;
+  const double qa = d.x() * d.x() + d.y() * d.y();
+  const double qb = 2 * (o.x() * d.x() + o.y() * d.y());
+  const double qc = o.x() * o.x() + o.y() * o.y() - radius * radius;
+  if (qa > 1e-30) {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc < 0) return false;
+    const double root = std::sqrt(disc);
+    lo = std::max(lo, (-qb - root) / (2 * qa));
+    hi = std::min(hi, (-qb + root) / (2 * qa));
+  } else if (qc > 0) {
+    return false;
+  }
+  if (!(hi > lo)) return false;
+
+  auto implicit_along = [&](double lambda, double* derivative) {
+    const Eigen::Vector3d p = o + lambda * d;
+    const double rho = std::hypot(p.x(), p.y());
+    double dG_drho, dG_dz;
+    const double G = mirror_->implicit(rho, p.z(), &dG_drho, &dG_dz);
+    const double drho = rho > 0 ? (p.x() * d.x() + p.y() * d.y()) / rho : std::hypot(d.x(), d.y());
+    *derivative = dG_drho * drho + dG_dz * d.z();
+    return G;
+  };
+
+  // March to the first crossing from the camera's side (G < 0) to behind the mirror.
+  double a = lo, dG;
+  double Ga = implicit_along(a, &dG);
+  double b = a, Gb = Ga;
+  bool bracketed = false;
+  for (int i = 1; i <= kUnprojectMarchSteps; ++i) {
+    b = lo + (hi - lo) * i / kUnprojectMarchSteps;
+    Gb = implicit_along(b, &dG);
+    if (Ga < 0 && Gb >= 0) {
+      bracketed = true;
+      break;
+    }
+    a = b;
+    Ga = Gb;
+  }
+  if (!bracketed) return false;
+
+  // Newton's method kept inside the bracket, bisecting when a step would leave it.
+  double lambda = b - Gb * (b - a) / (Gb - Ga);
+  for (int it = 0; it < 100; ++it) {
+    const double G = implicit_along(lambda, &dG);
+    if (G < 0)
+      a = lambda;
+    else
+      b = lambda;
+    double next = lambda - G / dG;
+    if (!(next > a && next < b)) next = 0.5 * (a + b);
+    const double change = std::abs(next - lambda);
+    lambda = next;
+    if (change <= 1e-15 * std::max(1.0, std::abs(lambda)) || b - a <= 1e-16 * std::abs(lambda))
+      break;
+  }
+
+  const Eigen::Vector3d p = o + lambda * d;
+  const double s = mirror_->parameter_at(std::hypot(p.x(), p.y()), p.z());
+  if (!mirror_->is_valid_parameter(s)) return false;
+  const SurfacePoint sp(*mirror_, s, std::atan2(p.y(), p.x()), nullptr);
+  const Eigen::Vector3d normal = sp.outward_normal();
+  const double incidence = d.dot(normal);
+  if (!(incidence < -kMinGrazingCosine)) return false;
+  const Eigen::Vector3d reflected = d - 2 * incidence * normal;
+  *origin = R_ * p + t;
+  *direction = (R_ * reflected).normalized();
+  return origin->allFinite() && direction->allFinite();
+}
+
+}  // namespace omnisfm::camera

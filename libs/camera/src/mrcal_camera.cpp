@@ -1,0 +1,154 @@
+#include "omnisfm/camera/mrcal_camera.h"
+
+extern "C" {
+#include <mrcal/mrcal.h>
+}
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace omnisfm::camera {
+
+struct MrcalCamera::Lensmodel {
+  mrcal_lensmodel_t model;
+};
+
+namespace {
+
+mrcal_lensmodel_t parse_lensmodel(const std::string& name) {
+  mrcal_lensmodel_t model;
+  if (!mrcal_lensmodel_from_name(&model, name.c_str()) ||
+      !mrcal_lensmodel_type_is_valid(model.type))
+    throw std::invalid_argument("mrcal: unknown lens model '" + name + "'");
+  return model;
+}
+
+}  // namespace
+
+MrcalCamera MrcalCamera::from_file(const std::string& path) {
+  mrcal_cameramodel_t* model = mrcal_read_cameramodel_file(path.c_str());
+  if (!model) throw std::runtime_error(path + ": not a readable mrcal .cameramodel");
+  char name[1024];
+  if (!mrcal_lensmodel_name(name, sizeof name, &model->lensmodel)) {
+    mrcal_free_cameramodel(&model);
+    throw std::runtime_error(path + ": unsupported lens model");
+  }
+  const int n = mrcal_lensmodel_num_params(&model->lensmodel);
+  const Eigen::VectorXd intrinsics = Eigen::Map<const Eigen::VectorXd>(model->intrinsics, n);
+  const int width = static_cast<int>(model->imagersize[0]);
+  const int height = static_cast<int>(model->imagersize[1]);
+  mrcal_free_cameramodel(&model);
+  try {
+    return MrcalCamera(name, intrinsics, width, height);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+MrcalCamera::MrcalCamera(const std::string& lensmodel, const Eigen::VectorXd& intrinsics,
+                         int image_width, int image_height)
+    : lensmodel_(std::make_unique<Lensmodel>(Lensmodel{parse_lensmodel(lensmodel)})),
+      lensmodel_name_(lensmodel),
+      width_(image_width),
+      height_(image_height) {
+  if (!mrcal_lensmodel_metadata(&lensmodel_->model).has_gradients)
+    throw std::invalid_argument("mrcal: lens model " + lensmodel + " has no gradients");
+  if (!set_params(intrinsics))
+    throw std::invalid_argument("mrcal: " + lensmodel + " needs " +
+                                std::to_string(num_params()) + " finite intrinsics");
+}
+
+MrcalCamera::~MrcalCamera() = default;
+
+MrcalCamera::MrcalCamera(const MrcalCamera& other)
+    : lensmodel_(std::make_unique<Lensmodel>(*other.lensmodel_)),
+      lensmodel_name_(other.lensmodel_name_),
+      intrinsics_(other.intrinsics_),
+      width_(other.width_),
+      height_(other.height_) {}
+
+MrcalCamera& MrcalCamera::operator=(const MrcalCamera& other) {
+  if (this != &other) {
+    *lensmodel_ = *other.lensmodel_;
+    lensmodel_name_ = other.lensmodel_name_;
+    intrinsics_ = other.intrinsics_;
+    width_ = other.width_;
+    height_ = other.height_;
+  }
+  return *this;
+}
+
+std::unique_ptr<InnerCamera> MrcalCamera::clone() const {
+  return std::make_unique<MrcalCamera>(*this);
+}
+
+int MrcalCamera::num_params() const { return mrcal_lensmodel_num_params(&lensmodel_->model); }
+
+std::vector<std::string> MrcalCamera::param_names() const {
+  std::vector<std::string> names;
+  const bool has_core = mrcal_lensmodel_metadata(&lensmodel_->model).has_core;
+  const char* core[] = {"fx", "fy", "cx", "cy"};
+  for (int i = 0; i < num_params(); ++i)
+    names.push_back(has_core && i < 4 ? std::string(core[i])
+                                      : "distortion" + std::to_string(has_core ? i - 4 : i));
+  return names;
+}
+
+bool MrcalCamera::set_params(const Eigen::VectorXd& params) {
+  if (params.size() != num_params() || !params.allFinite()) return false;
+  intrinsics_ = params;
+  return true;
+}
+
+bool MrcalCamera::project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
+                          Eigen::Matrix<double, 2, 3>* J_p, double* J_params) const {
+  if (!(p.z() > 0)) return false;
+  const mrcal_point3_t point = {{p.x(), p.y(), p.z()}};
+  mrcal_point2_t q;
+  mrcal_point3_t dq_dp[2];
+  const int n = num_params();
+  // mrcal writes d q / d intrinsics row-major (2 x n); ours is column-major.
+  thread_local std::vector<double> dq_dintrinsics;
+  if (J_params) dq_dintrinsics.resize(2 * n);
+  if (!mrcal_project(&q, J_p ? dq_dp : nullptr, J_params ? dq_dintrinsics.data() : nullptr,
+                     &point, 1, &lensmodel_->model, intrinsics_.data()))
+    return false;
+  *pixel << q.x, q.y;
+  if (!pixel->allFinite()) return false;
+  if (J_p)
+    *J_p << dq_dp[0].x, dq_dp[0].y, dq_dp[0].z, dq_dp[1].x, dq_dp[1].y, dq_dp[1].z;
+  if (J_params)
+    for (int j = 0; j < n; ++j) {
+      J_params[2 * j] = dq_dintrinsics[j];
+      J_params[2 * j + 1] = dq_dintrinsics[n + j];
+    }
+  return true;
+}
+
+bool MrcalCamera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,
+                            Eigen::Vector3d* direction) const {
+  const mrcal_point2_t q = {{pixel.x(), pixel.y()}};
+  mrcal_point3_t v;
+  if (!mrcal_unproject(&v, &q, 1, &lensmodel_->model, intrinsics_.data())) return false;
+  const Eigen::Vector3d d(v.x, v.y, v.z);
+  if (!d.allFinite() || !(d.z() > 0)) return false;
+  origin->setZero();
+  *direction = d.normalized();
+  return true;
+}
+
+void MrcalCamera::write(const std::string& path) const {
+  const int n = num_params();
+  std::vector<unsigned char> storage(sizeof(mrcal_cameramodel_t) + n * sizeof(double));
+  auto* model = reinterpret_cast<mrcal_cameramodel_t*>(storage.data());
+  for (double& v : model->rt_cam_ref) v = 0;
+  model->imagersize[0] = static_cast<unsigned>(width_);
+  model->imagersize[1] = static_cast<unsigned>(height_);
+  model->lensmodel = lensmodel_->model;
+  for (int i = 0; i < n; ++i) model->intrinsics[i] = intrinsics_[i];
+  if (!mrcal_write_cameramodel_file(path.c_str(), model))
+    throw std::runtime_error(path + ": cannot write the .cameramodel");
+}
+
+}  // namespace omnisfm::camera

@@ -1,0 +1,214 @@
+// The contract every catadioptric camera passes: analytic Jacobians equal central differences,
+// Jacobian and plain calls agree, projection and unprojection invert each other, and invalid
+// geometry is reported, never returned as numbers.
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "test_cameras.h"
+
+namespace omnisfm::camera {
+namespace {
+
+using testing::NamedCamera;
+
+class CameraContract : public ::testing::TestWithParam<NamedCamera> {
+ protected:
+  void SetUp() override { camera_ = std::make_unique<CatadioptricCamera>(GetParam().make()); }
+
+  // Points across the valid field, away from its edges so that perturbing them keeps them valid:
+  // rays of random pixels, at random distances.
+  std::vector<Eigen::Vector3d> field_points(int wanted, unsigned seed) const {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0, camera_->image_width() - 1);
+    std::uniform_real_distribution<double> v(0, camera_->image_height() - 1);
+    std::uniform_real_distribution<double> distance(0.5, 10.0);
+    std::vector<Eigen::Vector3d> points;
+    for (int tries = 0; tries < 100 * wanted && static_cast<int>(points.size()) < wanted; ++tries) {
+      Eigen::Vector3d o, d;
+      if (!camera_->unproject({u(rng), v(rng)}, &o, &d)) continue;
+      const Eigen::Vector3d X = o + distance(rng) * d;
+      Eigen::Vector2d pixel;
+      Reflection reflection;
+      const auto& mirror = camera_->mirror();
+      const double margin = 0.02 * (mirror.s_max() - mirror.s_min());
+      if (camera_->project(X, &pixel, nullptr, nullptr, &reflection) &&
+          reflection.s > mirror.s_min() + margin && reflection.s < mirror.s_max() - margin)
+        points.push_back(X);
+    }
+    return points;
+  }
+
+  std::unique_ptr<CatadioptricCamera> camera_;
+};
+
+TEST_P(CameraContract, ValidImageRegionIsLarge) {
+  // Sanity of the fixture: a real catadioptric image has a wide valid annulus.
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0, 1023), v(0, 767);
+  int valid = 0;
+  for (int i = 0; i < 2000; ++i) {
+    Eigen::Vector3d o, d;
+    valid += camera_->unproject({u(rng), v(rng)}, &o, &d);
+  }
+  EXPECT_GT(valid, 2000 * 0.1);
+}
+
+TEST_P(CameraContract, ProjectUnprojectRoundTripWithin1e6Pixel) {
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(0, 1023), v(0, 767), distance(0.2, 50.0);
+  int checked = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Eigen::Vector2d pixel(u(rng), v(rng));
+    Eigen::Vector3d o, d;
+    if (!camera_->unproject(pixel, &o, &d)) continue;
+    EXPECT_NEAR(d.norm(), 1.0, 1e-12);
+    Eigen::Vector2d back;
+    ASSERT_TRUE(camera_->project(o + distance(rng) * d, &back)) << pixel.transpose();
+    EXPECT_LT((back - pixel).norm(), 1e-6) << pixel.transpose();
+    ++checked;
+  }
+  EXPECT_GT(checked, 500);
+}
+
+TEST_P(CameraContract, PointLiesOnTheRayOfItsPixel) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), height(-3, 3), distance(0.3, 20);
+  int checked = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const double a = angle(rng), r = distance(rng);
+    // Points all around the rig: the mirror's axis is +z of the camera frame.
+    const Eigen::Vector3d X(r * std::cos(a), r * std::sin(a), height(rng));
+    Eigen::Vector2d pixel;
+    if (!camera_->project(X, &pixel)) continue;
+    ASSERT_TRUE(pixel.allFinite());
+    Eigen::Vector3d o, d;
+    ASSERT_TRUE(camera_->unproject(pixel, &o, &d)) << X.transpose();
+    const Eigen::Vector3d offset = X - o;
+    const double distance_to_ray = (offset - offset.dot(d) * d).norm();
+    EXPECT_LT(distance_to_ray, 1e-9) << X.transpose();
+    EXPECT_GT(offset.dot(d), 0);  // in front of the mirror point, not behind it
+    ++checked;
+  }
+  EXPECT_GT(checked, 200);
+}
+
+TEST_P(CameraContract, JacobianCallsGiveIdenticalPixels) {
+  for (const auto& X : field_points(300, 4)) {
+    Eigen::Vector2d plain, with_point, with_all;
+    Eigen::Matrix<double, 2, 3> J_X;
+    std::vector<double> J_params(2 * camera_->num_params());
+    ASSERT_TRUE(camera_->project(X, &plain));
+    ASSERT_TRUE(camera_->project(X, &with_point, &J_X));
+    ASSERT_TRUE(camera_->project(X, &with_all, &J_X, J_params.data()));
+    EXPECT_EQ(plain, with_point);
+    EXPECT_EQ(plain, with_all);
+  }
+}
+
+// Columns of an analytic Jacobian against central differences, relative to each column's size.
+void expect_columns_match(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& numeric,
+                          const std::vector<std::string>& names, const std::string& where) {
+  for (int j = 0; j < analytic.cols(); ++j) {
+    EXPECT_LT((analytic.col(j) - numeric.col(j)).norm(),
+              testing::derivative_tolerance(numeric.col(j).norm()))
+        << where << " column " << names[j] << "\nanalytic " << analytic.col(j).transpose()
+        << "\nnumeric  " << numeric.col(j).transpose();
+  }
+}
+
+TEST_P(CameraContract, PointJacobianMatchesCentralDifferences) {
+  const auto points = field_points(1000, 5);
+  ASSERT_GT(points.size(), 900u);
+  for (const auto& X : points) {
+    Eigen::Vector2d pixel;
+    Eigen::Matrix<double, 2, 3> J_X;
+    ASSERT_TRUE(camera_->project(X, &pixel, &J_X));
+    Eigen::Matrix<double, 2, 3> numeric;
+    for (int j = 0; j < 3; ++j) {
+      numeric.col(j) = testing::five_point_derivative(
+          [&](double h) {
+            Eigen::Vector3d moved = X;
+            moved[j] += h;
+            Eigen::Vector2d q(NAN, NAN);
+            EXPECT_TRUE(camera_->project(moved, &q));
+            return q;
+          },
+          1e-4 * X.norm());
+    }
+    expect_columns_match(J_X, numeric, {"x", "y", "z"}, "at X = " + std::to_string(X.x()));
+  }
+}
+
+TEST_P(CameraContract, ParameterJacobianMatchesCentralDifferences) {
+  const auto points = field_points(300, 6);
+  const int n = camera_->num_params();
+  const Eigen::VectorXd params = camera_->params();
+  const auto names = camera_->param_names();
+  for (const auto& X : points) {
+    Eigen::Vector2d pixel;
+    Eigen::Matrix<double, 2, Eigen::Dynamic> J(2, n);
+    ASSERT_TRUE(camera_->project(X, &pixel, nullptr, J.data()));
+    Eigen::Matrix<double, 2, Eigen::Dynamic> numeric(2, n);
+    CatadioptricCamera perturbed = *camera_;
+    for (int j = 0; j < n; ++j) {
+      numeric.col(j) = testing::five_point_derivative(
+          [&](double h) {
+            Eigen::VectorXd moved = params;
+            moved[j] += h;
+            Eigen::Vector2d q(NAN, NAN);
+            EXPECT_TRUE(perturbed.set_params(moved) && perturbed.project(X, &q)) << names[j];
+            return q;
+          },
+          1e-4 * std::max(std::abs(params[j]), 1.0));
+    }
+    expect_columns_match(J, numeric, names, "params");
+  }
+}
+
+TEST_P(CameraContract, InvalidGeometryIsReportedNotReturned) {
+  Eigen::Vector2d pixel;
+  // The camera centre, and points on the mirror axis: behind the mirror, inside its body, and
+  // between camera and mirror (their reflection is the apex, hidden by the camera itself).
+  if (!camera_->inner().is_orthographic()) {
+    EXPECT_FALSE(camera_->project(Eigen::Vector3d::Zero(), &pixel));
+  }
+  const auto& pose = camera_->mirror_pose();
+  const Eigen::Matrix3d R = pose.rotation();
+  MeridianPoint apex;
+  camera_->mirror().evaluate(0.0, &apex, nullptr);
+  auto on_axis = [&](double z_M) { return Eigen::Vector3d(R.col(2) * z_M + pose.translation()); };
+  EXPECT_FALSE(camera_->project(on_axis(apex.z + 5.0), &pixel));
+  EXPECT_FALSE(camera_->project(on_axis(apex.z + 0.005), &pixel));
+  const bool aligned = pose.rx == 0 && pose.ry == 0 && pose.tx == 0 && pose.ty == 0;
+  if (aligned) {
+    EXPECT_FALSE(camera_->project(on_axis(apex.z - 0.01), &pixel));
+  }
+  EXPECT_FALSE(camera_->project(Eigen::Vector3d(NAN, 0, 1), &pixel));
+  // Anything reported valid is finite.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> c(-5, 5);
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Vector3d X(c(rng), c(rng), c(rng));
+    Eigen::Matrix<double, 2, 3> J_X;
+    if (camera_->project(X, &pixel, &J_X)) {
+      EXPECT_TRUE(pixel.allFinite() && J_X.allFinite()) << X.transpose();
+    }
+  }
+  // The apex's pixel lies in the camera's own reflection; the image corners beyond the rim.
+  Eigen::Vector2d apex_pixel;
+  ASSERT_TRUE(camera_->inner().project(on_axis(apex.z), &apex_pixel, nullptr, nullptr));
+  Eigen::Vector3d o, d;
+  EXPECT_FALSE(camera_->unproject(apex_pixel, &o, &d));
+  EXPECT_FALSE(camera_->unproject({0, 0}, &o, &d));
+  EXPECT_FALSE(camera_->unproject({1023, 767}, &o, &d));
+  EXPECT_FALSE(camera_->unproject({NAN, 3}, &o, &d));
+}
+
+INSTANTIATE_TEST_SUITE_P(AllCameras, CameraContract,
+                         ::testing::ValuesIn(testing::contract_cameras()),
+                         [](const auto& param_info) { return param_info.param.name; });
+
+}  // namespace
+}  // namespace omnisfm::camera

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Installs the Debian packages omnisfm needs (only those missing), then configures and builds
+# into build/. Idempotent: quiet when everything is already there.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake ccache pkg-config
+  libeigen3-dev libceres-dev libopengv-dev libgeographiclib-dev
+  libopencv-dev libopencv-contrib-dev
+  libmrpt-dev mrpt-apps
+  libmrcal-dev mrcal python3-mrcal mrgingham
+  libcli11-dev libgtest-dev libbenchmark-dev
+  gnuplot-nox
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+build_dir=${OMNISFM_BUILD_DIR:-build}
+if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+echo "setup: building in $build_dir/" >&2
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+if ! cmake --build "$build_dir" --parallel "$(nproc)" >"$log" 2>&1; then
+  cat "$log" >&2
+  echo "setup: the build failed" >&2
+  exit 1
+fi
+grep -A3 "warning:" "$log" >&2 || true
