@@ -1,0 +1,34 @@
+// omnisfm VERB [options]: exit status 0 on success, 2 on bad usage or bad input, 1 otherwise.
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "omnisfm/io/input_error.h"
+#include "verbs.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Shape-from-motion with catadioptric (mirror + camera) omnidirectional cameras",
+               "omnisfm"};
+  app.set_version_flag("--version", OMNISFM_VERSION);
+  app.require_subcommand(1);
+  omnisfm::app::add_project_verb(app);
+  omnisfm::app::add_unproject_verb(app);
+  omnisfm::app::add_demo_verb(app);
+
+  try {
+    app.parse(argc, argv);
+    return 0;
+  } catch (const CLI::ParseError& error) {
+    if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
+    std::cerr << "omnisfm: " << error.what() << "\n"
+              << "Run 'omnisfm --help' or 'omnisfm VERB --help' for usage.\n";
+    return 2;
+  } catch (const omnisfm::io::InputError& error) {
+    std::cerr << "omnisfm: " << error.what() << "\n";
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "omnisfm: " << error.what() << "\n";
+    return 1;
+  }
+}

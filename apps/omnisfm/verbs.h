@@ -1,0 +1,12 @@
+#pragma once
+// Each verb adds its subcommand, options and callback to the `omnisfm` application.
+
+#include <CLI/CLI.hpp>
+
+namespace omnisfm::app {
+
+void add_project_verb(CLI::App& app);
+void add_unproject_verb(CLI::App& app);
+void add_demo_verb(CLI::App& app);
+
+}  // namespace omnisfm::app

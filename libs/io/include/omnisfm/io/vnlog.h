@@ -1,0 +1,70 @@
+#pragma once
+// vnlog tables, as mrcal writes and reads them:
+//   ## a comment (before the header, only '##' or '#!' lines are comments)
+//   # x y z          <- the header: the first other line starting with '#'
+//   1.5 - 3          <- whitespace-separated fields; '-' is a missing value (NaN)
+//   # a comment
+// Blank lines are skipped; every data line has exactly one field per column.
+
+#include <cstddef>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace omnisfm::io {
+
+class VnlogTable {
+ public:
+  // Throws InputError naming the file (and line) when it cannot be read or is malformed.
+  static VnlogTable read(const std::string& path);
+  // `display_name` names the stream in errors, e.g. "<stdin>".
+  static VnlogTable read(std::istream& in, const std::string& display_name);
+
+  const std::string& file() const { return file_; }
+  const std::vector<std::string>& column_names() const { return columns_; }
+  std::size_t num_rows() const { return lines_.size(); }
+
+  bool has_column(const std::string& name) const;
+  // The column's index; throws InputError naming the file when there is no such column.
+  std::size_t column(const std::string& name) const;
+  // The indices of the named columns, in the order asked; throws for the first missing one.
+  std::vector<std::size_t> columns(const std::vector<std::string>& names) const;
+
+  // The field as written, and its line in the file.
+  const std::string& text(std::size_t row, std::size_t column) const;
+  int line(std::size_t row) const { return lines_[row]; }
+  static bool is_missing(const std::string& field) { return field == "-"; }
+
+  // The field as a number (NaN when missing); throws InputError "FILE:LINE: column 'c': ...".
+  double number(std::size_t row, std::size_t column) const;
+  // Whole columns, by name.
+  std::vector<double> numbers(const std::string& column_name) const;
+  std::vector<std::string> texts(const std::string& column_name) const;
+
+ private:
+  std::string file_;
+  std::vector<std::string> columns_;
+  std::vector<std::string> fields_;  // row-major, columns_.size() per row
+  std::vector<int> lines_;
+};
+
+// Writes a table: the header at construction, then rows. Numbers are written with the shortest
+// text that reads back exactly; NaN as '-'.
+class VnlogWriter {
+ public:
+  VnlogWriter(std::ostream& out, std::vector<std::string> columns);
+
+  void comment(const std::string& text);
+  // Throws std::invalid_argument when the row's size is not the number of columns.
+  void row(const std::vector<double>& values);
+  // Fields written as given (a string column, or numbers already formatted); empty -> '-'.
+  void row_texts(const std::vector<std::string>& fields);
+
+  static std::string field(double value);
+
+ private:
+  std::ostream& out_;
+  std::size_t num_columns_;
+};
+
+}  // namespace omnisfm::io

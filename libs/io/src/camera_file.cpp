@@ -1,0 +1,363 @@
+#include "omnisfm/io/camera_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <ostream>
+#include <stdexcept>
+
+#include "omnisfm/camera/conic_profile.h"
+#include "omnisfm/camera/equiangular_profile.h"
+#include "omnisfm/camera/mrcal_camera.h"
+#include "omnisfm/camera/orthographic_camera.h"
+#include "omnisfm/camera/pinhole_camera.h"
+#include "omnisfm/camera/table_profile.h"
+#include "omnisfm/io/atomic_write.h"
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/io/number_text.h"
+#include "omnisfm/io/vnlog.h"
+
+namespace omnisfm::io {
+
+namespace fs = std::filesystem;
+using camera::CatadioptricCamera;
+using camera::InnerCamera;
+using camera::MirrorProfile;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+const std::vector<std::string> kInnerKinds = {"pinhole", "orthographic", "mrcal"};
+const std::vector<std::string> kMirrorKinds = {"equiangular", "conic", "table"};
+const std::vector<std::string> kCommonKeys = {"image_width", "image_height", "inner",
+                                              "mirror",      "mirror_rx",    "mirror_ry",
+                                              "mirror_tx",   "mirror_ty",    "mirror_tz"};
+
+std::vector<std::string> inner_keys(const std::string& kind) {
+  if (kind == "pinhole") return {"fx", "fy", "cx", "cy", "dist"};
+  if (kind == "orthographic") return {"fx", "fy", "cx", "cy"};
+  return {"inner_cameramodel"};
+}
+
+std::vector<std::string> mirror_keys(const std::string& kind) {
+  if (kind == "equiangular") {
+    return {"equiangular_alpha", "equiangular_r0", "mirror_theta_min", "mirror_theta_max"};
+  }
+  if (kind == "conic") {
+    return {"conic_z0", "conic_c", "conic_kappa", "mirror_rho_min", "mirror_rho_max"};
+  }
+  return {"mirror_table", "mirror_rho_min", "mirror_rho_max"};
+}
+
+bool contains(const std::vector<std::string>& list, const std::string& item) {
+  return std::find(list.begin(), list.end(), item) != list.end();
+}
+
+std::string joined(const std::vector<std::string>& list, const std::string& separator) {
+  std::string text;
+  for (const std::string& item : list) text += (text.empty() ? "" : separator) + item;
+  return text;
+}
+
+std::string kind_of(const IniSection& section, const std::string& key,
+                    const std::vector<std::string>& kinds) {
+  const std::string kind = section.get_string(key);
+  if (!contains(kinds, kind)) {
+    section.fail(key, "'" + kind + "' is not one of " + joined(kinds, ", "));
+  }
+  return kind;
+}
+
+// Reports the first key, in file order, that the chosen inner camera and mirror do not use.
+void reject_unknown_keys(const IniSection& section, const std::string& inner_kind,
+                         const std::string& mirror_kind) {
+  std::vector<std::string> allowed = kCommonKeys;
+  for (const std::string& key : inner_keys(inner_kind)) allowed.push_back(key);
+  for (const std::string& key : mirror_keys(mirror_kind)) allowed.push_back(key);
+  for (const IniEntry& entry : section.entries()) {
+    if (contains(allowed, entry.key)) continue;
+    bool for_inner = false, for_mirror = false;
+    for (const std::string& kind : kInnerKinds) for_inner |= contains(inner_keys(kind), entry.key);
+    for (const std::string& kind : kMirrorKinds) {
+      for_mirror |= contains(mirror_keys(kind), entry.key);
+    }
+    if (for_inner) section.fail(entry.key, "does not apply to inner = " + inner_kind);
+    if (for_mirror) section.fail(entry.key, "does not apply to mirror = " + mirror_kind);
+    section.fail(entry.key, "unknown key");
+  }
+}
+
+double finite(const IniSection& section, const std::string& key) {
+  const double value = section.get_double(key);
+  if (!std::isfinite(value)) section.fail(key, "must be a finite number");
+  return value;
+}
+
+double finite_or(const IniSection& section, const std::string& key, double fallback) {
+  return section.has(key) ? finite(section, key) : fallback;
+}
+
+double positive(const IniSection& section, const std::string& key) {
+  const double value = finite(section, key);
+  if (!(value > 0)) section.fail(key, "must be positive, not " + format_double(value));
+  return value;
+}
+
+int positive_int(const IniSection& section, const std::string& key) {
+  const int value = section.get_int(key);
+  if (value <= 0) section.fail(key, "must be positive, not " + std::to_string(value));
+  return value;
+}
+
+// A path in the file, taken relative to the file's folder.
+std::string referenced_path(const IniSection& section, const std::string& key) {
+  const std::string value = section.get_string(key);
+  if (value.empty()) section.fail(key, "no file given");
+  const fs::path path(value);
+  if (path.is_absolute()) return path.string();
+  return (fs::path(section.file()).parent_path() / path).string();
+}
+
+std::unique_ptr<InnerCamera> read_inner(const IniSection& section, const std::string& kind,
+                                        int width, int height) {
+  if (kind == "mrcal") {
+    const std::string path = referenced_path(section, "inner_cameramodel");
+    std::unique_ptr<camera::MrcalCamera> inner;
+    try {
+      inner = std::make_unique<camera::MrcalCamera>(camera::MrcalCamera::from_file(path));
+    } catch (const std::exception& error) {
+      section.fail("inner_cameramodel", std::string("cannot read the mrcal model: ") + error.what());
+    }
+    if (inner->image_width() != width || inner->image_height() != height) {
+      section.fail("inner_cameramodel",
+                   "its imagersize " + std::to_string(inner->image_width()) + "x" +
+                       std::to_string(inner->image_height()) + " differs from image_width x " +
+                       "image_height = " + std::to_string(width) + "x" + std::to_string(height));
+    }
+    return inner;
+  }
+  const double fx = positive(section, "fx");
+  const double fy = positive(section, "fy");
+  const double cx = finite(section, "cx");
+  const double cy = finite(section, "cy");
+  try {
+    if (kind == "orthographic") {
+      return std::make_unique<camera::OrthographicCamera>(
+          camera::OrthographicIntrinsics{fx, fy, cx, cy});
+    }
+    const std::vector<double> dist = section.get_doubles("dist", {0, 0, 0, 0, 0});
+    if (dist.size() != 5) {
+      section.fail("dist", "expected 5 numbers (k1 k2 p1 p2 k3), found " +
+                               std::to_string(dist.size()));
+    }
+    for (double coefficient : dist) {
+      if (!std::isfinite(coefficient)) section.fail("dist", "must be finite numbers");
+    }
+    return std::make_unique<camera::PinholeCamera>(
+        camera::PinholeIntrinsics{fx, fy, cx, cy, dist[0], dist[1], dist[2], dist[3], dist[4]});
+  } catch (const std::invalid_argument& error) {
+    section.fail("inner", error.what());
+  }
+}
+
+// Checks 0 <= min < max, blaming the key whose value is out of place.
+void check_range(const IniSection& section, const std::string& min_key, double min,
+                 const std::string& max_key, double max) {
+  if (min < 0) section.fail(min_key, "must not be negative, not " + format_double(min));
+  if (!(max > min)) {
+    section.fail(max_key, "must be greater than " + min_key + " = " + format_double(min) +
+                              ", not " + format_double(max));
+  }
+}
+
+std::unique_ptr<MirrorProfile> read_equiangular(const IniSection& section) {
+  const double alpha = positive(section, "equiangular_alpha");
+  const double r0 = positive(section, "equiangular_r0");
+  const double theta_min = finite(section, "mirror_theta_min");
+  const double theta_max = finite(section, "mirror_theta_max");
+  check_range(section, "mirror_theta_min", theta_min, "mirror_theta_max", theta_max);
+  const double theta_limit = kPi / (1 + alpha);
+  if (!(theta_max < theta_limit)) {
+    section.fail("mirror_theta_max", "must be below pi/(1 + equiangular_alpha) = " +
+                                         format_double(theta_limit) + ", not " +
+                                         format_double(theta_max));
+  }
+  return std::make_unique<camera::EquiangularProfile>(alpha, r0, theta_min, theta_max);
+}
+
+std::unique_ptr<MirrorProfile> read_conic(const IniSection& section) {
+  const double z0 = finite(section, "conic_z0");
+  const double c = positive(section, "conic_c");
+  const double kappa = finite(section, "conic_kappa");
+  const double rho_min = finite(section, "mirror_rho_min");
+  const double rho_max = finite(section, "mirror_rho_max");
+  check_range(section, "mirror_rho_min", rho_min, "mirror_rho_max", rho_max);
+  // The sag formula needs (1 + kappa) c^2 rho^2 < 1.
+  if ((1 + kappa) * c * c * rho_max * rho_max >= 1) {
+    section.fail("mirror_rho_max", "must be below the conic's edge 1/(c sqrt(1 + kappa)) = " +
+                                       format_double(1 / (c * std::sqrt(1 + kappa))) + ", not " +
+                                       format_double(rho_max));
+  }
+  return std::make_unique<camera::ConicProfile>(z0, c, kappa, rho_min, rho_max);
+}
+
+std::unique_ptr<MirrorProfile> read_table(const IniSection& section) {
+  const std::string path = referenced_path(section, "mirror_table");
+  std::vector<double> rho, z;
+  try {
+    const VnlogTable table = VnlogTable::read(path);
+    rho = table.numbers("rho");
+    z = table.numbers("z");
+    for (std::size_t row = 0; row < table.num_rows(); ++row) {
+      if (!std::isfinite(rho[row]) || !std::isfinite(z[row])) {
+        throw InputError(path, table.line(row), "rho and z must be finite numbers");
+      }
+      if (row > 0 && !(rho[row] > rho[row - 1])) {
+        throw InputError(path, table.line(row), "rho must increase from row to row");
+      }
+    }
+    if (table.num_rows() < 4) {
+      throw InputError(path, 0,
+                       "needs at least 4 rows, has " + std::to_string(table.num_rows()));
+    }
+  } catch (const InputError& error) {
+    section.fail("mirror_table", error.what());
+  }
+  const double rho_min = finite(section, "mirror_rho_min");
+  const double rho_max = finite(section, "mirror_rho_max");
+  check_range(section, "mirror_rho_min", rho_min, "mirror_rho_max", rho_max);
+  if (rho_min < rho.front()) {
+    section.fail("mirror_rho_min", "must lie inside the table, which starts at rho = " +
+                                       format_double(rho.front()));
+  }
+  if (rho_max > rho.back()) {
+    section.fail("mirror_rho_max", "must lie inside the table, which ends at rho = " +
+                                       format_double(rho.back()));
+  }
+  return std::make_unique<camera::TableProfile>(std::move(rho), std::move(z), rho_min, rho_max);
+}
+
+std::unique_ptr<MirrorProfile> read_mirror(const IniSection& section, const std::string& kind) {
+  try {
+    if (kind == "equiangular") return read_equiangular(section);
+    if (kind == "conic") return read_conic(section);
+    return read_table(section);
+  } catch (const std::invalid_argument& error) {
+    section.fail("mirror", error.what());
+  }
+}
+
+}  // namespace
+
+CatadioptricCamera camera_from_ini(const IniFile& ini) {
+  const IniSection& section = ini.section(kCameraSection);
+  const std::string inner_kind = kind_of(section, "inner", kInnerKinds);
+  const std::string mirror_kind = kind_of(section, "mirror", kMirrorKinds);
+  reject_unknown_keys(section, inner_kind, mirror_kind);
+
+  const int width = positive_int(section, "image_width");
+  const int height = positive_int(section, "image_height");
+  std::unique_ptr<InnerCamera> inner = read_inner(section, inner_kind, width, height);
+  std::unique_ptr<MirrorProfile> mirror = read_mirror(section, mirror_kind);
+  camera::MirrorPose pose;
+  pose.rx = finite_or(section, "mirror_rx", 0);
+  pose.ry = finite_or(section, "mirror_ry", 0);
+  pose.tx = finite_or(section, "mirror_tx", 0);
+  pose.ty = finite_or(section, "mirror_ty", 0);
+  pose.tz = finite_or(section, "mirror_tz", 0);
+  try {
+    return CatadioptricCamera(std::move(inner), std::move(mirror), pose, width, height);
+  } catch (const std::invalid_argument& error) {
+    throw InputError(ini.file(), section.line(), error.what());
+  }
+}
+
+CatadioptricCamera read_camera_file(const std::string& path) {
+  return camera_from_ini(IniFile::read(path));
+}
+
+namespace {
+
+void set_number(IniSection& section, const std::string& key, double value) {
+  section.set(key, format_double(value));
+}
+
+void write_inner(const InnerCamera& inner, const fs::path& ini_path, IniSection& section) {
+  section.set("inner", inner.kind());
+  if (const auto* pinhole = dynamic_cast<const camera::PinholeCamera*>(&inner)) {
+    const camera::PinholeIntrinsics& k = pinhole->intrinsics();
+    set_number(section, "fx", k.fx);
+    set_number(section, "fy", k.fy);
+    set_number(section, "cx", k.cx);
+    set_number(section, "cy", k.cy);
+    section.set("dist", format_double(k.k1) + " " + format_double(k.k2) + " " +
+                            format_double(k.p1) + " " + format_double(k.p2) + " " +
+                            format_double(k.k3));
+  } else if (const auto* orthographic = dynamic_cast<const camera::OrthographicCamera*>(&inner)) {
+    const camera::OrthographicIntrinsics& k = orthographic->intrinsics();
+    set_number(section, "fx", k.fx);
+    set_number(section, "fy", k.fy);
+    set_number(section, "cx", k.cx);
+    set_number(section, "cy", k.cy);
+  } else if (const auto* mrcal = dynamic_cast<const camera::MrcalCamera*>(&inner)) {
+    const std::string name = ini_path.stem().string() + ".inner.cameramodel";
+    write_atomically((ini_path.parent_path() / name).string(),
+                     [mrcal](const std::string& temporary) { mrcal->write(temporary); });
+    section.set("inner_cameramodel", name);
+  } else {
+    throw std::runtime_error(ini_path.string() + ": cannot write an inner camera of kind " +
+                             inner.kind());
+  }
+}
+
+void write_mirror(const MirrorProfile& mirror, const fs::path& ini_path, IniSection& section) {
+  section.set("mirror", mirror.kind());
+  if (const auto* equiangular = dynamic_cast<const camera::EquiangularProfile*>(&mirror)) {
+    set_number(section, "equiangular_alpha", equiangular->alpha());
+    set_number(section, "equiangular_r0", equiangular->r0());
+    set_number(section, "mirror_theta_min", mirror.s_min());
+    set_number(section, "mirror_theta_max", mirror.s_max());
+  } else if (const auto* conic = dynamic_cast<const camera::ConicProfile*>(&mirror)) {
+    set_number(section, "conic_z0", conic->z0());
+    set_number(section, "conic_c", conic->c());
+    set_number(section, "conic_kappa", conic->kappa());
+    set_number(section, "mirror_rho_min", mirror.s_min());
+    set_number(section, "mirror_rho_max", mirror.s_max());
+  } else if (const auto* table = dynamic_cast<const camera::TableProfile*>(&mirror)) {
+    const std::string name = ini_path.stem().string() + ".profile.vnl";
+    write_text_atomically((ini_path.parent_path() / name).string(), [table](std::ostream& out) {
+      VnlogWriter writer(out, {"rho", "z"});
+      for (std::size_t i = 0; i < table->rho_samples().size(); ++i) {
+        writer.row({table->rho_samples()[i], table->z_samples()[i]});
+      }
+    });
+    section.set("mirror_table", name);
+    set_number(section, "mirror_rho_min", mirror.s_min());
+    set_number(section, "mirror_rho_max", mirror.s_max());
+  } else {
+    throw std::runtime_error(ini_path.string() + ": cannot write a mirror of kind " +
+                             mirror.kind());
+  }
+}
+
+}  // namespace
+
+void write_camera_file(const std::string& path, const CatadioptricCamera& camera) {
+  IniFile ini(path);
+  IniSection& section = ini.add_section(kCameraSection);
+  section.set("image_width", std::to_string(camera.image_width()));
+  section.set("image_height", std::to_string(camera.image_height()));
+  write_inner(camera.inner(), fs::path(path), section);
+  write_mirror(camera.mirror(), fs::path(path), section);
+  const camera::MirrorPose& pose = camera.mirror_pose();
+  set_number(section, "mirror_rx", pose.rx);
+  set_number(section, "mirror_ry", pose.ry);
+  set_number(section, "mirror_tx", pose.tx);
+  set_number(section, "mirror_ty", pose.ty);
+  set_number(section, "mirror_tz", pose.tz);
+  write_text_atomically(path, [&ini](std::ostream& out) { ini.write(out); });
+}
+
+}  // namespace omnisfm::io

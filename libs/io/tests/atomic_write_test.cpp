@@ -1,0 +1,76 @@
+#include "omnisfm/io/atomic_write.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+
+namespace omnisfm::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class AtomicWriteTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("omnisfm-atomic-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    target_ = (dir_ / "out.ini").string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string contents() const {
+    std::ifstream in(target_);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  long files() const {
+    return std::distance(fs::directory_iterator(dir_), fs::directory_iterator());
+  }
+
+  fs::path dir_;
+  std::string target_;
+};
+
+TEST_F(AtomicWriteTest, ReplacesTheFileWhole) {
+  std::ofstream(target_) << "old\n";
+  write_text_atomically(target_, [](std::ostream& out) { out << "new\n"; });
+  EXPECT_EQ(contents(), "new\n");
+  EXPECT_EQ(files(), 1);
+}
+
+TEST_F(AtomicWriteTest, FailureLeavesTheOldFileAndNoTemporary) {
+  std::ofstream(target_) << "old\n";
+  EXPECT_THROW(write_text_atomically(target_,
+                                     [](std::ostream& out) {
+                                       out << "half of it";
+                                       throw std::runtime_error("disk full");
+                                     }),
+               std::runtime_error);
+  EXPECT_EQ(contents(), "old\n");
+  EXPECT_EQ(files(), 1);
+}
+
+TEST_F(AtomicWriteTest, TemporaryKeepsTheExtension) {
+  std::string temporary;
+  write_atomically((dir_ / "lens.cameramodel").string(), [&](const std::string& path) {
+    temporary = path;
+    std::ofstream(path) << "{}\n";
+  });
+  EXPECT_EQ(fs::path(temporary).extension(), ".cameramodel");
+  EXPECT_EQ(fs::path(temporary).parent_path(), dir_);
+  EXPECT_TRUE(fs::exists(dir_ / "lens.cameramodel"));
+}
+
+TEST_F(AtomicWriteTest, MissingFolderIsAnError) {
+  EXPECT_THROW(
+      write_text_atomically((dir_ / "no/such/file").string(), [](std::ostream& out) { out << 1; }),
+      std::runtime_error);
+}
+
+}  // namespace
+}  // namespace omnisfm::io

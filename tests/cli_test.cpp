@@ -1,0 +1,261 @@
+// Runs the built `omnisfm` and checks its output against the library it is built on.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "omnisfm/io/camera_file.h"
+#include "omnisfm/io/number_text.h"
+#include "omnisfm/io/vnlog.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using omnisfm::camera::CatadioptricCamera;
+using omnisfm::io::VnlogTable;
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string quoted(const std::string& text) {
+  std::string result = "'";
+  for (char c : text) result += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return result + "'";
+}
+
+std::string shipped_camera(const std::string& name) {
+  return std::string(OMNISFM_SHARE_DIR) + "/cameras/" + name;
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("omnisfm-cli-" + std::to_string(::getpid()) + "-" + test->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+
+  // Runs `omnisfm ARGS` in the test's folder, with `input` on its standard input.
+  Outcome omnisfm(const std::string& args, const std::string& input = "") const {
+    write("stdin.txt", input);
+    const std::string command = "cd " + quoted(dir_.string()) + " && " +
+                                quoted(OMNISFM_EXECUTABLE) + " " + args +
+                                " < stdin.txt > stdout.txt 2> stderr.txt";
+    const int status = std::system(command.c_str());
+    Outcome run;
+    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.out = read_all(dir_ / "stdout.txt");
+    run.err = read_all(dir_ / "stderr.txt");
+    return run;
+  }
+
+  VnlogTable table(const std::string& text) const {
+    std::istringstream in(text);
+    return VnlogTable::read(in, "<output>");
+  }
+
+  fs::path dir_;
+};
+
+// Points in frame C around the default camera: most reflect, some do not.
+std::string points_table() {
+  std::string text = "# id x y z\n";
+  int id = 0;
+  for (double azimuth = 0; azimuth < 6.2; azimuth += 0.7) {
+    for (double height = -3; height <= 0.5; height += 0.5) {
+      text += std::to_string(id++) + " " + std::to_string(2 * std::cos(azimuth)) + " " +
+              std::to_string(2 * std::sin(azimuth)) + " " + std::to_string(height) + "\n";
+    }
+  }
+  text += "98 - 1 -1\n";   // a missing value
+  text += "99 0 0 -2\n";   // on the axis, behind the camera's own reflection
+  return text;
+}
+
+TEST_F(CliTest, ProjectMatchesTheLibrary) {
+  const std::string camera_file = shipped_camera("equiangular.ini");
+  const CatadioptricCamera camera = omnisfm::io::read_camera_file(camera_file);
+  write("points.vnl", points_table());
+  const Outcome run = omnisfm("project --camera " + quoted(camera_file) + " points.vnl");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err, "");
+
+  const VnlogTable points = VnlogTable::read((dir_ / "points.vnl").string());
+  const VnlogTable pixels = table(run.out);
+  ASSERT_EQ(pixels.column_names(), (std::vector<std::string>{"u", "v"}));
+  ASSERT_EQ(pixels.num_rows(), points.num_rows());
+  int valid = 0;
+  for (std::size_t row = 0; row < points.num_rows(); ++row) {
+    const Eigen::Vector3d X(points.number(row, 1), points.number(row, 2), points.number(row, 3));
+    Eigen::Vector2d expected;
+    if (X.allFinite() && camera.project(X, &expected)) {
+      ++valid;
+      EXPECT_EQ(pixels.number(row, 0), expected.x()) << "row " << row;
+      EXPECT_EQ(pixels.number(row, 1), expected.y()) << "row " << row;
+    } else {
+      EXPECT_TRUE(VnlogTable::is_missing(pixels.text(row, 0))) << "row " << row;
+      EXPECT_TRUE(VnlogTable::is_missing(pixels.text(row, 1))) << "row " << row;
+    }
+  }
+  EXPECT_GT(valid, 30);
+  EXPECT_TRUE(VnlogTable::is_missing(pixels.text(points.num_rows() - 2, 0)));
+  EXPECT_TRUE(VnlogTable::is_missing(pixels.text(points.num_rows() - 1, 0)));
+}
+
+TEST_F(CliTest, ProjectReadsStandardInputAndUsesTheDefaultCamera) {
+  write("points.vnl", points_table());
+  const Outcome from_file =
+      omnisfm("project --camera " + quoted(shipped_camera("equiangular.ini")) + " points.vnl");
+  const Outcome from_stdin = omnisfm("project", points_table());
+  const Outcome from_dash = omnisfm("project -", points_table());
+  ASSERT_EQ(from_file.status, 0) << from_file.err;
+  ASSERT_EQ(from_stdin.status, 0) << from_stdin.err;
+  ASSERT_EQ(from_dash.status, 0) << from_dash.err;
+  EXPECT_EQ(from_stdin.out, from_file.out);
+  EXPECT_EQ(from_dash.out, from_file.out);
+}
+
+// unproject, then project a point on each ray, through the command line.
+TEST_F(CliTest, UnprojectThenProjectGivesThePixelsBack) {
+  for (const char* name : {"equiangular.ini", "hyperbolic.ini", "parabolic-orthographic.ini"}) {
+    SCOPED_TRACE(name);
+    const std::string camera_file = shipped_camera(name);
+    std::string pixels_text = "# u v\n";
+    for (double u = 0; u < 1024; u += 37.5) {
+      for (double v = 0; v < 768; v += 41.25) {
+        pixels_text += std::to_string(u) + " " + std::to_string(v) + "\n";
+      }
+    }
+    pixels_text += "- 100\n";
+    const Outcome rays_run = omnisfm("unproject --camera " + quoted(camera_file), pixels_text);
+    ASSERT_EQ(rays_run.status, 0) << rays_run.err;
+    const VnlogTable pixels = table(pixels_text);
+    const VnlogTable rays = table(rays_run.out);
+    ASSERT_EQ(rays.column_names(),
+              (std::vector<std::string>{"ox", "oy", "oz", "dx", "dy", "dz"}));
+    ASSERT_EQ(rays.num_rows(), pixels.num_rows());
+    EXPECT_TRUE(VnlogTable::is_missing(rays.text(rays.num_rows() - 1, 0)));
+
+    std::string points_text = "# x y z\n";
+    std::vector<std::size_t> valid_rows;
+    for (std::size_t row = 0; row < rays.num_rows(); ++row) {
+      if (VnlogTable::is_missing(rays.text(row, 0))) continue;
+      Eigen::Vector3d origin, direction;
+      for (int i = 0; i < 3; ++i) {
+        origin[i] = rays.number(row, i);
+        direction[i] = rays.number(row, 3 + i);
+      }
+      EXPECT_NEAR(direction.norm(), 1, 1e-12);
+      const Eigen::Vector3d X = origin + 3.0 * direction;
+      points_text += omnisfm::io::format_double(X.x()) + " " +
+                     omnisfm::io::format_double(X.y()) + " " +
+                     omnisfm::io::format_double(X.z()) + "\n";
+      valid_rows.push_back(row);
+    }
+    EXPECT_GT(valid_rows.size(), 100u);
+
+    const Outcome projected_run = omnisfm("project --camera " + quoted(camera_file), points_text);
+    ASSERT_EQ(projected_run.status, 0) << projected_run.err;
+    const VnlogTable projected = table(projected_run.out);
+    ASSERT_EQ(projected.num_rows(), valid_rows.size());
+    for (std::size_t i = 0; i < valid_rows.size(); ++i) {
+      const std::size_t row = valid_rows[i];
+      ASSERT_FALSE(VnlogTable::is_missing(projected.text(i, 0)))
+          << "pixel " << pixels.text(row, 0) << " " << pixels.text(row, 1);
+      EXPECT_NEAR(projected.number(i, 0), pixels.number(row, 0), 1e-6);
+      EXPECT_NEAR(projected.number(i, 1), pixels.number(row, 1), 1e-6);
+    }
+  }
+}
+
+TEST_F(CliTest, MalformedCameraFileExitsWithTwoAndNamesTheLine) {
+  write("bad.ini",
+        "[omni_camera]\nimage_width = 1024\nimage_height = 768\ninner = pinhole\nfx = 800\n"
+        "fy = eight hundred\ncx = 511.5\ncy = 383.5\nmirror = equiangular\n"
+        "equiangular_alpha = 5\nequiangular_r0 = 0.05\nmirror_theta_min = 0.02\n"
+        "mirror_theta_max = 0.35\n");
+  const Outcome run = omnisfm("project --camera bad.ini", "# x y z\n1 0 -1\n");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.out, "");
+  EXPECT_EQ(run.err.rfind("omnisfm: bad.ini:6: ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find("'fy'"), std::string::npos) << run.err;
+}
+
+TEST_F(CliTest, MalformedPointsFileExitsWithTwoAndNamesTheLine) {
+  write("points.vnl", "# x y z\n1 0 -1\n## comment\n1 zero -1\n");
+  Outcome run = omnisfm("project points.vnl");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err.rfind("omnisfm: points.vnl:4: ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find("'y'"), std::string::npos) << run.err;
+
+  run = omnisfm("project", "# x y z\n1 0 -1\n1 0\n");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err.rfind("omnisfm: <stdin>:3: ", 0), 0u) << run.err;
+
+  run = omnisfm("unproject", "# x y\n1 2\n");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("'u'"), std::string::npos) << run.err;
+
+  run = omnisfm("project missing.vnl");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err.rfind("omnisfm: missing.vnl: ", 0), 0u) << run.err;
+}
+
+TEST_F(CliTest, BadUsageExitsWithTwo) {
+  for (const char* args : {"", "no-such-verb", "project --no-such-option", "project a b"}) {
+    const Outcome run = omnisfm(args);
+    EXPECT_EQ(run.status, 2) << args;
+    EXPECT_EQ(run.err.rfind("omnisfm: ", 0), 0u) << args << ": " << run.err;
+  }
+}
+
+TEST_F(CliTest, HelpWorksForEveryVerb) {
+  const Outcome overview = omnisfm("--help");
+  EXPECT_EQ(overview.status, 0);
+  for (const char* verb : {"project", "unproject", "demo"}) {
+    EXPECT_NE(overview.out.find(verb), std::string::npos) << overview.out;
+    const Outcome run = omnisfm(std::string(verb) + " --help");
+    EXPECT_EQ(run.status, 0) << verb;
+    EXPECT_NE(run.out.find("Usage: omnisfm " + std::string(verb)), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("--camera"), std::string::npos) << run.out;
+  }
+  const Outcome run = omnisfm("--version");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.out.find('.'), std::string::npos) << run.out;
+}
+
+TEST_F(CliTest, DemoWritesTheProjectedRoom) {
+  const Outcome run = omnisfm("demo --out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("result/projected.vnl"), std::string::npos) << run.out;
+  const VnlogTable projected = VnlogTable::read((dir_ / "result/projected.vnl").string());
+  EXPECT_EQ(projected.column_names(), (std::vector<std::string>{"x", "y", "z", "u", "v"}));
+  int seen = 0;
+  for (double u : projected.numbers("u")) seen += std::isnan(u) ? 0 : 1;
+  EXPECT_GT(seen, 100);
+}
+
+}  // namespace

@@ -1,0 +1,71 @@
+# Installs an omnisfm build tree into a fresh prefix, then configures, builds and runs the
+# downstream project in tests/downstream against it with find_package(omnisfm).
+#
+#   cmake -DOMNISFM_BUILD_DIR=<build> -DOMNISFM_SOURCE_DIR=<source>
+#         [-DCONFIG=<build type>] [-DGENERATOR=<generator>] [-DCXX_COMPILER=<compiler>]
+#         -P downstream_test.cmake
+#
+# The build tree must be fully built: `cmake --install` installs every target.
+cmake_minimum_required(VERSION 3.16)
+
+foreach(required OMNISFM_BUILD_DIR OMNISFM_SOURCE_DIR)
+  if(NOT DEFINED ${required} OR "${${required}}" STREQUAL "")
+    message(FATAL_ERROR "downstream_test: pass -D${required}=<path>")
+  endif()
+endforeach()
+
+set(work_dir "${OMNISFM_BUILD_DIR}/downstream_test")
+set(prefix "${work_dir}/prefix")
+set(downstream_build_dir "${work_dir}/build")
+set(downstream_source_dir "${OMNISFM_SOURCE_DIR}/tests/downstream")
+file(REMOVE_RECURSE "${work_dir}")
+# A DESTDIR from the environment would move the installed files away from the prefix.
+unset(ENV{DESTDIR})
+
+function(run_step description)
+  message(STATUS "downstream_test: ${description}")
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE status)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "downstream_test: ${description} failed: ${status}")
+  endif()
+endfunction()
+
+set(config_args)
+if(CONFIG)
+  set(config_args --config "${CONFIG}")
+endif()
+
+run_step("installing ${OMNISFM_BUILD_DIR} into ${prefix}"
+  "${CMAKE_COMMAND}" --install "${OMNISFM_BUILD_DIR}" --prefix "${prefix}" ${config_args})
+
+set(configure_args -S "${downstream_source_dir}" -B "${downstream_build_dir}"
+                   "-DCMAKE_PREFIX_PATH=${prefix}")
+if(GENERATOR)
+  list(APPEND configure_args -G "${GENERATOR}")
+endif()
+if(CXX_COMPILER)
+  list(APPEND configure_args "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
+endif()
+if(CONFIG)
+  list(APPEND configure_args "-DCMAKE_BUILD_TYPE=${CONFIG}")
+endif()
+run_step("configuring the downstream project" "${CMAKE_COMMAND}" ${configure_args})
+
+# The package must come from the fresh prefix, not from an omnisfm installed elsewhere.
+file(STRINGS "${downstream_build_dir}/CMakeCache.txt" found_dir REGEX "^omnisfm_DIR:")
+string(REGEX REPLACE "^omnisfm_DIR:[A-Z]*=" "" found_dir "${found_dir}")
+get_filename_component(real_prefix "${prefix}" REALPATH)
+get_filename_component(real_found_dir "${found_dir}" REALPATH)
+string(FIND "${real_found_dir}" "${real_prefix}/" position)
+if(NOT position EQUAL 0)
+  message(FATAL_ERROR "downstream_test: omnisfm was found in ${found_dir}, not under ${prefix}")
+endif()
+
+run_step("building the downstream project"
+  "${CMAKE_COMMAND}" --build "${downstream_build_dir}" ${config_args})
+
+set(program "${downstream_build_dir}/omnisfm_downstream")
+if(NOT EXISTS "${program}" AND CONFIG)
+  set(program "${downstream_build_dir}/${CONFIG}/omnisfm_downstream")  # multi-config generators
+endif()
+run_step("running ${program}" "${program}")
