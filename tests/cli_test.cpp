@@ -235,12 +235,12 @@ TEST_F(CliTest, BadUsageExitsWithTwo) {
 TEST_F(CliTest, HelpWorksForEveryVerb) {
   const Outcome overview = omnisfm("--help");
   EXPECT_EQ(overview.status, 0);
-  for (const char* verb : {"project", "unproject", "demo"}) {
+  for (const char* verb : {"project", "unproject", "demo", "simulate"}) {
     EXPECT_NE(overview.out.find(verb), std::string::npos) << overview.out;
     const Outcome run = omnisfm(std::string(verb) + " --help");
     EXPECT_EQ(run.status, 0) << verb;
     EXPECT_NE(run.out.find("Usage: omnisfm " + std::string(verb)), std::string::npos) << run.out;
-    EXPECT_NE(run.out.find("--camera"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("--"), std::string::npos) << run.out;
   }
   const Outcome run = omnisfm("--version");
   EXPECT_EQ(run.status, 0);
@@ -256,6 +256,31 @@ TEST_F(CliTest, DemoWritesTheProjectedRoom) {
   int seen = 0;
   for (double u : projected.numbers("u")) seen += std::isnan(u) ? 0 : 1;
   EXPECT_GT(seen, 100);
+}
+
+TEST_F(CliTest, SimulateWritesACompleteDataset) {
+  const Outcome run = omnisfm("simulate --scenario crane --out crane --seed 3 --noise 0.1");
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const char* file : {"camera.ini", "tracks.vnl", "frames.vnl", "ground_truth.tum",
+                           "points_gt.vnl", "outliers_gt.vnl"})
+    EXPECT_TRUE(fs::exists(dir_ / "crane" / file)) << file;
+  EXPECT_EQ(VnlogTable::read((dir_ / "crane/outliers_gt.vnl").string()).num_rows(), 10u);
+  EXPECT_EQ(VnlogTable::read((dir_ / "crane/frames.vnl").string()).num_rows(), 140u);
+  // The same seed gives the same files.
+  ASSERT_EQ(omnisfm("simulate --scenario crane --out again --seed 3 --noise 0.1").status, 0);
+  EXPECT_EQ(read_all(dir_ / "crane/tracks.vnl"), read_all(dir_ / "again/tracks.vnl"));
+}
+
+TEST_F(CliTest, SimulateRejectsBadInputAndWritesNothing) {
+  for (const char* args :
+       {"simulate --scenario moon --out x", "simulate --scenario lab --out x --noise -1",
+        "simulate --scenario lab --out x --width 0", "simulate --scenario lab --out no/such/x",
+        "simulate --scenario lab"}) {
+    const Outcome run = omnisfm(args);
+    EXPECT_EQ(run.status, 2) << args;
+    EXPECT_EQ(run.err.rfind("omnisfm: ", 0), 0u) << args << ": " << run.err;
+    EXPECT_FALSE(fs::exists(dir_ / "x")) << args;
+  }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   omnisfm::app::add_project_verb(app);
   omnisfm::app::add_unproject_verb(app);
+  omnisfm::app::add_simulate_verb(app);
   omnisfm::app::add_demo_verb(app);
 
   try {

@@ -8,5 +8,6 @@ namespace omnisfm::app {
 void add_project_verb(CLI::App& app);
 void add_unproject_verb(CLI::App& app);
 void add_demo_verb(CLI::App& app);
+void add_simulate_verb(CLI::App& app);
 
 }  // namespace omnisfm::app

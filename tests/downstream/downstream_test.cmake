@@ -1,23 +1,23 @@
 # Installs an omnisfm build tree into a fresh prefix, then configures, builds and runs the
 # downstream project in tests/downstream against it with find_package(omnisfm).
 #
-#   cmake -DOMNISFM_BUILD_DIR=<build> -DOMNISFM_SOURCE_DIR=<source>
+#   cmake -DOMNISFM_BUILD_DIR=<build> [-DDOWNSTREAM_SOURCE_DIR=<this directory>]
 #         [-DCONFIG=<build type>] [-DGENERATOR=<generator>] [-DCXX_COMPILER=<compiler>]
 #         -P downstream_test.cmake
 #
 # The build tree must be fully built: `cmake --install` installs every target.
 cmake_minimum_required(VERSION 3.16)
 
-foreach(required OMNISFM_BUILD_DIR OMNISFM_SOURCE_DIR)
-  if(NOT DEFINED ${required} OR "${${required}}" STREQUAL "")
-    message(FATAL_ERROR "downstream_test: pass -D${required}=<path>")
-  endif()
-endforeach()
+if(NOT OMNISFM_BUILD_DIR)
+  message(FATAL_ERROR "downstream_test: pass -DOMNISFM_BUILD_DIR=<omnisfm build tree>")
+endif()
+if(NOT DOWNSTREAM_SOURCE_DIR)
+  set(DOWNSTREAM_SOURCE_DIR "${CMAKE_CURRENT_LIST_DIR}")
+endif()
 
 set(work_dir "${OMNISFM_BUILD_DIR}/downstream_test")
 set(prefix "${work_dir}/prefix")
 set(downstream_build_dir "${work_dir}/build")
-set(downstream_source_dir "${OMNISFM_SOURCE_DIR}/tests/downstream")
 file(REMOVE_RECURSE "${work_dir}")
 # A DESTDIR from the environment would move the installed files away from the prefix.
 unset(ENV{DESTDIR})
@@ -38,7 +38,7 @@ endif()
 run_step("installing ${OMNISFM_BUILD_DIR} into ${prefix}"
   "${CMAKE_COMMAND}" --install "${OMNISFM_BUILD_DIR}" --prefix "${prefix}" ${config_args})
 
-set(configure_args -S "${downstream_source_dir}" -B "${downstream_build_dir}"
+set(configure_args -S "${DOWNSTREAM_SOURCE_DIR}" -B "${downstream_build_dir}"
                    "-DCMAKE_PREFIX_PATH=${prefix}")
 if(GENERATOR)
   list(APPEND configure_args -G "${GENERATOR}")

@@ -1,0 +1,91 @@
+#pragma once
+// Renders what a catadioptric rig sees of a Scene: an 8-bit grey image of the camera's size.
+//
+// Each pixel holds an n x n grid of samples (samples_per_pixel = n^2) at offsets (i + 0.5)/n - 0.5
+// from its centre; a sample's reflected ray (camera.unproject) is traced to the nearest surface
+// and shaded, and the pixel is the mean of its samples, rounded. Samples with no valid reflection
+// (beyond the rim, in the camera's own reflection) are kInvalidGrey, as a real rig's unlit
+// surround is; rays that hit nothing are kSkyGrey.
+//
+// Shading:
+//   quads:   texture_value(quad.texture, ...) (procedural_texture.h lists the ids: 0 wall,
+//            1 floor, 2 ceiling, 3 box, 4 outdoor ground, 5 striped wall, 6 plain) on SceneHit::uv,
+//            filtered to the sample's footprint, times a fixed diffuse light factor of the quad's
+//            orientation (0.75-1) so that box faces differ.
+//   markers: kMarkerWhite disc of Marker::radius with a kMarkerDot centre dot of radius
+//            kMarkerDotFraction * radius; the target is the disc's centre. Not lit.
+//
+// The rays are computed once, at construction; render() transforms the scene into the camera
+// frame, culls surfaces per 16 x 16 pixel tile against the tile's bundle of rays, and shades
+// tiles on `threads` threads. The result depends neither on the thread count nor on timing.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/sim/procedural_texture.h"
+#include "omnisfm/sim/scene.h"
+
+namespace omnisfm::sim {
+
+inline constexpr double kInvalidGrey = 10;
+inline constexpr double kSkyGrey = 200;
+inline constexpr double kMarkerWhite = 250;
+inline constexpr double kMarkerDot = 20;
+inline constexpr double kMarkerDotFraction = 0.4;
+
+class Renderer {
+ public:
+  // samples_per_pixel must be a square (1, 4, 9, 16, ...) and threads >= 1; throws
+  // std::invalid_argument otherwise.
+  Renderer(const camera::CatadioptricCamera& camera, int samples_per_pixel, int threads = 2);
+
+  // CV_8UC1, image_height x image_width. Throws std::invalid_argument when a quad's texture is
+  // not a SurfaceTexture.
+  cv::Mat render(const Scene& scene, const Eigen::Isometry3d& world_from_cam) const;
+
+  // The same image with every ray traced by Scene::intersect in the world frame, without culling:
+  // slow, the reference that render() is tested against.
+  cv::Mat render_unaccelerated(const Scene& scene, const Eigen::Isometry3d& world_from_cam) const;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int samples_per_pixel() const { return grid_ * grid_; }
+  // How many samples have a valid ray.
+  std::size_t num_rays() const { return ray_origins_.size(); }
+
+ private:
+  // The pixels of an image tile that have at least one valid sample, and what bounds their rays:
+  // every origin lies within origin_radius of origin_centre, every direction within cone_angle
+  // of cone_axis.
+  struct Tile {
+    std::size_t first_pixel = 0, end_pixel = 0;
+    Eigen::Vector3d origin_centre{0, 0, 0};
+    double origin_radius = 0;
+    Eigen::Vector3d cone_axis{0, 0, 1};
+    double cone_angle = 0;
+  };
+  // A pixel with valid samples: rays [first_ray, first_ray + num_rays).
+  struct PixelRays {
+    std::int32_t x = 0, y = 0;
+    std::uint32_t first_ray = 0;
+    std::uint16_t num_rays = 0;
+    float angular_size = 0;  // radians between neighbouring pixels' rays
+  };
+
+  template <typename Trace>
+  cv::Mat shade_pixels(const Trace& trace_tile) const;
+  void check_textures(const Scene& scene) const;
+
+  int width_ = 0, height_ = 0, grid_ = 1, threads_ = 1;
+  std::vector<Tile> tiles_;
+  std::vector<PixelRays> pixels_;
+  // Frame C; single precision halves the memory of 16 samples per pixel, and costs at most a
+  // micrometre at the scenes' distances.
+  std::vector<Eigen::Vector3f> ray_origins_, ray_directions_;
+};
+
+}  // namespace omnisfm::sim

@@ -1,0 +1,34 @@
+#pragma once
+// Turns true points seen along a trajectory into the tracks a tracker would report: Gaussian noise,
+// tracks that end when their point leaves the field of view or is hidden, and mistracks that slide
+// to a wrong feature or drift.
+
+#include <random>
+#include <vector>
+
+#include "omnisfm/sim/dataset.h"
+
+namespace omnisfm::sim {
+
+struct TrackSimulationOptions {
+  double noise_px = 0.2;
+  int num_mistracked = 0;       // how many points' tracks go wrong part way
+  double border_px = 3.0;       // a point this close to the image edge is lost
+  int min_track_length = 2;     // shorter visible runs are not reported
+};
+
+// Fills dataset->track_points, observations and outliers from `points` (world) seen by
+// dataset->camera at dataset->world_from_cam, hidden by dataset->scene. Each maximal run of frames
+// in which a point is visible becomes one track.
+void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
+                     const TrackSimulationOptions& options, std::mt19937_64& rng, Dataset* dataset);
+
+// The true pixel of a world point at a frame, or false when the rig cannot see it.
+bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_W,
+                Eigen::Vector2d* pixel, double border_px = 0.0);
+
+// A standard normal deviate; the same on every platform for the same generator state.
+double standard_normal(std::mt19937_64& rng);
+double uniform(std::mt19937_64& rng, double lo, double hi);
+
+}  // namespace omnisfm::sim
