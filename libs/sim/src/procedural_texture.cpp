@@ -15,11 +15,11 @@ struct NoiseStyle {
 };
 
 // Indexed by SurfaceTexture for the noise textures.
-constexpr NoiseStyle kWallStyle{140, 95, 1.6, 0.64, 6, 0.7};
-constexpr NoiseStyle kFloorStyle{105, 85, 2.2, 0.64, 6, 0.75};
-constexpr NoiseStyle kCeilingStyle{185, 45, 1.2, 0.64, 6, 0.7};
-constexpr NoiseStyle kBoxStyle{125, 110, 2.5, 0.32, 5, 0.75};
-constexpr NoiseStyle kGroundStyle{100, 80, 1.8, 1.28, 7, 0.72};
+constexpr NoiseStyle kWallStyle{140, 90, 1.1, 0.64, 6, 0.8};
+constexpr NoiseStyle kFloorStyle{110, 85, 1.3, 0.64, 6, 0.85};
+constexpr NoiseStyle kCeilingStyle{185, 45, 1.0, 0.64, 6, 0.8};
+constexpr NoiseStyle kBoxStyle{125, 105, 1.4, 0.32, 5, 0.85};
+constexpr NoiseStyle kGroundStyle{100, 80, 1.2, 1.28, 7, 0.8};
 
 constexpr double kStripePeriod = 0.30, kStripeWidth = 0.04;
 constexpr double kStripeLight = 225, kStripeDark = 25;
@@ -27,7 +27,7 @@ constexpr double kPlainValue = 140;
 
 // Standard deviation of one octave of value_noise over the plane, so that the octave sum,
 // divided by it and by the root of the summed squared amplitudes, has unit spread.
-constexpr double kValueNoiseStd = 0.40;
+constexpr double kValueNoiseStd = 0.45;
 
 std::uint64_t mix64(std::uint64_t h) {  // splitmix64's finaliser
   h ^= h >> 30;

@@ -109,17 +109,18 @@ Dataset lab(const SimulationOptions& o, std::mt19937_64& rng) {
   tracking.noise_px = o.tracking_noise_px;
   simulate_tracks(targets, tracking, rng, &d);
 
-  // The survey, and the calibration image (the first) as an operator would mark it.
+  // The survey, and the calibration images (the corners of the U) as an operator would mark them.
   for (const auto& t : targets)
     d.surveyed_targets.push_back(
         t + o.survey_error_m * Eigen::Vector3d(standard_normal(rng), standard_normal(rng),
                                                standard_normal(rng)));
-  for (size_t i = 0; i < targets.size(); ++i) {
-    Eigen::Vector2d pixel;
-    if (!true_pixel(d, 0, targets[i], &pixel, 3.0)) continue;
-    pixel += o.tracking_noise_px * Eigen::Vector2d(standard_normal(rng), standard_normal(rng));
-    d.target_observations.push_back({0, static_cast<int>(i), pixel});
-  }
+  for (const int image : {0, 10, 30, 40})  // the corners of the U
+    for (size_t i = 0; i < targets.size(); ++i) {
+      Eigen::Vector2d pixel;
+      if (!true_pixel(d, image, targets[i], &pixel, 3.0)) continue;
+      pixel += o.tracking_noise_px * Eigen::Vector2d(standard_normal(rng), standard_normal(rng));
+      d.target_observations.push_back({image, static_cast<int>(i), pixel});
+    }
   return d;
 }
 

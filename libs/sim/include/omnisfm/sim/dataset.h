@@ -37,7 +37,7 @@ struct Dataset {
   std::vector<TrackObservation> observations;    // sorted by frame, then track
   std::vector<OutlierTruth> outliers;            // sorted by track
   Scene scene;
-  // Lab only: surveyed targets (as surveyed, with survey error) and a calibration image's view.
+  // Lab only: surveyed targets (as surveyed, with survey error) and the calibration images' views.
   std::vector<Eigen::Vector3d> surveyed_targets;
   std::vector<TargetObservation> target_observations;
 };
