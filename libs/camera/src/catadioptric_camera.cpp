@@ -22,6 +22,7 @@ struct SurfacePoint {
   MeridianPoint meridian;
   Eigen::Vector3d m, dm_ds, d2m_ds2, e_rho, e_phi;
 
+  SurfacePoint() = default;
   SurfacePoint(const MirrorProfile& mirror, double s, double phi, MeridianShapeJacobian* J_shape) {
     mirror.evaluate(s, &meridian, J_shape);
     const double c = std::cos(phi), sn = std::sin(phi);
@@ -151,11 +152,24 @@ void CatadioptricCamera::refresh() {
     guess_s_[i] = s;
     guess_angle_[i] = std::atan2(out.x(), out.z());
   }
+  guess_decreasing_ = true;
+  for (int i = 1; i < kGuessTableSize; ++i)
+    guess_decreasing_ = guess_decreasing_ && guess_angle_[i] < guess_angle_[i - 1];
 }
 
 double CatadioptricCamera::initial_parameter(const Eigen::Vector3d& X_M) const {
   const double angle = std::atan2(std::hypot(X_M.x(), X_M.y()), X_M.z() - patch_z_mid_);
-  // The nearest tabulated outgoing angle; the table need not be monotonic.
+  if (guess_decreasing_) {
+    // Outgoing angles fall as s grows: interpolate between the bracketing entries.
+    const auto it = std::lower_bound(guess_angle_.begin(), guess_angle_.end(), angle,
+                                     [](double a, double b) { return a > b; });
+    if (it == guess_angle_.begin()) return guess_s_.front();
+    if (it == guess_angle_.end()) return guess_s_.back();
+    const size_t i = it - guess_angle_.begin();
+    const double f = (angle - guess_angle_[i - 1]) / (guess_angle_[i] - guess_angle_[i - 1]);
+    return guess_s_[i - 1] + f * (guess_s_[i] - guess_s_[i - 1]);
+  }
+  // Otherwise the nearest tabulated angle.
   int best = 0;
   double best_error = INFINITY;
   for (int i = 0; i < kGuessTableSize; ++i) {
@@ -186,12 +200,11 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   MeridianShapeJacobian J_shape;
   Eigen::Vector3d u, v, w;
   double du = 0, dv = 0;
-  Eigen::Matrix3d W;
   Eigen::Matrix2d A;
   bool converged = false;
   int iteration = 0;
   int boundary_hits = 0;
-  SurfacePoint sp(*mirror_, s, phi, nullptr);
+  SurfacePoint sp;
   for (; iteration < kMaxNewtonIterations; ++iteration) {
     sp = SurfacePoint(*mirror_, s, phi, nullptr);
     if (central) {
@@ -207,11 +220,14 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
     v = to_point / dv;
     w = u + v;
 
-    // dw/dm: unit vectors toward fixed points turn as m moves.
-    W = -tangent_projector(v) / dv;
-    if (central) W -= tangent_projector(u) / du;
+    // dw/dm: unit vectors toward fixed points turn as m moves. Applied to vectors, not formed.
+    const auto apply_W = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+      Eigen::Vector3d r = -(x - v * v.dot(x)) / dv;
+      if (central) r -= (x - u * u.dot(x)) / du;
+      return r;
+    };
     const double rho = sp.meridian.rho, drho = sp.meridian.drho;
-    const Eigen::Vector3d W_ts = W * sp.dm_ds, W_ephi = W * sp.e_phi;
+    const Eigen::Vector3d W_ts = apply_W(sp.dm_ds), W_ephi = apply_W(sp.e_phi);
     const Eigen::Vector2d F(w.dot(sp.dm_ds), w.dot(sp.e_phi));
     A << sp.dm_ds.dot(W_ts) + w.dot(sp.d2m_ds2), rho * sp.dm_ds.dot(W_ephi) + drho * w.dot(sp.e_phi),
         sp.e_phi.dot(W_ts), rho * sp.e_phi.dot(W_ephi) - w.dot(sp.e_rho);
@@ -267,6 +283,8 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
 
   const int ns = mirror_->num_shape_params();
   if (ns > 0) {
+    Eigen::Matrix3d W = -tangent_projector(v) / dv;
+    if (central) W -= tangent_projector(u) / du;
     mirror_->evaluate(s, &sp.meridian, &J_shape);
     for (int j = 0; j < ns; ++j) {
       const Eigen::Vector3d dm = sp.e_rho * J_shape(0, j) + Eigen::Vector3d::UnitZ() * J_shape(1, j);

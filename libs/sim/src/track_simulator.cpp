@@ -90,18 +90,20 @@ void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
     Mistrack m;
     m.start_frame = run.first + static_cast<int>(uniform(rng, 0.3, 0.7) * length);
     m.slides = mistracks.size() % 2 == 0;
-    // A neighbouring feature 10-25 cm away that stays in view for a while, or a drift of
-    // 0.3-0.8 px per frame.
+    // A neighbouring feature 10-25 cm away, or a drift of 0.3-0.8 px per frame.
     if (m.slides) {
       bool found = false;
       for (int attempt = 0; attempt < 50 && !found; ++attempt) {
         const Eigen::Vector3d offset(standard_normal(rng), standard_normal(rng),
                                      standard_normal(rng));
         m.wrong_point_W = points[run.point] + offset.normalized() * uniform(rng, 0.10, 0.25);
-        found = true;
-        Eigen::Vector2d unused;
-        for (int f = m.start_frame; f < std::min(m.start_frame + 3, run.last + 1) && found; ++f)
-          found = true_pixel(*dataset, f, m.wrong_point_W, &unused, options.border_px);
+        // It must stay in view a while and jump visibly in the image: a feature hiding behind
+        // the true one along the same ray would be no mistrack at all.
+        Eigen::Vector2d wrong;
+        found = true_pixel(*dataset, m.start_frame, m.wrong_point_W, &wrong, options.border_px) &&
+                (wrong - pixels[run.point][m.start_frame]).norm() >= 3.0;
+        for (int f = m.start_frame + 1; f < std::min(m.start_frame + 3, run.last + 1) && found; ++f)
+          found = true_pixel(*dataset, f, m.wrong_point_W, &wrong, options.border_px);
       }
       if (!found) continue;
     }

@@ -95,6 +95,7 @@ class CatadioptricCamera {
   double box_rho_max_ = 0, box_z_min_ = 0, box_z_max_ = 0;  // bounding region of the patch
   // Aligned, far-point starting guess: outgoing polar angle (decreasing) -> profile parameter.
   std::vector<double> guess_angle_, guess_s_;
+  bool guess_decreasing_ = false;
 };
 
 }  // namespace omnisfm::camera

@@ -1,0 +1,55 @@
+#include "omnisfm/io/tracks_file.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "omnisfm/io/input_error.h"
+
+namespace omnisfm::io {
+namespace {
+
+std::string write_file(const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/tracks.vnl";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(TracksFile, RoundTrip) {
+  const std::vector<TrackObservation> tracks = {
+      {0, 3, {10.5, 20.25}}, {0, 7, {1.0 / 3, 2}}, {1, 3, {11, 21}}, {1, 7, {2, 3}}};
+  const std::string path = ::testing::TempDir() + "/written.vnl";
+  write_tracks(path, tracks);
+  const auto back = read_tracks(path, 100, 100);
+  ASSERT_EQ(back.size(), tracks.size());
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    EXPECT_EQ(back[i].frame, tracks[i].frame);
+    EXPECT_EQ(back[i].track, tracks[i].track);
+    EXPECT_EQ(back[i].pixel, tracks[i].pixel);
+  }
+}
+
+TEST(TracksFile, MalformedTracksNameTheLine) {
+  auto expect_error = [](const std::string& text, const std::string& what, int line) {
+    const std::string path = write_file(text);
+    try {
+      read_tracks(path, 640, 480);
+      FAIL() << "no error for:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  };
+  const std::string header = "# frame track u v\n";
+  expect_error(header + "1 0 5 5\n0 0 6 6\n", "must not decrease", 3);
+  expect_error(header + "0 0 5 5\n0 1 - 5\n1 0 1 1\n1 1 1 1\n", "finite", 3);
+  expect_error(header + "0 0 5 5\n1 0 6 6\n1 1 7 7\n", "single observation", 4);
+  expect_error(header + "0 0 5 5\n1 0 6 6\n1 0 7 7\n", "twice", 4);
+  expect_error(header + "0 0 5 5\n1 0 700 6\n", "outside", 3);
+  expect_error(header + "0 0.5 5 5\n", "integer", 2);
+  expect_error("# frame track u\n0 0 5\n", "v", 0);
+}
+
+}  // namespace
+}  // namespace omnisfm::io

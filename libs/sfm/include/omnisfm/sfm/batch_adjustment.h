@@ -1,0 +1,45 @@
+#pragma once
+// The batch estimator: Levenberg-Marquardt over all camera poses and 3D points (Ceres, with the
+// noncentral projection's analytic Jacobians), started from the online filter's estimates and run
+// on its inliers, as the paper does. The first pose is held fixed: with a noncentral camera that
+// fixes the gauge, the scale being (weakly) observable through the mirror's size.
+
+#include <Eigen/Geometry>
+#include <map>
+#include <vector>
+
+#include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/io/tracks_file.h"
+
+namespace omnisfm::sfm {
+
+struct BatchSettings {
+  double huber_px = 0;        // a Huber loss of this width; 0 for plain least squares
+  int max_iterations = 200;
+  bool covariances = true;    // pose and point covariances (dense, for problems of moderate size)
+};
+
+struct BatchResult {
+  bool converged = false;
+  std::string message;
+  int iterations = 0;
+  double initial_rms_px = 0, final_rms_px = 0;  // per coordinate
+  double seconds = 0;        // in all, covariances included
+  double solve_seconds = 0;  // the Levenberg-Marquardt solve alone
+  std::vector<Eigen::Isometry3d> cam_from_world;  // per frame
+  std::map<int, Eigen::Vector3d> points;           // per track
+  // 6x6 per frame (rotation as angle-axis, then translation; frame 0 is fixed: zero) and 3x3 per
+  // point, when asked for and computable.
+  std::vector<Eigen::Matrix<double, 6, 6>> pose_covariances;
+  std::map<int, Eigen::Matrix3d> point_covariances;
+};
+
+// observations: every observation to use (outliers already removed); cam_from_world: a start for
+// every frame; points: a start for every track observed.
+BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
+                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<Eigen::Isometry3d>& cam_from_world,
+                         const std::map<int, Eigen::Vector3d>& points,
+                         const BatchSettings& settings);
+
+}  // namespace omnisfm::sfm

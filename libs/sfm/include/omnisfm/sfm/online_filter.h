@@ -1,0 +1,104 @@
+#pragma once
+// The online estimator of the paper: an extended Kalman filter over the current camera pose and
+// the 3D points of the live tracks.
+//
+// State: cam_from_world (R, t; the rotation's error is a left perturbation R = exp(dtheta) R, so
+// any attitude works) and one 3D world point per live track. The first frame fixes the gauge:
+// its pose is the identity, known exactly. Propagation keeps the estimate and inflates the pose
+// covariance by a random walk. A new track's point starts on a sphere around the camera along its
+// ray: very uncertain along the ray, certain across it. Points are held in inverse depth about
+// their first ray (two angles across it, one inverse distance along it), where a depth that is
+// barely known stays well approximated by a Gaussian and never crosses behind the camera. The measurement update uses the
+// noncentral projection's analytic Jacobians; afterwards, if the largest residual exceeds the
+// outlier threshold, that track is discarded and the update re-run from the propagated estimate,
+// until none does. A track that is not observed in a frame has ended and leaves the state, so the
+// per-frame cost stays bounded however long the sequence.
+
+#include <Eigen/Geometry>
+#include <map>
+#include <vector>
+
+#include "omnisfm/camera/catadioptric_camera.h"
+
+namespace omnisfm::sfm {
+
+struct FilterSettings {
+  double pixel_sigma = 0.3;              // measurement noise, pixels per coordinate
+  double rotation_walk_sigma = 0.05;     // radians per frame
+  double translation_walk_sigma = 0.05;  // metres per frame
+  double initial_depth = 2.0;            // radius of the initialisation sphere, metres
+  double inverse_depth_sigma = 0.5;      // along the ray, 1/metres
+  double outlier_threshold_px = 2.0;     // largest residual after the update
+  // Also reject, before the update, a measurement whose innovation lies beyond this squared
+  // Mahalanobis distance of its predicted covariance: a track that slides to a nearby feature
+  // jumps by a few pixels, which the update alone can absorb. 0 turns the gate off.
+  double innovation_gate_chi2 = 0.0;
+  // 1: the classic EKF; more: the iterated EKF, which stops early once the iterate settles. New
+  // points' depths make the first updates strongly nonlinear.
+  int update_iterations = 8;
+};
+
+struct TrackPixel {
+  int track = 0;
+  Eigen::Vector2d pixel{0, 0};
+};
+
+struct RejectedTrack {
+  int track = 0;
+  int frame = 0;  // where the filter rejected it
+};
+
+class OnlineFilter {
+ public:
+  OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings);
+
+  // Processes the next frame's observations. Returns false when no measurement could be used
+  // (the pose then stays the propagated prediction).
+  bool process_frame(int frame, const std::vector<TrackPixel>& observations);
+
+  Eigen::Isometry3d cam_from_world() const;
+  // The 6x6 covariance of the pose error (rotation, then translation).
+  Eigen::Matrix<double, 6, 6> pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
+  // The latest estimate of every point the filter has carried (live or ended), outliers excluded.
+  std::map<int, Eigen::Vector3d> points() const;
+  const std::vector<RejectedTrack>& rejected() const { return rejected_; }
+  int num_live_points() const { return static_cast<int>(slot_track_.size()); }
+
+ private:
+  struct Measurement {
+    int slot;
+    Eigen::Vector2d pixel;
+  };
+  void propagate();
+  void remove_slot(int slot);
+  // The iterated update from the current (propagated) state; residuals after it, per measurement.
+  void update(const std::vector<Measurement>& measurements, Eigen::Matrix3d* R, Eigen::Vector3d* t,
+              Eigen::VectorXd* points, Eigen::MatrixXd* P, std::vector<double>* residuals) const;
+  void add_point(int track, const Eigen::Vector2d& pixel);
+  // The world point of a slot's parameters, and its derivative with respect to them.
+  Eigen::Vector3d world_point(int slot, const Eigen::Vector3d& params,
+                              Eigen::Matrix3d* J_params = nullptr) const;
+
+  // A point's fixed reference: where its first ray started, and a basis whose first column is
+  // that ray's direction (world frame).
+  struct Anchor {
+    Eigen::Vector3d origin;
+    Eigen::Matrix3d basis;
+  };
+
+  camera::CatadioptricCamera camera_;
+  FilterSettings settings_;
+  bool started_ = false;
+  Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
+  Eigen::VectorXd points_;     // 3 per slot: angles across the first ray, inverse depth
+  std::vector<Anchor> anchors_;  // per slot
+  Eigen::MatrixXd P_;          // 6 + 3 * slots
+  std::vector<int> slot_track_;
+  std::map<int, int> track_slot_;
+  std::map<int, Eigen::Vector3d> ended_points_;
+  std::map<int, bool> excluded_;  // rejected tracks, ignored from then on
+  std::vector<RejectedTrack> rejected_;
+};
+
+}  // namespace omnisfm::sfm

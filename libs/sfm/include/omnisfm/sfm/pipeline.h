@@ -1,0 +1,42 @@
+#pragma once
+// The paper's pipeline: the online filter over the tracks, frame by frame, then the batch
+// adjustment over all frames, started from the filter and run on its inliers.
+
+#include <functional>
+#include <vector>
+
+#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/sfm/batch_adjustment.h"
+#include "omnisfm/sfm/online_filter.h"
+
+namespace omnisfm::sfm {
+
+struct SfmSettings {
+  FilterSettings filter;
+  BatchSettings batch;
+  bool run_batch = true;
+  // After the batch, a track with a residual beyond this is rejected too and the batch re-run:
+  // a track that slid to a nearby feature can fool the filter's test but not the whole sequence.
+  // 0 turns it off.
+  double batch_outlier_threshold_px = 2.0;
+};
+
+struct SfmResult {
+  int num_frames = 0;
+  std::vector<Eigen::Isometry3d> online_cam_from_world;  // the filter's estimate at each frame
+  std::map<int, Eigen::Vector3d> online_points;
+  std::vector<RejectedTrack> outliers;  // the filter's, then the batch's
+  double online_seconds = 0;
+  BatchResult batch;
+};
+
+// Called after each frame the filter processes: (frames done, frames in all).
+using Progress = std::function<void(int, int)>;
+
+// Throws std::invalid_argument when the tracks cannot support an estimate (no frames, fewer than
+// 6 tracks in the first frame).
+SfmResult run_sfm(const camera::CatadioptricCamera& camera,
+                  const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                  const Progress& progress = nullptr);
+
+}  // namespace omnisfm::sfm

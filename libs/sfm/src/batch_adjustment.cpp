@@ -1,0 +1,135 @@
+#include "omnisfm/sfm/batch_adjustment.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <glog/logging.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "projection_cost.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+using PoseVector = Eigen::Matrix<double, 6, 1>;
+
+PoseVector to_vector(const Eigen::Isometry3d& T) {
+  PoseVector v;
+  const Eigen::Matrix3d R = T.linear();
+  ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
+  v.tail<3>() = T.translation();
+  return v;
+}
+
+Eigen::Isometry3d to_pose(const PoseVector& v) {
+  Eigen::Matrix3d R;
+  ceres::AngleAxisToRotationMatrix(v.data(), ceres::ColumnMajorAdapter3x3(R.data()));
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = v.tail<3>();
+  return T;
+}
+
+}  // namespace
+
+BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
+                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<Eigen::Isometry3d>& cam_from_world,
+                         const std::map<int, Eigen::Vector3d>& start_points,
+                         const BatchSettings& settings) {
+  const auto started = std::chrono::steady_clock::now();
+  FLAGS_minloglevel = std::max(FLAGS_minloglevel, google::GLOG_ERROR);
+  BatchResult result;
+  std::vector<PoseVector> poses;
+  for (const auto& T : cam_from_world) poses.push_back(to_vector(T));
+  std::map<int, Eigen::Vector3d> points = start_points;
+
+  ceres::Problem problem;
+  int used = 0;
+  for (const auto& o : observations) {
+    auto point = points.find(o.track);
+    if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size())) continue;
+    auto* cost = new ProjectionCost(&camera, o.pixel);
+    double residual[2];
+    const double* blocks[2] = {poses[o.frame].data(), point->second.data()};
+    if (!cost->Evaluate(blocks, residual, nullptr)) {
+      delete cost;  // cannot be projected from the start: left out
+      continue;
+    }
+    ceres::LossFunction* loss =
+        settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
+    problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data());
+    ++used;
+  }
+  if (used == 0 || poses.empty()) {
+    result.message = "no observation can be projected from the starting estimate";
+    return result;
+  }
+  if (problem.HasParameterBlock(poses[0].data())) problem.SetParameterBlockConstant(poses[0].data());
+
+  ceres::Solver::Options options;
+  options.linear_solver_type = poses.size() <= 300 ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+  // Eliminate whichever side leaves the smaller reduced system: long tracks make it dense. Poses
+  // never share a residual, nor do points, so either is an independent set.
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  const bool eliminate_poses = 6 * poses.size() > 3 * points.size();
+  for (auto& v : poses)
+    if (problem.HasParameterBlock(v.data())) ordering->AddElementToGroup(v.data(), eliminate_poses ? 0 : 1);
+  for (auto& [track, p] : points)
+    if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), eliminate_poses ? 1 : 0);
+  options.linear_solver_ordering = ordering;
+  options.max_num_iterations = settings.max_iterations;
+  options.num_threads = 2;
+  options.logging_type = ceres::SILENT;
+  options.function_tolerance = 1e-10;
+  options.parameter_tolerance = 1e-10;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  result.message = summary.message;
+  result.iterations = static_cast<int>(summary.iterations.size());
+  result.initial_rms_px = std::sqrt(summary.initial_cost / used);
+  result.final_rms_px = std::sqrt(summary.final_cost / used);
+  result.solve_seconds = summary.total_time_in_seconds;
+  for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
+  result.points = points;
+
+  if (settings.covariances && summary.IsSolutionUsable()) {
+    ceres::Covariance::Options covariance_options;
+    // Sparse QR: the gauge is fixed by the first pose, so the problem is of full rank.
+    covariance_options.algorithm_type = ceres::SPARSE_QR;
+    covariance_options.num_threads = 2;
+    ceres::Covariance covariance(covariance_options);
+    std::vector<std::pair<const double*, const double*>> blocks;
+    for (const auto& v : poses)
+      if (problem.HasParameterBlock(v.data()) && !problem.IsParameterBlockConstant(v.data()))
+        blocks.emplace_back(v.data(), v.data());
+    for (const auto& [track, p] : points)
+      if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
+    if (covariance.Compute(blocks, &problem)) {
+      // Scaled by the residual variance: the pixel noise is estimated, not assumed.
+      const double dof = std::max(1.0, 2.0 * used - problem.NumParameters() + 6);
+      const double variance = 2 * summary.final_cost / dof;
+      result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
+      for (size_t f = 0; f < poses.size(); ++f) {
+        if (!problem.HasParameterBlock(poses[f].data()) ||
+            problem.IsParameterBlockConstant(poses[f].data()))
+          continue;
+        Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
+        covariance.GetCovarianceBlock(poses[f].data(), poses[f].data(), c.data());
+        result.pose_covariances[f] = variance * c;
+      }
+      for (const auto& [track, p] : points) {
+        if (!problem.HasParameterBlock(p.data())) continue;
+        Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c;
+        covariance.GetCovarianceBlock(p.data(), p.data(), c.data());
+        result.point_covariances[track] = variance * c;
+      }
+    }
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+}  // namespace omnisfm::sfm

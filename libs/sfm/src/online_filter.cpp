@@ -1,0 +1,306 @@
+#include "omnisfm/sfm/online_filter.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace omnisfm::sfm {
+namespace {
+
+// One kilometre: far enough to stand for infinity in any scene the rig maps.
+constexpr double kMinInverseDepth = 1e-3;
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (angle < 1e-12) return Eigen::Matrix3d::Identity() + skew(w);
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
+Eigen::Vector3d log_so3(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+}  // namespace
+
+OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
+    : camera_(camera), settings_(settings), P_(Eigen::MatrixXd::Zero(6, 6)) {}
+
+Eigen::Isometry3d OnlineFilter::cam_from_world() const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R_;
+  T.translation() = t_;
+  return T;
+}
+
+std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
+  std::map<int, Eigen::Vector3d> all = ended_points_;
+  for (size_t s = 0; s < slot_track_.size(); ++s)
+    all[slot_track_[s]] = world_point(static_cast<int>(s), points_.segment<3>(3 * s));
+  return all;
+}
+
+Eigen::Vector3d OnlineFilter::world_point(int slot, const Eigen::Vector3d& params,
+                                          Eigen::Matrix3d* J_params) const {
+  const Anchor& a = anchors_[slot];
+  const Eigen::Vector3d u = a.basis.col(0) + params.x() * a.basis.col(1) + params.y() * a.basis.col(2);
+  const double norm = u.norm();
+  const Eigen::Vector3d direction = u / norm;
+  const double rho = params.z();
+  if (J_params) {
+    const Eigen::Matrix3d across = (Eigen::Matrix3d::Identity() - direction * direction.transpose()) / norm;
+    *J_params << across * a.basis.col(1) / rho, across * a.basis.col(2) / rho,
+        -direction / (rho * rho);
+  }
+  return a.origin + direction / rho;
+}
+
+void OnlineFilter::propagate() {
+  P_.topLeftCorner<3, 3>().diagonal().array() += std::pow(settings_.rotation_walk_sigma, 2);
+  P_.block<3, 3>(3, 3).diagonal().array() += std::pow(settings_.translation_walk_sigma, 2);
+}
+
+void OnlineFilter::remove_slot(int slot) {
+  const int last = static_cast<int>(slot_track_.size()) - 1;
+  const int n = 6 + 3 * last;  // size after removal
+  if (slot != last) {
+    const int from = 6 + 3 * last, to = 6 + 3 * slot;
+    points_.segment<3>(3 * slot) = points_.segment<3>(3 * last);
+    anchors_[slot] = anchors_[last];
+    P_.middleCols<3>(to) = P_.middleCols<3>(from);
+    P_.middleRows<3>(to) = P_.middleRows<3>(from);
+    slot_track_[slot] = slot_track_[last];
+    track_slot_[slot_track_[slot]] = slot;
+  }
+  slot_track_.pop_back();
+  anchors_.pop_back();
+  points_.conservativeResize(3 * last);
+  P_.conservativeResize(n, n);
+}
+
+void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
+  Eigen::Vector3d origin, direction;
+  if (!camera_.unproject(pixel, &origin, &direction)) return;
+  // Angular resolution at this pixel, for the certainty across the ray.
+  Eigen::Vector3d o2, d2;
+  double radians_per_pixel = 0.005;
+  if (camera_.unproject(pixel + Eigen::Vector2d(1, 0), &o2, &d2))
+    radians_per_pixel = std::acos(std::clamp(direction.dot(d2), -1.0, 1.0));
+
+  Anchor anchor;
+  anchor.origin = R_.transpose() * (origin - t_);
+  const Eigen::Vector3d d_W = R_.transpose() * direction;
+  anchor.basis.col(0) = d_W;
+  anchor.basis.col(1) = d_W.unitOrthogonal();
+  anchor.basis.col(2) = d_W.cross(anchor.basis.col(1));
+  const int slot = static_cast<int>(slot_track_.size());
+  anchors_.push_back(anchor);
+  slot_track_.push_back(track);
+  track_slot_[track] = slot;
+  const Eigen::Vector3d params(0, 0, 1 / settings_.initial_depth);
+
+  // The point hangs on the current pose: X_W = R^T (X_C - t), with R = exp(dtheta) R, moved into
+  // the point's parameters through the inverse of their Jacobian.
+  Eigen::Matrix3d J_X_params;
+  const Eigen::Vector3d X_W = world_point(slot, params, &J_X_params);
+  const Eigen::Vector3d X_C = R_ * X_W + t_;
+  Eigen::Matrix<double, 3, 6> J_pose;
+  J_pose << R_.transpose() * skew(X_C - t_), -R_.transpose();
+  const Eigen::Matrix<double, 3, 6> G = J_X_params.inverse() * J_pose;
+  const double across = radians_per_pixel * settings_.pixel_sigma;
+  const Eigen::Vector3d own_sigma(across, across, settings_.inverse_depth_sigma);
+
+  const int n = static_cast<int>(P_.rows());
+  P_.conservativeResize(n + 3, n + 3);
+  const Eigen::MatrixXd cross = G * P_.topLeftCorner(6, n);  // 3 x n
+  P_.bottomLeftCorner(3, n) = cross;
+  P_.topRightCorner(n, 3) = cross.transpose();
+  P_.bottomRightCorner<3, 3>() = G * P_.topLeftCorner<6, 6>() * G.transpose();
+  P_.bottomRightCorner<3, 3>().diagonal() += own_sigma.cwiseAbs2();
+  points_.conservativeResize(3 * slot + 3);
+  points_.segment<3>(3 * slot) = params;
+}
+
+void OnlineFilter::update(const std::vector<Measurement>& meas, Eigen::Matrix3d* R,
+                          Eigen::Vector3d* t, Eigen::VectorXd* X, Eigen::MatrixXd* P,
+                          std::vector<double>* residuals) const {
+  const int m = static_cast<int>(meas.size());
+  const int n = static_cast<int>(P_.rows());
+  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  *R = R_;
+  *t = t_;
+  *X = points_;
+  std::vector<Eigen::Matrix<double, 2, 6>> H_pose(m);
+  std::vector<Eigen::Matrix<double, 2, 3>> H_point(m);
+  Eigen::VectorXd innovation(2 * m);
+  Eigen::MatrixXd PHt(n, 2 * m);
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  residuals->assign(m, INFINITY);
+
+  for (int iteration = 0; iteration < std::max(1, settings_.update_iterations); ++iteration) {
+    // Linearise at the current iterate; the correction is taken from the prediction.
+    const Eigen::Vector3d rotation_offset = log_so3(R_ * R->transpose());
+    for (int k = 0; k < m; ++k) {
+      const int s = meas[k].slot;
+      Eigen::Matrix3d J_world_params;
+      const Eigen::Vector3d params = X->segment<3>(3 * s);
+      const Eigen::Vector3d RX = *R * world_point(s, params, &J_world_params);
+      Eigen::Vector2d pixel;
+      Eigen::Matrix<double, 2, 3> J_X;
+      if (!(params.z() > 0) || !camera_.project(RX + *t, &pixel, &J_X)) {
+        // Off the mirror at this iterate: keep the previous linearisation for this one.
+        if (iteration == 0) return;
+        continue;
+      }
+      H_pose[k] << -J_X * skew(RX), J_X;
+      H_point[k] = J_X * *R * J_world_params;
+      const Eigen::Vector3d point_offset = points_.segment<3>(3 * s) - X->segment<3>(3 * s);
+      innovation.segment<2>(2 * k) = meas[k].pixel - pixel -
+                                     H_pose[k].leftCols<3>() * rotation_offset -
+                                     H_pose[k].rightCols<3>() * (t_ - *t) -
+                                     H_point[k] * point_offset;
+    }
+    for (int k = 0; k < m; ++k) {
+      const int c = 6 + 3 * meas[k].slot;
+      PHt.middleCols<2>(2 * k) = P_.leftCols<6>() * H_pose[k].transpose() +
+                                 P_.middleCols<3>(c) * H_point[k].transpose();
+    }
+    Eigen::MatrixXd S(2 * m, 2 * m);
+    for (int k = 0; k < m; ++k) {
+      const int c = 6 + 3 * meas[k].slot;
+      S.middleRows<2>(2 * k) =
+          H_pose[k] * PHt.topRows<6>() + H_point[k] * PHt.middleRows<3>(c);
+    }
+    S.diagonal().array() += variance;
+    llt.compute(S);
+    const Eigen::VectorXd correction = PHt * llt.solve(innovation);
+    const Eigen::Vector3d previous_t = *t;
+    *R = exp_so3(correction.head<3>()) * R_;
+    *t = t_ + correction.segment<3>(3);
+    const Eigen::VectorXd previous_X = *X;
+    *X = points_ + correction.tail(n - 6);
+    // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
+    for (int k = 2; k < X->size(); k += 3) (*X)[k] = std::max((*X)[k], kMinInverseDepth);
+    // Converged when the iterate stops moving (a micrometre).
+    if (iteration > 0 && (*t - previous_t).norm() < 1e-6 &&
+        (n == 6 || (*X - previous_X).cwiseAbs().maxCoeff() < 1e-6))
+      break;
+  }
+  // P = P - PHt S^-1 PHt^T, as a symmetric rank-2m downdate.
+  const Eigen::MatrixXd W = llt.matrixL().solve(PHt.transpose());
+  *P = P_;
+  P->selfadjointView<Eigen::Lower>().rankUpdate(W.transpose(), -1.0);
+  const Eigen::MatrixXd symmetric = P->selfadjointView<Eigen::Lower>();
+  *P = symmetric;
+
+  for (int k = 0; k < m; ++k) {
+    const Eigen::Vector3d params = X->segment<3>(3 * meas[k].slot);
+    Eigen::Vector2d pixel;
+    if (params.z() > 0 && camera_.project(*R * world_point(meas[k].slot, params) + *t, &pixel))
+      (*residuals)[k] = (pixel - meas[k].pixel).norm();
+  }
+}
+
+bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations) {
+  std::map<int, Eigen::Vector2d> seen;
+  for (const auto& o : observations)
+    if (!excluded_.count(o.track)) seen[o.track] = o.pixel;
+
+  if (!started_) {
+    started_ = true;
+    for (const auto& [track, pixel] : seen) add_point(track, pixel);
+    return true;
+  }
+
+  // Tracks not seen in this frame have ended: their points leave the state.
+  for (int s = static_cast<int>(slot_track_.size()) - 1; s >= 0; --s)
+    if (!seen.count(slot_track_[s])) {
+      ended_points_[slot_track_[s]] = world_point(s, points_.segment<3>(3 * s));
+      track_slot_.erase(slot_track_[s]);
+      remove_slot(s);
+    }
+
+  propagate();
+
+  std::vector<Measurement> measurements;
+  for (const auto& [track, pixel] : seen) {
+    const auto slot = track_slot_.find(track);
+    if (slot == track_slot_.end()) continue;
+    Eigen::Vector2d predicted;
+    if (camera_.project(R_ * world_point(slot->second, points_.segment<3>(3 * slot->second)) + t_,
+                        &predicted))
+      measurements.push_back({slot->second, pixel});
+  }
+
+  std::set<int> rejected_slots;
+  if (settings_.innovation_gate_chi2 > 0) {
+    std::vector<Measurement> kept;
+    for (const auto& m : measurements) {
+      const int c = 6 + 3 * m.slot;
+      Eigen::Matrix3d J_world;
+      const Eigen::Vector3d X_W = world_point(m.slot, points_.segment<3>(3 * m.slot), &J_world);
+      const Eigen::Vector3d RX = R_ * X_W;
+      Eigen::Vector2d predicted;
+      Eigen::Matrix<double, 2, 3> J_X;
+      camera_.project(RX + t_, &predicted, &J_X);
+      Eigen::Matrix<double, 2, 9> H;
+      H << -J_X * skew(RX), J_X, J_X * R_ * J_world;
+      Eigen::Matrix<double, 9, 9> P_local;
+      P_local << P_.topLeftCorner<6, 6>(), P_.block<6, 3>(0, c), P_.block<3, 6>(c, 0),
+          P_.block<3, 3>(c, c);
+      Eigen::Matrix2d S = H * P_local * H.transpose();
+      S.diagonal().array() += settings_.pixel_sigma * settings_.pixel_sigma;
+      const Eigen::Vector2d y = m.pixel - predicted;
+      if (y.dot(S.ldlt().solve(y)) > settings_.innovation_gate_chi2)
+        rejected_slots.insert(m.slot);
+      else
+        kept.push_back(m);
+    }
+    measurements.swap(kept);
+  }
+
+  bool updated = false;
+  while (!measurements.empty()) {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    Eigen::VectorXd X;
+    Eigen::MatrixXd P;
+    std::vector<double> residuals;
+    update(measurements, &R, &t, &X, &P, &residuals);
+    const auto worst = std::max_element(residuals.begin(), residuals.end());
+
+    if (*worst > settings_.outlier_threshold_px) {
+      // The paper's rejection: drop the worst track, redo the update from the prediction.
+      rejected_slots.insert(measurements[worst - residuals.begin()].slot);
+      measurements.erase(measurements.begin() + (worst - residuals.begin()));
+      continue;
+    }
+    R_ = R;
+    t_ = t;
+    points_ = X;
+    P_ = P;
+    updated = true;
+    break;
+  }
+  // Rejected tracks leave the state for good (highest slot first: removal moves the last slot).
+  for (auto it = rejected_slots.rbegin(); it != rejected_slots.rend(); ++it) {
+    const int track = slot_track_[*it];
+    excluded_[track] = true;
+    rejected_.push_back({track, frame});
+    track_slot_.erase(track);
+    remove_slot(*it);
+  }
+
+  for (const auto& [track, pixel] : seen)
+    if (!track_slot_.count(track) && !excluded_.count(track)) add_point(track, pixel);
+  return updated;
+}
+
+}  // namespace omnisfm::sfm

@@ -1,0 +1,65 @@
+#include "omnisfm/sfm/pipeline.h"
+
+#include <chrono>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+namespace omnisfm::sfm {
+
+SfmResult run_sfm(const camera::CatadioptricCamera& camera,
+                  const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                  const Progress& progress) {
+  SfmResult result;
+  for (const auto& o : tracks) result.num_frames = std::max(result.num_frames, o.frame + 1);
+  if (result.num_frames < 2) throw std::invalid_argument("the tracks span fewer than 2 frames");
+  std::vector<std::vector<TrackPixel>> by_frame(result.num_frames);
+  for (const auto& o : tracks) by_frame[o.frame].push_back({o.track, o.pixel});
+  if (by_frame[0].size() < 6)
+    throw std::invalid_argument("the first frame has " + std::to_string(by_frame[0].size()) +
+                                " tracks; at least 6 are needed to start");
+
+  const auto started = std::chrono::steady_clock::now();
+  OnlineFilter filter(camera, settings.filter);
+  for (int f = 0; f < result.num_frames; ++f) {
+    filter.process_frame(f, by_frame[f]);
+    result.online_cam_from_world.push_back(filter.cam_from_world());
+    if (progress) progress(f + 1, result.num_frames);
+  }
+  result.online_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  result.online_points = filter.points();
+  result.outliers = filter.rejected();
+  if (!settings.run_batch) return result;
+
+  std::set<int> rejected;
+  for (const auto& r : result.outliers) rejected.insert(r.track);
+  std::vector<io::TrackObservation> inliers;
+  for (const auto& o : tracks)
+    if (!rejected.count(o.track) && result.online_points.count(o.track)) inliers.push_back(o);
+  result.batch = batch_adjust(camera, inliers, result.online_cam_from_world, result.online_points,
+                              settings.batch);
+  if (settings.batch_outlier_threshold_px <= 0) return result;
+
+  // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail.
+  std::map<int, int> failing;
+  for (const auto& o : inliers) {
+    const auto point = result.batch.points.find(o.track);
+    Eigen::Vector2d pixel;
+    const bool fits =
+        point != result.batch.points.end() &&
+        camera.project(result.batch.cam_from_world[o.frame] * point->second, &pixel) &&
+        (pixel - o.pixel).norm() <= settings.batch_outlier_threshold_px;
+    if (!fits && !failing.count(o.track)) failing[o.track] = o.frame;
+  }
+  if (failing.empty()) return result;
+  for (const auto& [track, frame] : failing) result.outliers.push_back({track, frame});
+  std::vector<io::TrackObservation> kept;
+  for (const auto& o : inliers)
+    if (!failing.count(o.track)) kept.push_back(o);
+  result.batch = batch_adjust(camera, kept, result.batch.cam_from_world, result.batch.points,
+                              settings.batch);
+  return result;
+}
+
+}  // namespace omnisfm::sfm

@@ -1,0 +1,88 @@
+// The pipeline on the simulated experiments: the filter and the batch adjustment against ground
+// truth, with the paper's error figures.
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/scenario.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+std::vector<Eigen::Isometry3d> inverted(const std::vector<Eigen::Isometry3d>& poses) {
+  std::vector<Eigen::Isometry3d> out;
+  for (const auto& T : poses) out.push_back(T.inverse());
+  return out;
+}
+
+struct PipelineRun {
+  eval::TrajectoryErrors online, batch;
+  eval::OutlierDetection outliers;
+  eval::PointErrors points;
+  SfmResult result;
+};
+
+PipelineRun run(const std::string& scenario, std::uint64_t seed) {
+  sim::SimulationOptions options;
+  options.scenario = scenario;
+  options.seed = seed;
+  const sim::Dataset d = sim::simulate(options);
+  std::vector<io::TrackObservation> tracks;
+  for (const auto& o : d.observations) tracks.push_back({o.frame, o.track, o.pixel});
+  SfmSettings settings;
+  PipelineRun r;
+  r.result = run_sfm(d.camera, tracks, settings);
+  r.online = eval::trajectory_errors(inverted(r.result.online_cam_from_world), d.world_from_cam, true);
+  r.batch = eval::trajectory_errors(inverted(r.result.batch.cam_from_world), d.world_from_cam, true);
+  std::set<int> detected, actual;
+  for (const auto& o : r.result.outliers) detected.insert(o.track);
+  for (const auto& o : d.outliers) actual.insert(o.track);
+  r.outliers = eval::outlier_detection(detected, actual);
+  std::map<int, Eigen::Vector3d> truth;
+  for (size_t t = 0; t < d.track_points.size(); ++t)
+    if (!actual.count(static_cast<int>(t))) truth[static_cast<int>(t)] = d.track_points[t];
+  r.points = eval::point_errors(r.result.batch.points, truth, inverted(r.result.batch.cam_from_world),
+                                d.world_from_cam, r.batch.alignment);
+  std::printf("%s: online %.3f%% %.2f deg; batch %.3f%% %.2f deg (yaw %.2f, spread %.2f), "
+              "%.4f m; depth %.2f%%; outliers %d/%d/%d; batch rms %.3f px %d it %.2f s (solve %.2f s)\n",
+              scenario.c_str(), r.online.translation_error_percent, r.online.mean_rotation_error_deg,
+              r.batch.translation_error_percent, r.batch.mean_rotation_error_deg,
+              r.batch.mean_yaw_error_deg, r.batch.rotation_spread_deg,
+              r.batch.mean_translation_error_m, r.points.mean_depth_error_percent,
+              r.outliers.correct, r.outliers.detected, r.outliers.actual,
+              r.result.batch.final_rms_px, r.result.batch.iterations, r.result.batch.seconds,
+              r.result.batch.solve_seconds);
+  return r;
+}
+
+TEST(SimulatedAccuracy, Rover) {
+  const PipelineRun r = run("rover", 1);
+  EXPECT_TRUE(r.result.batch.converged) << r.result.batch.message;
+  EXPECT_LT(r.batch.translation_error_percent, 1.02);
+  EXPECT_LT(r.batch.mean_yaw_error_deg, 0.48);
+  EXPECT_GE(r.outliers.precision, 0.95);
+  EXPECT_GE(r.outliers.recall, 0.95);
+  EXPECT_LT(r.online.translation_error_percent, 2 * std::max(r.batch.translation_error_percent, 0.5));
+}
+
+TEST(SimulatedAccuracy, Crane) {
+  const PipelineRun r = run("crane", 1);
+  EXPECT_TRUE(r.result.batch.converged) << r.result.batch.message;
+  EXPECT_LT(r.batch.translation_error_percent, 0.79);
+  EXPECT_LT(r.batch.mean_rotation_error_deg, 1.61);
+  EXPECT_GE(r.outliers.precision, 0.95);
+  EXPECT_GE(r.outliers.recall, 0.95);
+}
+
+TEST(SimulatedAccuracy, Lab) {
+  const PipelineRun r = run("lab", 1);
+  EXPECT_TRUE(r.result.batch.converged) << r.result.batch.message;
+  EXPECT_LT(r.batch.translation_error_percent, 0.12);
+  EXPECT_LT(r.batch.rotation_spread_deg, 0.40);
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
