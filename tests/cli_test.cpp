@@ -284,3 +284,108 @@ TEST_F(CliTest, SimulateRejectsBadInputAndWritesNothing) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(CliTest, ExportMrcalWritesAModelAndReportsItsError) {
+  const Outcome help = omnisfm("export-mrcal --help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("Usage: omnisfm export-mrcal"), std::string::npos) << help.out;
+
+  const Outcome run = omnisfm("export-mrcal --camera " +
+                              quoted(shipped_camera("equiangular.ini")) +
+                              " --distance 1.5 --out approx.cameramodel");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err.rfind("omnisfm: wrote approx.cameramodel: ", 0), 0u) << run.err;
+  const VnlogTable report = table(run.out);
+  ASSERT_EQ(report.column_names(),
+            (std::vector<std::string>{"distance_m", "points", "failed", "rms_px", "worst_px"}));
+  const std::vector<double> distances = report.numbers("distance_m");
+  ASSERT_EQ(distances.size(), 3u);
+  EXPECT_EQ(distances[0], 1.5);
+  EXPECT_EQ(distances[1], 15);
+  EXPECT_TRUE(std::isinf(distances[2]));
+  const std::vector<double> rms = report.numbers("rms_px"), worst = report.numbers("worst_px");
+  EXPECT_LT(rms[0], 0.01);
+  EXPECT_LT(worst[0], 0.02);
+  EXPECT_GT(rms[1], rms[0]);
+  EXPECT_GT(report.numbers("points")[0], 3000);
+  EXPECT_EQ(report.numbers("failed"), (std::vector<double>{0, 0, 0}));
+
+  const std::string model = read_all(dir_ / "approx.cameramodel");
+  EXPECT_EQ(model.rfind("# omnisfm export-mrcal", 0), 0u);
+  EXPECT_NE(model.find("'lensmodel':  'LENSMODEL_SPLINED_STEREOGRAPHIC_order=3_Nx=16_Ny=16_"),
+            std::string::npos);
+  EXPECT_NE(model.find("'valid_intrinsics_region'"), std::string::npos);
+}
+
+TEST_F(CliTest, ExportMrcalRejectsBadInputAndWritesNothing) {
+  write("bad.ini", "[omni_camera]\nimage_width = 1024\n");
+  fs::create_directories(dir_ / "folder");
+  for (const char* args :
+       {"export-mrcal --distance 0 --out approx.cameramodel",
+        "export-mrcal --distance -1 --out approx.cameramodel",
+        "export-mrcal --distance nan --out approx.cameramodel",
+        "export-mrcal --distance inf --out approx.cameramodel",
+        "export-mrcal --distance one --out approx.cameramodel",
+        "export-mrcal --out approx.cameramodel",
+        "export-mrcal --distance 1",
+        "export-mrcal --distance 1 --knots 3 --out approx.cameramodel",
+        "export-mrcal --distance 1 --grid-step 0 --out approx.cameramodel",
+        "export-mrcal --camera missing.ini --distance 1 --out approx.cameramodel",
+        "export-mrcal --camera bad.ini --distance 1 --out approx.cameramodel",
+        "export-mrcal --distance 1 --out no/such/approx.cameramodel",
+        "export-mrcal --distance 1 --out folder",
+        // No pixel of a 300 px grid sees through the default camera's mirror.
+        "export-mrcal --grid-step 300 --distance 1 --out approx.cameramodel"}) {
+    const Outcome run = omnisfm(args);
+    EXPECT_EQ(run.status, 2) << args << ": " << run.err;
+    EXPECT_EQ(run.err.rfind("omnisfm: ", 0), 0u) << args << ": " << run.err;
+    EXPECT_EQ(run.out, "") << args;
+    EXPECT_FALSE(fs::exists(dir_ / "approx.cameramodel")) << args;
+  }
+  const Outcome run = omnisfm("export-mrcal --camera bad.ini --distance 1 --out x.cameramodel");
+  EXPECT_EQ(run.err.rfind("omnisfm: bad.ini:", 0), 0u) << run.err;
+
+  // A file already there stays as it was when the export fails.
+  write("approx.cameramodel", "old");
+  EXPECT_EQ(omnisfm("export-mrcal --grid-step 300 --distance 1 --out approx.cameramodel").status,
+            2);
+  EXPECT_EQ(read_all(dir_ / "approx.cameramodel"), "old");
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename());
+  for (const std::string& name : names) EXPECT_EQ(name.find(".tmp-"), std::string::npos) << name;
+}
+
+TEST_F(CliTest, SfmThenEvalOnASimulatedCrane) {
+  ASSERT_EQ(omnisfm("simulate --scenario crane --out crane").status, 0);
+  const Outcome run = omnisfm(
+      "sfm --camera crane/camera.ini --tracks crane/tracks.vnl --ground-truth "
+      "crane/ground_truth.tum --out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const char* file :
+       {"online.tum", "batch.tum", "points.vnl", "points.ply", "outliers.vnl", "report.txt"})
+    EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
+  EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 10u);
+  const Outcome figures =
+      omnisfm("eval --estimate result/batch.tum --ground-truth crane/ground_truth.tum");
+  ASSERT_EQ(figures.status, 0) << figures.err;
+  // "... translation 0.0047 m mean (0.153% of 3.08 m) ...": below the paper's 0.79%.
+  const size_t open = figures.out.find("m mean (");
+  ASSERT_NE(open, std::string::npos) << figures.out;
+  EXPECT_LT(std::stod(figures.out.substr(open + 8)), 0.79) << figures.out;
+}
+
+TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
+  write("bad.vnl", "# frame track u v\n1 0 500 400\n0 0 501 401\n");
+  const Outcome run = omnisfm("sfm --camera lab/camera.ini --tracks bad.vnl --out result");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("bad.vnl:3:"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(dir_ / "result"));
+  write("few.vnl", "# frame track u v\n0 0 500 400\n1 0 501 401\n");
+  EXPECT_EQ(omnisfm("sfm --camera lab/camera.ini --tracks few.vnl --out result").status, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "result"));
+}
+
+}  // namespace

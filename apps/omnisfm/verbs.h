@@ -9,5 +9,8 @@ void add_project_verb(CLI::App& app);
 void add_unproject_verb(CLI::App& app);
 void add_demo_verb(CLI::App& app);
 void add_simulate_verb(CLI::App& app);
+void add_sfm_verb(CLI::App& app);
+void add_eval_verb(CLI::App& app);
+void add_export_mrcal_verb(CLI::App& app);
 
 }  // namespace omnisfm::app

@@ -1,0 +1,185 @@
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/io/tum_trajectory.h"
+#include "omnisfm/io/vnlog.h"
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sfm/settings_file.h"
+#include "output_folder.h"
+#include "verb_inputs.h"
+#include "verbs.h"
+
+namespace omnisfm::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Frame times from frames.vnl beside the tracks, else the frame indices.
+std::vector<double> frame_times(const std::string& tracks_path, int num_frames) {
+  std::vector<double> times(num_frames);
+  for (int f = 0; f < num_frames; ++f) times[f] = f;
+  const fs::path frames = fs::path(tracks_path).parent_path() / "frames.vnl";
+  if (!fs::exists(frames)) return times;
+  const io::VnlogTable table = io::VnlogTable::read(frames.string());
+  const auto cols = table.columns({"frame", "timestamp"});
+  for (size_t r = 0; r < table.num_rows(); ++r) {
+    const double f = table.number(r, cols[0]);
+    if (f >= 0 && f < num_frames && f == static_cast<int>(f))
+      times[static_cast<int>(f)] = table.number(r, cols[1]);
+  }
+  return times;
+}
+
+std::vector<io::StampedPose> trajectory(const std::vector<Eigen::Isometry3d>& cam_from_world,
+                                        const std::vector<double>& times) {
+  std::vector<io::StampedPose> out;
+  for (size_t f = 0; f < cam_from_world.size(); ++f)
+    out.push_back({times[f], cam_from_world[f].inverse()});
+  return out;
+}
+
+std::string figures(const char* name, const eval::TrajectoryErrors& e) {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%-7s translation %.4f m mean (%.3f%% of %.2f m), rotation %.3f deg, yaw %.3f deg, "
+                "rotation spread %.3f deg, scale %.4f\n",
+                name, e.mean_translation_error_m, e.translation_error_percent,
+                e.distance_travelled_m, e.mean_rotation_error_deg, e.mean_yaw_error_deg,
+                e.rotation_spread_deg, e.alignment.scale);
+  return line;
+}
+
+}  // namespace
+
+void add_sfm_verb(CLI::App& app) {
+  struct Options {
+    std::string camera, tracks, out, config, ground_truth;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* verb = app.add_subcommand(
+      "sfm",
+      "Shape-from-motion from tracks: the online filter then the batch adjustment; writes "
+      "online.tum, batch.tum, points.vnl, points.ply, outliers.vnl and report.txt");
+  verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
+  verb->add_option("--tracks", o->tracks, "tracks.vnl (# frame track u v)")->required();
+  verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
+  verb->add_option("--config", o->config, "Settings: an INI file with an [sfm] section");
+  verb->add_option("--ground-truth", o->ground_truth,
+                   "A TUM trajectory of the truth: adds the paper's error figures to the report");
+  verb->callback([o] {
+    const camera::CatadioptricCamera camera = load_camera(o->camera);
+    const auto tracks = io::read_tracks(o->tracks, camera.image_width(), camera.image_height());
+    const sfm::SfmSettings settings =
+        o->config.empty() ? sfm::SfmSettings() : sfm::read_sfm_settings(o->config);
+    std::vector<io::StampedPose> truth;
+    if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
+
+    const bool terminal = ::isatty(STDERR_FILENO);
+    sfm::SfmResult result;
+    try {
+      result = sfm::run_sfm(camera, tracks, settings, [terminal](int done, int all) {
+        if (terminal && (done % 10 == 0 || done == all))
+          std::cerr << "\romnisfm: filter " << done << "/" << all << " frames" << std::flush;
+      });
+    } catch (const std::invalid_argument& e) {
+      throw io::InputError(o->tracks, 0, e.what());
+    }
+    if (terminal) std::cerr << "\n";
+    if (settings.run_batch && !result.batch.converged && result.batch.cam_from_world.empty())
+      throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
+
+    const std::vector<double> times = frame_times(o->tracks, result.num_frames);
+    std::ostringstream report;
+    report << "frames " << result.num_frames << ", observations " << tracks.size()
+           << ", outlier tracks " << result.outliers.size() << "\n"
+           << "filter: " << result.online_seconds << " s ("
+           << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n";
+    if (settings.run_batch)
+      report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "
+             << result.batch.iterations << " iterations, " << result.batch.solve_seconds
+             << " s; RMS " << result.batch.initial_rms_px << " -> " << result.batch.final_rms_px
+             << " px per coordinate (" << result.batch.message << ")\n";
+    if (truth.size() == static_cast<size_t>(result.num_frames)) {
+      std::vector<Eigen::Isometry3d> truth_poses;
+      for (const auto& p : truth) truth_poses.push_back(p.world_from_cam);
+      auto as_world_from_cam = [](const std::vector<Eigen::Isometry3d>& poses) {
+        std::vector<Eigen::Isometry3d> out;
+        for (const auto& T : poses) out.push_back(T.inverse());
+        return out;
+      };
+      report << figures("online", eval::trajectory_errors(
+                                      as_world_from_cam(result.online_cam_from_world), truth_poses, true));
+      if (settings.run_batch)
+        report << figures("batch", eval::trajectory_errors(
+                                       as_world_from_cam(result.batch.cam_from_world), truth_poses, true));
+    } else if (!truth.empty()) {
+      throw io::InputError(o->ground_truth, 0,
+                           "has " + std::to_string(truth.size()) + " poses for " +
+                               std::to_string(result.num_frames) + " frames");
+    }
+
+    write_folder(o->out, [&](const std::string& dir) {
+      io::write_tum_trajectory(dir + "/online.tum", trajectory(result.online_cam_from_world, times));
+      const auto& points = settings.run_batch ? result.batch.points : result.online_points;
+      if (settings.run_batch)
+        io::write_tum_trajectory(dir + "/batch.tum", trajectory(result.batch.cam_from_world, times));
+      std::ofstream table(dir + "/points.vnl");
+      io::VnlogWriter writer(table, {"track", "x", "y", "z"});
+      for (const auto& [track, X] : points) writer.row({double(track), X.x(), X.y(), X.z()});
+      std::ofstream ply(dir + "/points.ply");
+      ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
+          << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+      for (const auto& [track, X] : points) ply << X.x() << ' ' << X.y() << ' ' << X.z() << '\n';
+      std::ofstream outliers(dir + "/outliers.vnl");
+      io::VnlogWriter outlier_writer(outliers, {"track", "frame"});
+      for (const auto& r : result.outliers) outlier_writer.row({double(r.track), double(r.frame)});
+      std::ofstream(dir + "/report.txt") << report.str();
+      if (!table || !ply || !outliers) throw std::runtime_error(o->out + ": write failed");
+    });
+    std::cout << report.str();
+  });
+}
+
+void add_eval_verb(CLI::App& app) {
+  struct Options {
+    std::string estimate, ground_truth;
+    bool rigid = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* verb = app.add_subcommand(
+      "eval", "The paper's error figures of a TUM trajectory against ground truth, after Horn's "
+              "alignment (a similarity, or rigid with --rigid)");
+  verb->add_option("--estimate", o->estimate, "Estimated trajectory (TUM)")->required();
+  verb->add_option("--ground-truth", o->ground_truth, "True trajectory (TUM)")->required();
+  verb->add_flag("--rigid", o->rigid, "Align without scale (when the scale is known)");
+  verb->callback([o] {
+    const auto estimate = io::read_tum_trajectory(o->estimate);
+    const auto truth = io::read_tum_trajectory(o->ground_truth);
+    // Poses are paired by timestamp.
+    std::vector<Eigen::Isometry3d> a, b;
+    size_t j = 0;
+    for (const auto& p : estimate) {
+      while (j < truth.size() && truth[j].timestamp < p.timestamp - 1e-6) ++j;
+      if (j < truth.size() && std::abs(truth[j].timestamp - p.timestamp) <= 1e-6) {
+        a.push_back(p.world_from_cam);
+        b.push_back(truth[j].world_from_cam);
+      }
+    }
+    if (a.size() < 3)
+      throw io::InputError(o->estimate, 0,
+                           "fewer than 3 timestamps in common with " + o->ground_truth);
+    const eval::TrajectoryErrors e = eval::trajectory_errors(a, b, !o->rigid);
+    std::cout << "poses " << a.size() << "\n" << figures(o->rigid ? "rigid" : "similar", e);
+  });
+}
+
+}  // namespace omnisfm::app

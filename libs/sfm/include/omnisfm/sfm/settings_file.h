@@ -1,0 +1,17 @@
+#pragma once
+// The estimators' settings from an INI file, section [sfm]; absent keys keep their defaults:
+//   pixel_sigma  rotation_walk_sigma  translation_walk_sigma  initial_depth  inverse_depth_sigma
+//   outlier_threshold_px  innovation_gate_chi2  update_iterations
+//   batch  (0 or 1)  batch_outlier_threshold_px  huber_px  covariances (0 or 1)  max_iterations
+
+#include <string>
+
+#include "omnisfm/sfm/pipeline.h"
+
+namespace omnisfm::sfm {
+
+// Throws io::InputError naming the file, the key and its line for an unknown key, a non-number or
+// a value out of range.
+SfmSettings read_sfm_settings(const std::string& path);
+
+}  // namespace omnisfm::sfm
