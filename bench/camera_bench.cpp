@@ -38,7 +38,7 @@ using omnisfm::camera::PinholeIntrinsics;
 
 constexpr int kNumPoints = 4096;
 constexpr unsigned kSeed = 2001;
-constexpr double kMinDistance = 1.0;   // metres from the mirror along the reflected ray
+constexpr double kMinDistance = 1.0;  // metres from the mirror along the reflected ray
 constexpr double kMaxDistance = 10.0;
 constexpr int kImageWidth = 1024;
 constexpr int kImageHeight = 768;
@@ -188,15 +188,15 @@ void BM_OmnisfmUnproject(benchmark::State& state, Rig rig) {
   report_per_point(state, kNumPoints);
 }
 
-#define OMNISFM_PROJECT_BENCHMARKS(rig_name, rig)                                    \
+#define OMNISFM_CAMERA_BENCHMARKS(rig_name, rig)                                     \
   BENCHMARK_CAPTURE(BM_OmnisfmProject, rig_name/no_jacobians, rig, Jacobians::kNone); \
   BENCHMARK_CAPTURE(BM_OmnisfmProject, rig_name/J_X, rig, Jacobians::kPoint);         \
   BENCHMARK_CAPTURE(BM_OmnisfmProject, rig_name/J_X_J_params, rig, Jacobians::kAll);  \
   BENCHMARK_CAPTURE(BM_OmnisfmUnproject, rig_name, rig)
 
-OMNISFM_PROJECT_BENCHMARKS(equiangular_aligned, Rig::kEquiangularAligned);
-OMNISFM_PROJECT_BENCHMARKS(equiangular_misaligned, Rig::kEquiangularMisaligned);
-OMNISFM_PROJECT_BENCHMARKS(conic_hyperbolic, Rig::kConicHyperbolic);
+OMNISFM_CAMERA_BENCHMARKS(equiangular_aligned, Rig::kEquiangularAligned);
+OMNISFM_CAMERA_BENCHMARKS(equiangular_misaligned, Rig::kEquiangularMisaligned);
+OMNISFM_CAMERA_BENCHMARKS(conic_hyperbolic, Rig::kConicHyperbolic);
 
 // ---------------------------------------------------------------------------------------------
 // Peer: mrcal_project with LENSMODEL_OPENCV8
