@@ -206,7 +206,10 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   int boundary_hits = 0;
   SurfacePoint sp;
   for (; iteration < kMaxNewtonIterations; ++iteration) {
-    sp = SurfacePoint(*mirror_, s, phi, nullptr);
+    // With parameter Jacobians wanted, the shape derivatives come with every evaluation: the last
+    // one is at the solution, which saves evaluating the surface again.
+    const bool want_shape = J_params && mirror_->num_shape_params() > 0;
+    sp = SurfacePoint(*mirror_, s, phi, want_shape ? &J_shape : nullptr);
     if (central) {
       const Eigen::Vector3d to_camera = centre_M_ - sp.m;
       du = to_camera.norm();
@@ -285,7 +288,6 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   if (ns > 0) {
     Eigen::Matrix3d W = -tangent_projector(v) / dv;
     if (central) W -= tangent_projector(u) / du;
-    mirror_->evaluate(s, &sp.meridian, &J_shape);
     for (int j = 0; j < ns; ++j) {
       const Eigen::Vector3d dm = sp.e_rho * J_shape(0, j) + Eigen::Vector3d::UnitZ() * J_shape(1, j);
       const Eigen::Vector3d dts =
