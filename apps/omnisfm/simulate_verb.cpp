@@ -7,6 +7,8 @@
 
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/sim/dataset_writer.h"
+#include "omnisfm/sim/image_file.h"
+#include "omnisfm/sim/renderer.h"
 #include "omnisfm/sim/scenario.h"
 #include "verbs.h"
 
@@ -15,6 +17,8 @@ namespace omnisfm::app {
 void add_simulate_verb(CLI::App& app) {
   auto options = std::make_shared<sim::SimulationOptions>();
   auto out = std::make_shared<std::string>();
+  auto render = std::make_shared<bool>(false);
+  auto samples = std::make_shared<int>(4);
   CLI::App* verb = app.add_subcommand(
       "simulate",
       "Simulate one of the paper's experiments with ground truth: camera.ini, tracks.vnl, "
@@ -37,7 +41,12 @@ void add_simulate_verb(CLI::App& app) {
   verb->add_option("--width", options->image_width, "Image width, pixels")->capture_default_str();
   verb->add_option("--height", options->image_height, "Image height, pixels")
       ->capture_default_str();
-  verb->callback([options, out] {
+  verb->add_flag("--render", *render,
+                 "Also ray-trace the images through the mirror into images/ (PNG)");
+  verb->add_option("--samples", *samples, "Samples per pixel when rendering (a square: 1, 4, 9...)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({1, 4, 9, 16, 25}));
+  verb->callback([options, out, render, samples] {
     sim::Dataset dataset = [&] {
       try {
         return sim::simulate(*options);
@@ -50,7 +59,20 @@ void add_simulate_verb(CLI::App& app) {
     if (!std::filesystem::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0)
       throw io::InputError(*out, 0, "cannot write here: " + parent.string() +
                                         " is not a writable folder");
-    sim::write_dataset(dataset, *out);
+    sim::FrameImageWriter write_image;
+    std::unique_ptr<sim::Renderer> renderer;
+    if (*render) {
+      renderer = std::make_unique<sim::Renderer>(dataset.camera, *samples);
+      const bool terminal = ::isatty(STDERR_FILENO);
+      const int frames = static_cast<int>(dataset.world_from_cam.size());
+      write_image = [&, terminal, frames](int frame, const std::string& path) {
+        sim::write_png(path, renderer->render(dataset.scene, dataset.world_from_cam[frame]));
+        if (terminal)
+          std::cerr << "\romnisfm: rendered " << frame + 1 << "/" << frames << " images"
+                    << (frame + 1 == frames ? "\n" : "") << std::flush;
+      };
+    }
+    sim::write_dataset(dataset, *out, write_image);
     std::cerr << "omnisfm: wrote " << *out << ": " << dataset.scenario << ", "
               << dataset.world_from_cam.size() << " frames, " << dataset.track_points.size()
               << " tracks, " << dataset.observations.size() << " observations, "

@@ -15,7 +15,7 @@ constexpr int kTileSize = 16;
 constexpr double kPi = 3.14159265358979323846;
 // Grazing views blur a texture along one direction only; beyond this obliquity the isotropic
 // footprint would wash the other direction out.
-constexpr double kMinFootprintCosine = 0.25;
+constexpr double kMinFootprintCosine = 0.05;
 
 // Runs body(0) ... body(n - 1) on `threads` threads, handing out indices in order.
 template <typename Body>
@@ -70,6 +70,25 @@ double quad_grey(const QuadLook& look, const Eigen::Vector2d& uv, double distanc
   return look.light * texture_value(look.texture, look.seed, uv, footprint);
 }
 
+// What one sample's ray meets: a quad (where and how obliquely), or a grey already known (a
+// marker, the sky).
+struct RayHit {
+  int quad = -1;
+  Eigen::Vector2d uv{0, 0};
+  double distance = 0, cosine = 0;
+  double grey = kSkyGrey;  // when quad < 0
+};
+
+// A pixel's samples that met the same quad. The texture is filtered to the pixel's footprint
+// already, so it is evaluated once per quad and pixel, at the mean of the samples' hits (as
+// multisample anti-aliasing does), rather than once per sample: the edges keep the samples'
+// anti-aliasing, and the cost no longer grows with the samples per pixel.
+struct QuadSamples {
+  int quad = -1, count = 0;
+  Eigen::Vector2d uv_sum{0, 0};
+  double distance_sum = 0, cosine_sum = 0;
+};
+
 // A quad in the camera frame, prepared for many ray tests.
 struct FrameQuad {
   Eigen::Vector3d origin, normal;  // normal: unit
@@ -98,6 +117,69 @@ bool bundle_may_hit(const Eigen::Vector3d& origin_centre, double origin_radius,
   return angle_between(axis, to_sphere) <= cone_angle + std::asin(grown / distance);
 }
 
+// The rays of the pixel centres, computed first: they give each pixel's angular size, and a pixel
+// with no valid centre in its 3 x 3 neighbourhood has no valid sample (the valid regions of
+// catadioptric images are far wider than a pixel).
+class PixelCentres {
+ public:
+  PixelCentres(const camera::CatadioptricCamera& camera, int threads)
+      : width_(camera.image_width()), height_(camera.image_height()) {
+    const std::size_t num_pixels = static_cast<std::size_t>(width_) * height_;
+    origins_.resize(num_pixels);
+    directions_.resize(num_pixels);
+    valid_.assign(num_pixels, 0);
+    parallel_for(height_, threads, [&](std::size_t y) {
+      for (int x = 0; x < width_; ++x) {
+        const std::size_t i = y * width_ + x;
+        valid_[i] = camera.unproject(Eigen::Vector2d(x, static_cast<double>(y)), &origins_[i],
+                                     &directions_[i]);
+      }
+    });
+    angular_size_.assign(num_pixels, 0.0);
+    parallel_for(height_, threads, [&](std::size_t row) {
+      const int y = static_cast<int>(row);
+      for (int x = 0; x < width_; ++x) {
+        if (!valid(x, y)) continue;
+        double size = 0;
+        for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
+          if (valid(x + dx, y + dy))
+            size = std::max(size, angle_between(direction(x, y), direction(x + dx, y + dy)));
+        angular_size_[index(x, y)] = size;
+      }
+    });
+  }
+
+  bool valid(int x, int y) const {
+    return x >= 0 && y >= 0 && x < width_ && y < height_ && valid_[index(x, y)];
+  }
+  bool valid_near(int x, int y) const {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (valid(x + dx, y + dy)) return true;
+    return false;
+  }
+  const Eigen::Vector3d& origin(int x, int y) const { return origins_[index(x, y)]; }
+  const Eigen::Vector3d& direction(int x, int y) const { return directions_[index(x, y)]; }
+  // Radians between the rays of neighbouring pixels; a pixel with an invalid centre takes its
+  // neighbours' size.
+  double angular_size(int x, int y) const {
+    if (valid(x, y)) return angular_size_[index(x, y)];
+    double size = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (valid(x + dx, y + dy)) size = std::max(size, angular_size_[index(x + dx, y + dy)]);
+    return size;
+  }
+
+ private:
+  std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
+
+  int width_, height_;
+  std::vector<Eigen::Vector3d> origins_, directions_;
+  std::vector<char> valid_;
+  std::vector<double> angular_size_;
+};
+
 }  // namespace
 
 Renderer::Renderer(const camera::CatadioptricCamera& camera, int samples_per_pixel, int threads)
@@ -110,51 +192,7 @@ Renderer::Renderer(const camera::CatadioptricCamera& camera, int samples_per_pix
     throw std::invalid_argument("renderer threads must be at least 1, not " +
                                 std::to_string(threads));
 
-  // Pixel centres first: their rays give each pixel's angular size, and a pixel with no valid
-  // centre in its 3 x 3 neighbourhood has no valid sample (valid regions are wider than a pixel).
-  const std::size_t num_pixels = static_cast<std::size_t>(width_) * height_;
-  std::vector<Eigen::Vector3d> centre_direction(num_pixels);
-  std::vector<char> centre_valid(num_pixels, 0);
-  parallel_for(height_, threads_, [&](std::size_t y) {
-    for (int x = 0; x < width_; ++x) {
-      const std::size_t i = y * width_ + x;
-      Eigen::Vector3d origin;
-      centre_valid[i] = camera.unproject(Eigen::Vector2d(x, static_cast<double>(y)), &origin,
-                                         &centre_direction[i]);
-    }
-  });
-  const auto valid_at = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < width_ && y < height_ && centre_valid[y * width_ + x];
-  };
-  std::vector<float> angular_size(num_pixels, 0.f);
-  parallel_for(height_, threads_, [&](std::size_t row) {
-    const int y = static_cast<int>(row);
-    for (int x = 0; x < width_; ++x) {
-      if (!valid_at(x, y)) continue;
-      double size = 0;
-      const Eigen::Vector3d& d = centre_direction[y * width_ + x];
-      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
-        if (valid_at(x + dx, y + dy))
-          size = std::max(size, angle_between(d, centre_direction[(y + dy) * width_ + x + dx]));
-      angular_size[y * width_ + x] = static_cast<float>(size);
-    }
-  });
-  const auto valid_near = [&](int x, int y) {
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (valid_at(x + dx, y + dy)) return true;
-    return false;
-  };
-  // Pixels with an invalid centre take their neighbours' size.
-  const auto neighbourhood_size = [&](int x, int y) {
-    float size = 0;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (valid_at(x + dx, y + dy))
-          size = std::max(size, angular_size[(y + dy) * width_ + x + dx]);
-    return size;
-  };
-
+  const PixelCentres centres(camera, threads_);
   const int tiles_x = (width_ + kTileSize - 1) / kTileSize;
   const int tiles_y = (height_ + kTileSize - 1) / kTileSize;
   struct TileRays {
@@ -168,17 +206,24 @@ Renderer::Renderer(const camera::CatadioptricCamera& camera, int samples_per_pix
     const int y0 = static_cast<int>(t / tiles_x) * kTileSize;
     for (int y = y0; y < std::min(y0 + kTileSize, height_); ++y) {
       for (int x = x0; x < std::min(x0 + kTileSize, width_); ++x) {
-        if (!valid_near(x, y)) continue;
+        if (!centres.valid_near(x, y)) continue;
         PixelRays pixel;
         pixel.x = x;
         pixel.y = y;
         pixel.first_ray = static_cast<std::uint32_t>(rays.origins.size());
-        pixel.angular_size = valid_at(x, y) ? angular_size[y * width_ + x] : neighbourhood_size(x, y);
+        pixel.angular_size = static_cast<float>(centres.angular_size(x, y));
         for (int j = 0; j < grid_; ++j) {
           for (int i = 0; i < grid_; ++i) {
-            const Eigen::Vector2d sample(x + (i + 0.5) / grid_ - 0.5, y + (j + 0.5) / grid_ - 0.5);
             Eigen::Vector3d origin, direction;
-            if (!camera.unproject(sample, &origin, &direction)) continue;
+            if (2 * i + 1 == grid_ && 2 * j + 1 == grid_) {  // the centre, already unprojected
+              if (!centres.valid(x, y)) continue;
+              origin = centres.origin(x, y);
+              direction = centres.direction(x, y);
+            } else {
+              const Eigen::Vector2d sample(x + (i + 0.5) / grid_ - 0.5,
+                                           y + (j + 0.5) / grid_ - 0.5);
+              if (!camera.unproject(sample, &origin, &direction)) continue;
+            }
             rays.origins.push_back(origin.cast<float>());
             rays.directions.push_back(direction.cast<float>());
             ++pixel.num_rays;
@@ -200,33 +245,40 @@ Renderer::Renderer(const camera::CatadioptricCamera& camera, int samples_per_pix
       pixels_.push_back(pixel);
     }
     tile.end_pixel = pixels_.size();
-
-    Eigen::Vector3d origin_sum = Eigen::Vector3d::Zero(), direction_sum = Eigen::Vector3d::Zero();
-    for (std::size_t k = 0; k < rays.origins.size(); ++k) {
-      origin_sum += rays.origins[k].cast<double>();
-      direction_sum += rays.directions[k].cast<double>();
-    }
-    tile.origin_centre = origin_sum / static_cast<double>(rays.origins.size());
-    const double axis_norm = direction_sum.norm();
-    tile.cone_axis = axis_norm > 1e-9 ? Eigen::Vector3d(direction_sum / axis_norm)
-                                      : Eigen::Vector3d::UnitZ();
-    tile.cone_angle = axis_norm > 1e-9 ? 0.0 : kPi;
-    for (std::size_t k = 0; k < rays.origins.size(); ++k) {
-      tile.origin_radius = std::max(
-          tile.origin_radius, (rays.origins[k].cast<double>() - tile.origin_centre).norm());
-      if (axis_norm > 1e-9)
-        tile.cone_angle = std::max(tile.cone_angle,
-                                   angle_between(tile.cone_axis, rays.directions[k].cast<double>()));
-    }
-    // Rounding in the bounds must not cull a surface that a ray at the edge of the bundle meets.
-    tile.origin_radius += 1e-9;
-    tile.cone_angle += 1e-6;
+    bound_rays(rays.origins, rays.directions, &tile);
     tiles_.push_back(tile);
-
     ray_origins_.insert(ray_origins_.end(), rays.origins.begin(), rays.origins.end());
     ray_directions_.insert(ray_directions_.end(), rays.directions.begin(), rays.directions.end());
     rays = TileRays();
   }
+}
+
+void Renderer::bound_rays(const std::vector<Eigen::Vector3f>& origins,
+                          const std::vector<Eigen::Vector3f>& directions, Tile* tile) {
+  Eigen::Vector3d origin_sum = Eigen::Vector3d::Zero(), direction_sum = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < origins.size(); ++k) {
+    origin_sum += origins[k].cast<double>();
+    direction_sum += directions[k].cast<double>();
+  }
+  tile->origin_centre = origin_sum / static_cast<double>(origins.size());
+  tile->origin_radius = 0;
+  for (const Eigen::Vector3f& origin : origins)
+    tile->origin_radius =
+        std::max(tile->origin_radius, (origin.cast<double>() - tile->origin_centre).norm());
+  const double axis_norm = direction_sum.norm();
+  if (axis_norm > 1e-9) {
+    tile->cone_axis = direction_sum / axis_norm;
+    tile->cone_angle = 0;
+    for (const Eigen::Vector3f& direction : directions)
+      tile->cone_angle =
+          std::max(tile->cone_angle, angle_between(tile->cone_axis, direction.cast<double>()));
+  } else {  // directions all around: no cone to speak of
+    tile->cone_axis = Eigen::Vector3d::UnitZ();
+    tile->cone_angle = kPi;
+  }
+  // Rounding in the bounds must not cull a surface that a ray at the edge of the bundle meets.
+  tile->origin_radius += 1e-9;
+  tile->cone_angle += 1e-6;
 }
 
 void Renderer::check_textures(const Scene& scene) const {
@@ -237,19 +289,38 @@ void Renderer::check_textures(const Scene& scene) const {
                                   ", which is not a SurfaceTexture");
 }
 
-template <typename ShaderOfTile>
-cv::Mat Renderer::shade_pixels(const ShaderOfTile& shader_of_tile) const {
+template <typename TracerOfTile>
+cv::Mat Renderer::shade_pixels(const Scene& scene, const TracerOfTile& tracer_of_tile) const {
+  const std::vector<QuadLook> looks = quad_looks(scene);
   cv::Mat image(height_, width_, CV_8UC1, cv::Scalar(kInvalidGrey));
-  const double samples = grid_ * grid_;
+  const int samples = grid_ * grid_;
   parallel_for(tiles_.size(), threads_, [&](std::size_t t) {
     const Tile& tile = tiles_[t];
-    const auto shade_ray = shader_of_tile(tile);
+    const auto trace = tracer_of_tile(tile);
+    std::vector<QuadSamples> groups;
+    groups.reserve(samples);
     for (std::size_t p = tile.first_pixel; p < tile.end_pixel; ++p) {
       const PixelRays& pixel = pixels_[p];
+      const double angular_size = pixel.angular_size;
       double sum = (samples - pixel.num_rays) * kInvalidGrey;
-      for (std::uint32_t r = pixel.first_ray; r < pixel.first_ray + pixel.num_rays; ++r)
-        sum += shade_ray(ray_origins_[r].cast<double>(), ray_directions_[r].cast<double>(),
-                         static_cast<double>(pixel.angular_size));
+      groups.clear();
+      for (std::uint32_t r = pixel.first_ray; r < pixel.first_ray + pixel.num_rays; ++r) {
+        const RayHit hit = trace(ray_origins_[r].cast<double>(), ray_directions_[r].cast<double>());
+        if (hit.quad < 0) {
+          sum += hit.grey;
+          continue;
+        }
+        auto group = std::find_if(groups.begin(), groups.end(),
+                                  [&](const QuadSamples& g) { return g.quad == hit.quad; });
+        if (group == groups.end()) group = groups.insert(groups.end(), QuadSamples{hit.quad});
+        ++group->count;
+        group->uv_sum += hit.uv;
+        group->distance_sum += hit.distance;
+        group->cosine_sum += std::abs(hit.cosine);
+      }
+      for (const QuadSamples& g : groups)
+        sum += g.count * quad_grey(looks[g.quad], g.uv_sum / g.count, g.distance_sum / g.count,
+                                   g.cosine_sum / g.count, angular_size);
       image.at<std::uint8_t>(pixel.y, pixel.x) = cv::saturate_cast<std::uint8_t>(sum / samples);
     }
   });
@@ -258,7 +329,6 @@ cv::Mat Renderer::shade_pixels(const ShaderOfTile& shader_of_tile) const {
 
 cv::Mat Renderer::render(const Scene& scene, const Eigen::Isometry3d& world_from_cam) const {
   check_textures(scene);
-  const std::vector<QuadLook> looks = quad_looks(scene);
   const Eigen::Isometry3d cam_from_world = world_from_cam.inverse();
   const Eigen::Matrix3d rotation = cam_from_world.linear();
 
@@ -283,7 +353,7 @@ cv::Mat Renderer::render(const Scene& scene, const Eigen::Isometry3d& world_from
   for (const Marker& m : scene.markers())
     markers.push_back({cam_from_world * m.centre, rotation * m.normal, m.radius});
 
-  const auto shader_of_tile = [&](const Tile& tile) {
+  const auto tracer_of_tile = [&](const Tile& tile) {
     std::vector<int> tile_quads, tile_markers;
     for (std::size_t i = 0; i < quads.size(); ++i)
       if (bundle_may_hit(tile.origin_centre, tile.origin_radius, tile.cone_axis, tile.cone_angle,
@@ -296,8 +366,7 @@ cv::Mat Renderer::render(const Scene& scene, const Eigen::Isometry3d& world_from
 
     // The same tests, in the same order, as Scene::intersect.
     return [&, tile_quads = std::move(tile_quads), tile_markers = std::move(tile_markers)](
-               const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
-               double angular_size) {
+               const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
       double best = std::numeric_limits<double>::infinity();
       int hit_quad = -1, hit_marker = -1;
       double hit_a = 0, hit_b = 0, hit_cosine = 0, hit_offset_squared = 0;
@@ -330,36 +399,47 @@ cv::Mat Renderer::render(const Scene& scene, const Eigen::Isometry3d& world_from
         hit_marker = i;
         hit_offset_squared = offset_squared;
       }
-      if (hit_marker >= 0) return marker_grey(hit_offset_squared, markers[hit_marker].radius);
-      if (hit_quad < 0) return kSkyGrey;
-      const FrameQuad& q = quads[hit_quad];
-      return quad_grey(looks[hit_quad], Eigen::Vector2d(hit_a * q.u_length, hit_b * q.v_length),
-                       best, hit_cosine, angular_size);
+      RayHit hit;
+      if (hit_marker >= 0) {
+        hit.grey = marker_grey(hit_offset_squared, markers[hit_marker].radius);
+      } else if (hit_quad >= 0) {
+        const FrameQuad& q = quads[hit_quad];
+        hit.quad = hit_quad;
+        hit.uv << hit_a * q.u_length, hit_b * q.v_length;
+        hit.distance = best;
+        hit.cosine = hit_cosine;
+      }
+      return hit;
     };
   };
-  return shade_pixels(shader_of_tile);
+  return shade_pixels(scene, tracer_of_tile);
 }
 
 cv::Mat Renderer::render_unaccelerated(const Scene& scene,
                                        const Eigen::Isometry3d& world_from_cam) const {
   check_textures(scene);
-  const std::vector<QuadLook> looks = quad_looks(scene);
-  const auto shader_of_tile = [&](const Tile&) {
-    return [&](const Eigen::Vector3d& origin_C, const Eigen::Vector3d& direction_C,
-               double angular_size) {
+  const auto tracer_of_tile = [&](const Tile&) {
+    return [&](const Eigen::Vector3d& origin_C, const Eigen::Vector3d& direction_C) {
       const Eigen::Vector3d direction_W = world_from_cam.linear() * direction_C;
-      SceneHit hit;
+      SceneHit scene_hit;
+      RayHit hit;
       if (!scene.intersect(world_from_cam * origin_C, direction_W,
-                           std::numeric_limits<double>::infinity(), &hit))
-        return kSkyGrey;
-      if (hit.marker >= 0)
-        return marker_grey(hit.uv.squaredNorm(), scene.markers()[hit.marker].radius);
-      const TexturedQuad& q = scene.quads()[hit.quad];
-      const double cosine = q.edge_u.cross(q.edge_v).normalized().dot(direction_W);
-      return quad_grey(looks[hit.quad], hit.uv, hit.distance, cosine, angular_size);
+                           std::numeric_limits<double>::infinity(), &scene_hit))
+        return hit;
+      if (scene_hit.marker >= 0) {
+        hit.grey = marker_grey(scene_hit.uv.squaredNorm(),
+                               scene.markers()[scene_hit.marker].radius);
+        return hit;
+      }
+      const TexturedQuad& q = scene.quads()[scene_hit.quad];
+      hit.quad = scene_hit.quad;
+      hit.uv = scene_hit.uv;
+      hit.distance = scene_hit.distance;
+      hit.cosine = q.edge_u.cross(q.edge_v).normalized().dot(direction_W);
+      return hit;
     };
   };
-  return shade_pixels(shader_of_tile);
+  return shade_pixels(scene, tracer_of_tile);
 }
 
 }  // namespace omnisfm::sim

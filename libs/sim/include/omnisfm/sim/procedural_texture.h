@@ -2,11 +2,12 @@
 // Procedural surface textures for rendered scenes: deterministic grey levels on surface
 // coordinates in metres, made for a Lucas-Kanade tracker to lock on to.
 //
-// The noise textures are multi-octave value noise (wavelengths from tens of centimetres down to
-// 2 cm, each octave rotated and seeded differently so no lattice direction dominates), pushed
-// through tanh into blobs with hard-ish edges: corners at every scale a tracker window covers
-// from 1 m to 6 m. Octaves finer than the sample's footprint on the surface are faded out, so
-// distant surfaces blur (lose contrast) instead of aliasing into flicker from frame to frame.
+// The noise textures are multi-octave gradient noise (wavelengths from tens of centimetres down
+// to 2 cm, each octave turned and seeded differently so that no lattice direction dominates),
+// pushed through a soft clip into blobs with hard-ish edges: corners at every scale a tracker
+// window covers from 1 m to 6 m. Octaves shorter than four footprints (the size of one pixel on
+// the surface) fade out, gone at two, so that distant surfaces blur (lose contrast) instead of
+// aliasing into flicker from frame to frame. The stripes are averaged over the footprint.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -31,7 +32,7 @@ inline bool is_surface_texture(int texture) {
 }
 
 // The grey level (0-255, not rounded) of `texture` at surface coordinates uv (metres). `seed`
-// decorrelates surfaces sharing a texture; `footprint` is the size of one sample on the surface in
+// decorrelates surfaces sharing a texture; `footprint` is the size of one pixel on the surface in
 // metres (0: no filtering). Requires is_surface_texture(texture).
 double texture_value(int texture, std::uint32_t seed, const Eigen::Vector2d& uv, double footprint);
 

@@ -2,18 +2,20 @@
 // Renders what a catadioptric rig sees of a Scene: an 8-bit grey image of the camera's size.
 //
 // Each pixel holds an n x n grid of samples (samples_per_pixel = n^2) at offsets (i + 0.5)/n - 0.5
-// from its centre; a sample's reflected ray (camera.unproject) is traced to the nearest surface
-// and shaded, and the pixel is the mean of its samples, rounded. Samples with no valid reflection
-// (beyond the rim, in the camera's own reflection) are kInvalidGrey, as a real rig's unlit
-// surround is; rays that hit nothing are kSkyGrey.
+// from its centre. Each sample's reflected ray (camera.unproject) is traced to the nearest
+// surface, and the pixel is the mean of its samples' greys, rounded. Samples with no valid
+// reflection (beyond the rim, in the camera's own reflection) are kInvalidGrey, as a real rig's
+// unlit surround is; rays that hit nothing are kSkyGrey.
 //
 // Shading:
 //   quads:   texture_value(quad.texture, ...) (procedural_texture.h lists the ids: 0 wall,
 //            1 floor, 2 ceiling, 3 box, 4 outdoor ground, 5 striped wall, 6 plain) on SceneHit::uv,
-//            filtered to the sample's footprint, times a fixed diffuse light factor of the quad's
-//            orientation (0.75-1) so that box faces differ.
-//   markers: kMarkerWhite disc of Marker::radius with a kMarkerDot centre dot of radius
-//            kMarkerDotFraction * radius; the target is the disc's centre. Not lit.
+//            filtered to the pixel's footprint on the surface, times a fixed diffuse light factor
+//            of the quad's orientation (0.75-1) so that box faces differ. Being filtered already,
+//            the texture is evaluated once per pixel and quad, at the mean of the hits of the
+//            samples that met the quad: the samples anti-alias the edges between surfaces.
+//   markers: per sample, kMarkerWhite on the disc of Marker::radius, kMarkerDot on the centre dot
+//            of radius kMarkerDotFraction * radius; the target is the disc's centre. Not lit.
 //
 // The rays are computed once, at construction; render() transforms the scene into the camera
 // frame, culls surfaces per 16 x 16 pixel tile against the tile's bundle of rays, and shades
@@ -76,8 +78,12 @@ class Renderer {
     float angular_size = 0;  // radians between neighbouring pixels' rays
   };
 
-  template <typename Trace>
-  cv::Mat shade_pixels(const Trace& trace_tile) const;
+  // Sets the tile's bounds to those of the rays (not empty).
+  static void bound_rays(const std::vector<Eigen::Vector3f>& origins,
+                         const std::vector<Eigen::Vector3f>& directions, Tile* tile);
+  // tracer_of_tile(tile) returns the function that traces one of the tile's rays.
+  template <typename TracerOfTile>
+  cv::Mat shade_pixels(const Scene& scene, const TracerOfTile& tracer_of_tile) const;
   void check_textures(const Scene& scene) const;
 
   int width_ = 0, height_ = 0, grid_ = 1, threads_ = 1;
