@@ -5,14 +5,15 @@
 
 #include "omnisfm/camera/equiangular_profile.h"
 #include "omnisfm/camera/pinhole_camera.h"
+#include "omnisfm/sim/procedural_texture.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
 
 namespace omnisfm::sim {
 namespace {
 
-// Texture ids of the procedural textures the renderer knows.
-enum Texture { kWall = 0, kFloor = 1, kCeiling = 2, kBox = 3, kGround = 4 };
+constexpr int kWall = kWallTexture, kFloor = kFloorTexture, kCeiling = kCeilingTexture,
+              kBox = kBoxTexture, kGround = kGroundTexture;
 
 // The inside of a room: floor, ceiling and four walls.
 void add_room(Scene* scene, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
