@@ -247,15 +247,30 @@ TEST_F(CliTest, HelpWorksForEveryVerb) {
   EXPECT_NE(run.out.find('.'), std::string::npos) << run.out;
 }
 
-TEST_F(CliTest, DemoWritesTheProjectedRoom) {
+TEST_F(CliTest, DemoRunsThePaperExperimentsEndToEnd) {
   const Outcome run = omnisfm("demo --out result");
   ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_NE(run.out.find("result/projected.vnl"), std::string::npos) << run.out;
-  const VnlogTable projected = VnlogTable::read((dir_ / "result/projected.vnl").string());
-  EXPECT_EQ(projected.column_names(), (std::vector<std::string>{"x", "y", "z", "u", "v"}));
-  int seen = 0;
-  for (double u : projected.numbers("u")) seen += std::isnan(u) ? 0 : 1;
-  EXPECT_GT(seen, 100);
+  for (const char* scenario : {"lab", "crane", "rover"}) {
+    const fs::path dir = dir_ / "result" / scenario;
+    EXPECT_TRUE(fs::exists(dir / "dataset/tracks.vnl")) << scenario;
+    EXPECT_TRUE(fs::exists(dir / "sfm/batch.tum")) << scenario;
+    EXPECT_TRUE(fs::exists(dir / "sfm/points.ply")) << scenario;
+    EXPECT_TRUE(fs::exists(dir / "sfm/path.png")) << scenario;
+  }
+  EXPECT_TRUE(fs::exists(dir_ / "result/lab/dataset/images/000040.png"));
+  // Each experiment's batch translation error, the fourth column, is below the paper's.
+  for (const auto& [scenario, paper] : {std::pair<std::string, double>{"lab", 0.12},
+                                        {"crane", 0.79}, {"rover", 1.02}}) {
+    const size_t at = run.out.find("\n" + scenario + " ");
+    ASSERT_NE(at, std::string::npos) << run.out;
+    std::istringstream line(run.out.substr(at + 1));
+    std::string name, figure, unit1, unit2, unit3;
+    double paper_value, online, batch;
+    line >> name >> figure >> paper_value >> unit1 >> online >> unit2 >> batch >> unit3;
+    EXPECT_DOUBLE_EQ(paper_value, paper) << run.out;
+    EXPECT_LT(batch, paper) << scenario << "\n" << run.out;
+  }
+  EXPECT_EQ(read_all(dir_ / "result/summary.txt"), run.out.substr(0, run.out.find("Wrote")));
 }
 
 TEST_F(CliTest, SimulateWritesACompleteDataset) {

@@ -1,140 +1,154 @@
-// A first look at the camera model until the end-to-end demo exists: the points of a room's
-// walls, floor and ceiling seen through the default camera.
+// The main job, end to end on the embedded default: the paper's three experiments simulated (the
+// lab's images rendered through the mirror), shape-from-motion on their tracks, and the paper's
+// error figures next to the paper's own, with the x-y paths plotted.
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <memory>
+#include <set>
+#include <sstream>
 #include <string>
-#include <vector>
 
-#include "omnisfm/io/atomic_write.h"
-#include "omnisfm/io/vnlog.h"
-#include "verb_inputs.h"
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/dataset_writer.h"
+#include "omnisfm/sim/image_file.h"
+#include "omnisfm/sim/renderer.h"
+#include "omnisfm/sim/scenario.h"
+#include "output_folder.h"
+#include "sfm_outputs.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
 namespace {
 
-// A 6 x 4 x 3 m room with the camera in its middle, 1.2 m above the floor, looking up at the
-// mirror. Frame C: z up toward the mirror, x and y horizontal.
-std::vector<Eigen::Vector3d> room_points() {
-  constexpr double half_x = 3.0, half_y = 2.0, floor_z = -1.2, ceiling_z = 1.8, step = 0.2;
-  const auto samples = [](double from, double to) {
-    std::vector<double> values;
-    const int count = static_cast<int>((to - from) / step + 0.5);
-    for (int i = 0; i <= count; ++i) values.push_back(from + (to - from) * i / count);
-    return values;
-  };
-  std::vector<Eigen::Vector3d> points;
-  for (double x : samples(-half_x, half_x)) {
-    for (double y : samples(-half_y, half_y)) {
-      points.emplace_back(x, y, floor_z);
-      points.emplace_back(x, y, ceiling_z);
-    }
-  }
-  for (double z : samples(floor_z + step, ceiling_z - step)) {
-    for (double x : samples(-half_x, half_x)) {
-      points.emplace_back(x, -half_y, z);
-      points.emplace_back(x, half_y, z);
-    }
-    for (double y : samples(-half_y + step, half_y - step)) {
-      points.emplace_back(-half_x, y, z);
-      points.emplace_back(half_x, y, z);
-    }
-  }
-  return points;
+namespace fs = std::filesystem;
+
+struct PaperFigures {
+  const char* scenario;
+  const char* rotation_kind;  // which rotation figure the paper gives
+  double translation_percent, rotation_deg;
+};
+
+constexpr PaperFigures kPaper[] = {
+    {"lab", "rotation spread", 0.12, 0.40},
+    {"crane", "rotation", 0.79, 1.61},
+    {"rover", "yaw", 1.02, 0.48},
+};
+
+double rotation_figure(const char* kind, const eval::TrajectoryErrors& e) {
+  const std::string k = kind;
+  if (k == "yaw") return e.mean_yaw_error_deg;
+  if (k == "rotation spread") return e.rotation_spread_deg;
+  return e.mean_rotation_error_deg;
 }
 
-std::string shell_quoted(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-std::string gnuplot_quoted(const std::string& text) {
-  std::string quoted = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') quoted += '\\';
-    quoted += c;
-  }
-  return quoted + "\"";
-}
-
-// Plots the pixels in the image frame (v down), coloured by height; false when gnuplot failed.
-bool plot(const std::filesystem::path& table, const std::filesystem::path& image, int width,
-          int height) {
-  const std::filesystem::path script = image.parent_path() / "projected.gp";
+// The x-y path from above: truth and the aligned batch estimate. False when gnuplot failed.
+bool plot_path(const fs::path& dir, const std::vector<Eigen::Isometry3d>& truth,
+               const eval::TrajectoryErrors& e, const std::vector<Eigen::Isometry3d>& estimate) {
   {
-    std::ofstream out(script);
-    out << "set terminal pngcairo size " << width << "," << height << "\n"
-        << "set output " << gnuplot_quoted(image.string()) << "\n"
-        << "set datafile missing '-'\n"
-        << "set xrange [-0.5:" << width - 0.5 << "]\n"
-        << "set yrange [" << height - 0.5 << ":-0.5]\n"
-        << "set size ratio -1\n"
-        << "set xlabel 'u (px)'\nset ylabel 'v (px)'\nset cblabel 'z (m)'\n"
-        << "set title 'Room points through the default camera'\n"
-        << "plot " << gnuplot_quoted(table.string())
-        << " using 4:5:3 with points pt 7 ps 0.4 palette notitle\n";
-    if (!out) return false;
+    std::ofstream data(dir / "path.dat");
+    data << "# x_true y_true x_batch y_batch\n";
+    for (size_t i = 0; i < truth.size(); ++i) {
+      const Eigen::Vector3d p = e.alignment.apply(estimate[i].translation());
+      data << truth[i].translation().x() << ' ' << truth[i].translation().y() << ' ' << p.x()
+           << ' ' << p.y() << '\n';
+    }
+    std::ofstream script(dir / "path.gp");
+    script << "set terminal pngcairo size 800,700\nset output 'path.png'\n"
+           << "set size ratio -1\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nset key outside bottom\n"
+           << "set title 'x-y path from above: ground truth and batch estimate (aligned)'\n"
+           << "plot 'path.dat' using 1:2 with lines lw 3 lc rgb '#999999' title 'ground truth', "
+           << "'' using 3:4 with points pt 7 ps 0.6 lc rgb '#cc2200' title 'batch estimate'\n";
   }
-  const std::string command = "gnuplot " + shell_quoted(script.string()) + " 2>/dev/null";
+  const std::string command =
+      "cd '" + dir.string() + "' && gnuplot path.gp > /dev/null 2>&1";
   return std::system(command.c_str()) == 0;
-}
-
-bool have_gnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
-
-void run_demo(const std::string& camera_path, const std::string& out_dir) {
-  const camera::CatadioptricCamera camera = load_camera(camera_path);
-  std::filesystem::create_directories(out_dir);
-  const std::filesystem::path table = std::filesystem::path(out_dir) / "projected.vnl";
-
-  const std::vector<Eigen::Vector3d> points = room_points();
-  int visible = 0;
-  io::write_text_atomically(table.string(), [&](std::ostream& out) {
-    io::VnlogWriter writer(out, {"x", "y", "z", "u", "v"});
-    writer.comment("Points of a 6 x 4 x 3 m room in frame C and their pixels ('-': not seen)");
-    const double missing = std::numeric_limits<double>::quiet_NaN();
-    for (const Eigen::Vector3d& X : points) {
-      Eigen::Vector2d pixel;
-      if (camera.project(X, &pixel) && camera.in_image(pixel)) {
-        ++visible;
-        writer.row({X.x(), X.y(), X.z(), pixel.x(), pixel.y()});
-      } else {
-        writer.row({X.x(), X.y(), X.z(), missing, missing});
-      }
-    }
-  });
-
-  std::string wrote = table.string();
-  if (have_gnuplot()) {
-    const std::filesystem::path image = std::filesystem::path(out_dir) / "projected.png";
-    if (plot(table, image, camera.image_width(), camera.image_height())) {
-      wrote += " and " + image.string();
-    } else {
-      std::cerr << "omnisfm: gnuplot failed; no plot written\n";
-    }
-  }
-  std::cout << "demo: " << visible << " of " << points.size()
-            << " room points seen in the image; wrote " << wrote << "\n";
 }
 
 }  // namespace
 
 void add_demo_verb(CLI::App& app) {
-  struct Options {
-    std::string camera, out = "out";
-  };
-  auto options = std::make_shared<Options>();
+  auto out = std::make_shared<std::string>("out");
+  auto seed = std::make_shared<std::uint64_t>(1);
   CLI::App* verb = app.add_subcommand(
-      "demo", "Project a synthetic room through the default camera into DIR/projected.vnl "
-              "(and DIR/projected.png when gnuplot is installed)");
-  verb->add_option("--out", options->out, "Output folder")->capture_default_str();
-  verb->add_option("--camera", options->camera, "Camera file (default: the shipped equiangular)");
-  verb->callback([options] { run_demo(options->camera, options->out); });
+      "demo",
+      "The main job: the paper's lab, crane and rover experiments simulated (the lab rendered "
+      "through the mirror), shape-from-motion on them, and the error figures next to the paper's");
+  verb->add_option("--out", *out, "Output folder (replaced whole when it exists)")
+      ->capture_default_str();
+  verb->add_option("--seed", *seed, "Random seed of the simulations")->capture_default_str();
+  verb->callback([out, seed] {
+    const bool terminal = ::isatty(STDERR_FILENO);
+    std::ostringstream table;
+    table << "experiment  figure           paper       online      batch       outliers found/true\n";
+    write_folder(*out, [&](const std::string& root) {
+      for (const PaperFigures& paper : kPaper) {
+        sim::SimulationOptions options;
+        options.scenario = paper.scenario;
+        options.seed = *seed;
+        const sim::Dataset d = sim::simulate(options);
+        const fs::path dir = fs::path(root) / paper.scenario;
+        fs::create_directories(dir);
+        sim::FrameImageWriter images;
+        std::unique_ptr<sim::Renderer> renderer;
+        if (paper.scenario == std::string("lab")) {
+          if (terminal) std::cerr << "omnisfm: rendering the lab through the mirror\n";
+          renderer = std::make_unique<sim::Renderer>(d.camera, 4);
+          images = [&](int frame, const std::string& path) {
+            sim::write_png(path, renderer->render(d.scene, d.world_from_cam[frame]));
+          };
+        }
+        sim::write_dataset(d, (dir / "dataset").string(), images);
+
+        std::vector<io::TrackObservation> tracks;
+        for (const auto& o : d.observations) tracks.push_back({o.frame, o.track, o.pixel});
+        sfm::SfmSettings settings;
+        settings.batch.covariances = false;
+        const sfm::SfmResult r = sfm::run_sfm(d.camera, tracks, settings, [&](int done, int all) {
+          if (terminal && (done % 10 == 0 || done == all))
+            std::cerr << "\romnisfm: " << paper.scenario << ": filter " << done << "/" << all
+                      << (done == all ? "\n" : "") << std::flush;
+        });
+        const auto online = eval::trajectory_errors(world_from_cam(r.online_cam_from_world),
+                                                    d.world_from_cam, true);
+        const auto batch = eval::trajectory_errors(world_from_cam(r.batch.cam_from_world),
+                                                   d.world_from_cam, true);
+        std::set<int> found, truth;
+        for (const auto& o : r.outliers) found.insert(o.track);
+        for (const auto& o : d.outliers) truth.insert(o.track);
+        const auto outliers = eval::outlier_detection(found, truth);
+
+        std::ostringstream report;
+        report << figures_line("online", online) << figures_line("batch", batch);
+        fs::create_directories(dir / "sfm");
+        write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());
+        const bool plotted =
+            plot_path(dir / "sfm", d.world_from_cam, batch, world_from_cam(r.batch.cam_from_world));
+
+        char line[256];
+        std::snprintf(line, sizeof line, "%-11s translation      %6.2f %%    %6.3f %%    %6.3f %%    %d/%d\n",
+                      paper.scenario, paper.translation_percent, online.translation_error_percent,
+                      batch.translation_error_percent, outliers.correct, outliers.actual);
+        table << line;
+        std::snprintf(line, sizeof line, "%-11s %-16s %6.2f deg  %6.3f deg  %6.3f deg%s\n", "",
+                      paper.rotation_kind, paper.rotation_deg,
+                      rotation_figure(paper.rotation_kind, online),
+                      rotation_figure(paper.rotation_kind, batch),
+                      plotted ? "" : "   (no gnuplot: path.png not drawn)");
+        table << line;
+      }
+      std::ofstream(fs::path(root) / "summary.txt") << table.str();
+    });
+    std::cout << table.str() << "Wrote " << *out
+              << "/: per experiment the dataset (the lab with rendered images), the sfm results "
+                 "and sfm/path.png.\n";
+  });
 }
 
 }  // namespace omnisfm::app

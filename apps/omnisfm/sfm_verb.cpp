@@ -15,6 +15,7 @@
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sfm/settings_file.h"
 #include "output_folder.h"
+#include "sfm_outputs.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -37,25 +38,6 @@ std::vector<double> frame_times(const std::string& tracks_path, int num_frames) 
       times[static_cast<int>(f)] = table.number(r, cols[1]);
   }
   return times;
-}
-
-std::vector<io::StampedPose> trajectory(const std::vector<Eigen::Isometry3d>& cam_from_world,
-                                        const std::vector<double>& times) {
-  std::vector<io::StampedPose> out;
-  for (size_t f = 0; f < cam_from_world.size(); ++f)
-    out.push_back({times[f], cam_from_world[f].inverse()});
-  return out;
-}
-
-std::string figures(const char* name, const eval::TrajectoryErrors& e) {
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "%-7s translation %.4f m mean (%.3f%% of %.2f m), rotation %.3f deg, yaw %.3f deg, "
-                "rotation spread %.3f deg, scale %.4f\n",
-                name, e.mean_translation_error_m, e.translation_error_percent,
-                e.distance_travelled_m, e.mean_rotation_error_deg, e.mean_yaw_error_deg,
-                e.rotation_spread_deg, e.alignment.scale);
-  return line;
 }
 
 }  // namespace
@@ -111,16 +93,11 @@ void add_sfm_verb(CLI::App& app) {
     if (truth.size() == static_cast<size_t>(result.num_frames)) {
       std::vector<Eigen::Isometry3d> truth_poses;
       for (const auto& p : truth) truth_poses.push_back(p.world_from_cam);
-      auto as_world_from_cam = [](const std::vector<Eigen::Isometry3d>& poses) {
-        std::vector<Eigen::Isometry3d> out;
-        for (const auto& T : poses) out.push_back(T.inverse());
-        return out;
-      };
-      report << figures("online", eval::trajectory_errors(
-                                      as_world_from_cam(result.online_cam_from_world), truth_poses, true));
+      report << figures_line("online", eval::trajectory_errors(
+                                      world_from_cam(result.online_cam_from_world), truth_poses, true));
       if (settings.run_batch)
-        report << figures("batch", eval::trajectory_errors(
-                                       as_world_from_cam(result.batch.cam_from_world), truth_poses, true));
+        report << figures_line("batch", eval::trajectory_errors(
+                                       world_from_cam(result.batch.cam_from_world), truth_poses, true));
     } else if (!truth.empty()) {
       throw io::InputError(o->ground_truth, 0,
                            "has " + std::to_string(truth.size()) + " poses for " +
@@ -128,22 +105,7 @@ void add_sfm_verb(CLI::App& app) {
     }
 
     write_folder(o->out, [&](const std::string& dir) {
-      io::write_tum_trajectory(dir + "/online.tum", trajectory(result.online_cam_from_world, times));
-      const auto& points = settings.run_batch ? result.batch.points : result.online_points;
-      if (settings.run_batch)
-        io::write_tum_trajectory(dir + "/batch.tum", trajectory(result.batch.cam_from_world, times));
-      std::ofstream table(dir + "/points.vnl");
-      io::VnlogWriter writer(table, {"track", "x", "y", "z"});
-      for (const auto& [track, X] : points) writer.row({double(track), X.x(), X.y(), X.z()});
-      std::ofstream ply(dir + "/points.ply");
-      ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
-          << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-      for (const auto& [track, X] : points) ply << X.x() << ' ' << X.y() << ' ' << X.z() << '\n';
-      std::ofstream outliers(dir + "/outliers.vnl");
-      io::VnlogWriter outlier_writer(outliers, {"track", "frame"});
-      for (const auto& r : result.outliers) outlier_writer.row({double(r.track), double(r.frame)});
-      std::ofstream(dir + "/report.txt") << report.str();
-      if (!table || !ply || !outliers) throw std::runtime_error(o->out + ": write failed");
+      write_sfm_outputs(dir, result, settings.run_batch, times, report.str());
     });
     std::cout << report.str();
   });
@@ -178,7 +140,7 @@ void add_eval_verb(CLI::App& app) {
       throw io::InputError(o->estimate, 0,
                            "fewer than 3 timestamps in common with " + o->ground_truth);
     const eval::TrajectoryErrors e = eval::trajectory_errors(a, b, !o->rigid);
-    std::cout << "poses " << a.size() << "\n" << figures(o->rigid ? "rigid" : "similar", e);
+    std::cout << "poses " << a.size() << "\n" << figures_line(o->rigid ? "rigid" : "similar", e);
   });
 }
 

@@ -1,0 +1,65 @@
+#include "sfm_outputs.h"
+
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include "omnisfm/io/tum_trajectory.h"
+#include "omnisfm/io/vnlog.h"
+
+namespace omnisfm::app {
+namespace {
+
+std::vector<io::StampedPose> trajectory(const std::vector<Eigen::Isometry3d>& cam_from_world,
+                                        const std::vector<double>& times) {
+  std::vector<io::StampedPose> out;
+  for (size_t f = 0; f < cam_from_world.size(); ++f)
+    out.push_back({times[f], cam_from_world[f].inverse()});
+  return out;
+}
+
+}  // namespace
+
+std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& poses) {
+  std::vector<Eigen::Isometry3d> out;
+  for (const auto& T : poses) out.push_back(T.inverse());
+  return out;
+}
+
+std::string figures_line(const char* name, const eval::TrajectoryErrors& e) {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%-7s translation %.4f m mean (%.3f%% of %.2f m), rotation %.3f deg, yaw %.3f deg, "
+                "rotation spread %.3f deg, scale %.4f\n",
+                name, e.mean_translation_error_m, e.translation_error_percent,
+                e.distance_travelled_m, e.mean_rotation_error_deg, e.mean_yaw_error_deg,
+                e.rotation_spread_deg, e.alignment.scale);
+  return line;
+}
+
+void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,
+                       const std::vector<double>& times, const std::string& report) {
+  io::write_tum_trajectory(dir + "/online.tum", trajectory(result.online_cam_from_world, times));
+  const auto& points = batch_ran ? result.batch.points : result.online_points;
+  if (batch_ran)
+    io::write_tum_trajectory(dir + "/batch.tum", trajectory(result.batch.cam_from_world, times));
+  std::ofstream table(dir + "/points.vnl");
+  io::VnlogWriter writer(table, {"track", "x", "y", "z"});
+  for (const auto& [track, X] : points) writer.row({double(track), X.x(), X.y(), X.z()});
+  std::ofstream ply(dir + "/points.ply");
+  ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  for (const auto& [track, X] : points) ply << X.x() << ' ' << X.y() << ' ' << X.z() << '\n';
+  std::ofstream outliers(dir + "/outliers.vnl");
+  io::VnlogWriter outlier_writer(outliers, {"track", "frame"});
+  for (const auto& r : result.outliers) outlier_writer.row({double(r.track), double(r.frame)});
+  std::ofstream summary(dir + "/report.txt");
+  summary << report;
+  table.flush();
+  ply.flush();
+  outliers.flush();
+  summary.flush();
+  if (!table || !ply || !outliers || !summary) throw std::runtime_error(dir + ": write failed");
+}
+
+}  // namespace omnisfm::app

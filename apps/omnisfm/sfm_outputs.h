@@ -1,0 +1,23 @@
+#pragma once
+// What the sfm verb (and the demo) write for a shape-from-motion result.
+
+#include <string>
+#include <vector>
+
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/sfm/pipeline.h"
+
+namespace omnisfm::app {
+
+// online.tum, batch.tum (when the batch ran), points.vnl, points.ply, outliers.vnl and
+// report.txt (with `report`) into the existing folder `dir`.
+void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,
+                       const std::vector<double>& frame_times, const std::string& report);
+
+// world_from_cam of cam_from_world poses.
+std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& cam_from_world);
+
+// One line of the paper's figures.
+std::string figures_line(const char* name, const eval::TrajectoryErrors& e);
+
+}  // namespace omnisfm::app
