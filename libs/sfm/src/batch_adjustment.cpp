@@ -132,4 +132,9 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   return result;
 }
 
+ceres::CostFunction* make_projection_cost(const camera::CatadioptricCamera* camera,
+                                          const Eigen::Vector2d& pixel) {
+  return new ProjectionCost(camera, pixel);
+}
+
 }  // namespace omnisfm::sfm

@@ -11,6 +11,10 @@
 #include "omnisfm/camera/catadioptric_camera.h"
 #include "omnisfm/io/tracks_file.h"
 
+namespace ceres {
+class CostFunction;
+}
+
 namespace omnisfm::sfm {
 
 struct BatchSettings {
@@ -41,5 +45,11 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);
+
+// The batch's reprojection residual of a world point from a pose (angle-axis, translation), with
+// analytic Jacobians; the caller owns it. For benchmarks and other problems built on the same
+// residual.
+ceres::CostFunction* make_projection_cost(const camera::CatadioptricCamera* camera,
+                                          const Eigen::Vector2d& pixel);
 
 }  // namespace omnisfm::sfm

@@ -1,0 +1,160 @@
+// Speed of the estimators: the online filter per frame at several numbers of points, and the
+// batch adjustment on the simulated rover, with analytic Jacobians and, as the peer, Ceres'
+// numeric differentiation of the same model.
+
+#include <benchmark/benchmark.h>
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <map>
+
+#include "omnisfm/sfm/batch_adjustment.h"
+#include "omnisfm/sfm/online_filter.h"
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/scenario.h"
+#include "omnisfm/sim/track_simulator.h"
+#include "omnisfm/sim/trajectories.h"
+
+namespace {
+
+using namespace omnisfm;
+
+// The rover's rig and motion with `count` points spread around its path, all tracked throughout.
+struct FilterInput {
+  camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  std::vector<std::vector<sfm::TrackPixel>> frames;
+};
+
+FilterInput rover_frames(int count) {
+  FilterInput input;
+  sim::Dataset d{"rover", input.camera, {}, sim::rover_trajectory(0.6), {}, {}, {}, {}, {}, {}};
+  std::mt19937_64 rng(7);
+  std::vector<Eigen::Vector3d> points;
+  while (static_cast<int>(points.size()) < count) {
+    const Eigen::Vector3d p(sim::uniform(rng, -2, 6), sim::uniform(rng, -4, 4), 0.0);
+    Eigen::Vector2d pixel;
+    bool always = true;
+    for (size_t f = 0; f < d.world_from_cam.size() && always; ++f)
+      always = sim::true_pixel(d, static_cast<int>(f), p, &pixel, 3.0);
+    if (always) points.push_back(p);
+  }
+  input.frames.resize(d.world_from_cam.size());
+  for (size_t f = 0; f < d.world_from_cam.size(); ++f)
+    for (int i = 0; i < count; ++i) {
+      Eigen::Vector2d pixel;
+      sim::true_pixel(d, static_cast<int>(f), points[i], &pixel);
+      pixel += 0.2 * Eigen::Vector2d(sim::standard_normal(rng), sim::standard_normal(rng));
+      input.frames[f].push_back({i, pixel});
+    }
+  return input;
+}
+
+// Time per frame of the filter once every point is in the state (the frames after the first).
+void BM_FilterFrame(benchmark::State& state) {
+  const FilterInput input = rover_frames(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    state.PauseTiming();
+    sfm::OnlineFilter filter(input.camera, sfm::FilterSettings());
+    filter.process_frame(0, input.frames[0]);
+    state.ResumeTiming();
+    for (size_t f = 1; f < 21; ++f) filter.process_frame(static_cast<int>(f), input.frames[f]);
+  }
+  // Seconds per frame: 20 frames per iteration.
+  state.counters["s_per_frame"] = benchmark::Counter(
+      20.0 * state.iterations(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_FilterFrame)->Arg(30)->Arg(60)->Arg(112)->Arg(200)->Unit(benchmark::kMillisecond);
+
+struct BatchInput {
+  camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  std::vector<io::TrackObservation> tracks;
+  sfm::SfmResult start;
+};
+
+const BatchInput& rover_batch() {
+  static const BatchInput input = [] {
+    BatchInput b;
+    sim::SimulationOptions options;
+    options.scenario = "rover";
+    const sim::Dataset d = sim::simulate(options);
+    b.camera = d.camera;
+    for (const auto& o : d.observations) b.tracks.push_back({o.frame, o.track, o.pixel});
+    sfm::SfmSettings settings;
+    settings.run_batch = false;
+    b.start = sfm::run_sfm(d.camera, b.tracks, settings);
+    return b;
+  }();
+  return input;
+}
+
+void BM_BatchRover(benchmark::State& state) {
+  const BatchInput& b = rover_batch();
+  sfm::BatchSettings settings;
+  settings.covariances = false;
+  int iterations = 0;
+  for (auto _ : state) {
+    const auto result = sfm::batch_adjust(b.camera, b.tracks, b.start.online_cam_from_world,
+                                          b.start.online_points, settings);
+    iterations = result.iterations;
+  }
+  state.counters["lm_iterations"] = iterations;
+}
+BENCHMARK(BM_BatchRover)->Unit(benchmark::kMillisecond);
+
+// The peer: the same residual, differentiated numerically by Ceres.
+struct NumericProjection {
+  const camera::CatadioptricCamera* camera;
+  Eigen::Vector2d pixel;
+  bool operator()(const double* pose, const double* point, double* residual) const {
+    double rotated[3];
+    ceres::AngleAxisRotatePoint(pose, point, rotated);
+    Eigen::Vector2d q;
+    if (!camera->project({rotated[0] + pose[3], rotated[1] + pose[4], rotated[2] + pose[5]}, &q))
+      return false;
+    residual[0] = q.x() - pixel.x();
+    residual[1] = q.y() - pixel.y();
+    return true;
+  }
+};
+
+// One linearisation of the whole rover problem (every residual and Jacobian), analytic or
+// numeric: the per-iteration cost that differs between the two.
+void BM_RoverJacobians(benchmark::State& state) {
+  const bool numeric = state.range(0) == 1;
+  const BatchInput& b = rover_batch();
+  std::vector<Eigen::Matrix<double, 6, 1>> poses;
+  for (const auto& T : b.start.online_cam_from_world) {
+    Eigen::Matrix<double, 6, 1> v;
+    const Eigen::Matrix3d R = T.linear();
+    ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
+    v.tail<3>() = T.translation();
+    poses.push_back(v);
+  }
+  std::map<int, Eigen::Vector3d> points = b.start.online_points;
+  ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(options);
+  for (const auto& o : b.tracks) {
+    auto p = points.find(o.track);
+    if (p == points.end()) continue;
+    ceres::CostFunction* cost =
+        numeric ? static_cast<ceres::CostFunction*>(
+                      new ceres::NumericDiffCostFunction<NumericProjection, ceres::CENTRAL, 2, 6, 3>(
+                          new NumericProjection{&b.camera, o.pixel}))
+                : sfm::make_projection_cost(&b.camera, o.pixel);
+    problem.AddResidualBlock(cost, nullptr, poses[o.frame].data(), p->second.data());
+  }
+  double cost = 0;
+  std::vector<double> residuals;
+  ceres::CRSMatrix jacobian;
+  for (auto _ : state) {
+    problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, &residuals, nullptr, &jacobian);
+    benchmark::DoNotOptimize(cost);
+  }
+  state.SetLabel(numeric ? "numeric (central differences)" : "analytic");
+}
+BENCHMARK(BM_RoverJacobians)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
