@@ -378,8 +378,8 @@ TEST_F(CliTest, SfmThenEvalOnASimulatedCrane) {
       "sfm --camera crane/camera.ini --tracks crane/tracks.vnl --ground-truth "
       "crane/ground_truth.tum --out result");
   ASSERT_EQ(run.status, 0) << run.err;
-  for (const char* file :
-       {"online.tum", "batch.tum", "points.vnl", "points.ply", "outliers.vnl", "report.txt"})
+  for (const char* file : {"online.tum", "batch.tum", "points.vnl", "points.ply", "outliers.vnl",
+                           "report.txt", "motion.png", "path.png"})
     EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
   EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 10u);
   const Outcome figures =

@@ -22,6 +22,7 @@
 #include "omnisfm/sim/scenario.h"
 #include "output_folder.h"
 #include "sfm_outputs.h"
+#include "trajectory_plots.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -46,29 +47,6 @@ double rotation_figure(const char* kind, const eval::TrajectoryErrors& e) {
   if (k == "yaw") return e.mean_yaw_error_deg;
   if (k == "rotation spread") return e.rotation_spread_deg;
   return e.mean_rotation_error_deg;
-}
-
-// The x-y path from above: truth and the aligned batch estimate. False when gnuplot failed.
-bool plot_path(const fs::path& dir, const std::vector<Eigen::Isometry3d>& truth,
-               const eval::TrajectoryErrors& e, const std::vector<Eigen::Isometry3d>& estimate) {
-  {
-    std::ofstream data(dir / "path.dat");
-    data << "# x_true y_true x_batch y_batch\n";
-    for (size_t i = 0; i < truth.size(); ++i) {
-      const Eigen::Vector3d p = e.alignment.apply(estimate[i].translation());
-      data << truth[i].translation().x() << ' ' << truth[i].translation().y() << ' ' << p.x()
-           << ' ' << p.y() << '\n';
-    }
-    std::ofstream script(dir / "path.gp");
-    script << "set terminal pngcairo size 800,700\nset output 'path.png'\n"
-           << "set size ratio -1\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nset key outside bottom\n"
-           << "set title 'x-y path from above: ground truth and batch estimate (aligned)'\n"
-           << "plot 'path.dat' using 1:2 with lines lw 3 lc rgb '#999999' title 'ground truth', "
-           << "'' using 3:4 with points pt 7 ps 0.6 lc rgb '#cc2200' title 'batch estimate'\n";
-  }
-  const std::string command =
-      "cd '" + dir.string() + "' && gnuplot path.gp > /dev/null 2>&1";
-  return std::system(command.c_str()) == 0;
 }
 
 }  // namespace
@@ -128,8 +106,10 @@ void add_demo_verb(CLI::App& app) {
         report << figures_line("online", online) << figures_line("batch", batch);
         fs::create_directories(dir / "sfm");
         write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());
-        const bool plotted =
-            plot_path(dir / "sfm", d.world_from_cam, batch, world_from_cam(r.batch.cam_from_world));
+        const bool plotted = write_trajectory_plots(
+            (dir / "sfm").string(), d.world_from_cam,
+            {{"online", world_from_cam(r.online_cam_from_world), online.alignment},
+             {"batch", world_from_cam(r.batch.cam_from_world), batch.alignment}});
 
         char line[256];
         std::snprintf(line, sizeof line, "%-11s translation      %6.2f %%    %6.3f %%    %6.3f %%    %d/%d\n",
@@ -147,7 +127,7 @@ void add_demo_verb(CLI::App& app) {
     });
     std::cout << table.str() << "Wrote " << *out
               << "/: per experiment the dataset (the lab with rendered images), the sfm results "
-                 "and sfm/path.png.\n";
+                 "and sfm/motion.png, sfm/path.png.\n";
   });
 }
 

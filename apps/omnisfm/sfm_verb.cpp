@@ -16,6 +16,7 @@
 #include "omnisfm/sfm/settings_file.h"
 #include "output_folder.h"
 #include "sfm_outputs.h"
+#include "trajectory_plots.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -90,14 +91,22 @@ void add_sfm_verb(CLI::App& app) {
              << result.batch.iterations << " iterations, " << result.batch.solve_seconds
              << " s; RMS " << result.batch.initial_rms_px << " -> " << result.batch.final_rms_px
              << " px per coordinate (" << result.batch.message << ")\n";
+    std::vector<PlottedTrajectory> plotted;
+    std::vector<Eigen::Isometry3d> plot_truth;
     if (truth.size() == static_cast<size_t>(result.num_frames)) {
       std::vector<Eigen::Isometry3d> truth_poses;
       for (const auto& p : truth) truth_poses.push_back(p.world_from_cam);
-      report << figures_line("online", eval::trajectory_errors(
-                                      world_from_cam(result.online_cam_from_world), truth_poses, true));
-      if (settings.run_batch)
-        report << figures_line("batch", eval::trajectory_errors(
-                                       world_from_cam(result.batch.cam_from_world), truth_poses, true));
+      const auto online = eval::trajectory_errors(world_from_cam(result.online_cam_from_world),
+                                                  truth_poses, true);
+      report << figures_line("online", online);
+      plotted.push_back({"online", world_from_cam(result.online_cam_from_world), online.alignment});
+      if (settings.run_batch) {
+        const auto batch = eval::trajectory_errors(world_from_cam(result.batch.cam_from_world),
+                                                   truth_poses, true);
+        report << figures_line("batch", batch);
+        plotted.push_back({"batch", world_from_cam(result.batch.cam_from_world), batch.alignment});
+      }
+      plot_truth = truth_poses;
     } else if (!truth.empty()) {
       throw io::InputError(o->ground_truth, 0,
                            "has " + std::to_string(truth.size()) + " poses for " +
@@ -106,6 +115,8 @@ void add_sfm_verb(CLI::App& app) {
 
     write_folder(o->out, [&](const std::string& dir) {
       write_sfm_outputs(dir, result, settings.run_batch, times, report.str());
+      if (!plotted.empty() && !write_trajectory_plots(dir, plot_truth, plotted))
+        std::cerr << "omnisfm: gnuplot failed: no plots drawn\n";
     });
     std::cout << report.str();
   });
