@@ -84,8 +84,7 @@ void add_demo_verb(CLI::App& app) {
         }
         sim::write_dataset(d, (dir / "dataset").string(), images);
 
-        std::vector<io::TrackObservation> tracks;
-        for (const auto& o : d.observations) tracks.push_back({o.frame, o.track, o.pixel});
+        const std::vector<io::TrackObservation>& tracks = d.observations;
         sfm::SfmSettings settings;
         settings.batch.covariances = false;
         const sfm::SfmResult r = sfm::run_sfm(d.camera, tracks, settings, [&](int done, int all) {

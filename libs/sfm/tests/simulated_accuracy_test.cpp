@@ -30,8 +30,7 @@ PipelineRun run(const std::string& scenario, std::uint64_t seed) {
   options.scenario = scenario;
   options.seed = seed;
   const sim::Dataset d = sim::simulate(options);
-  std::vector<io::TrackObservation> tracks;
-  for (const auto& o : d.observations) tracks.push_back({o.frame, o.track, o.pixel});
+  const std::vector<io::TrackObservation>& tracks = d.observations;
   SfmSettings settings;
   PipelineRun r;
   r.result = run_sfm(d.camera, tracks, settings);

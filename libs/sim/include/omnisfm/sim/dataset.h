@@ -6,15 +6,13 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/io/tracks_file.h"
 #include "omnisfm/sim/scene.h"
 
 namespace omnisfm::sim {
 
-struct TrackObservation {
-  int frame = 0;
-  int track = 0;
-  Eigen::Vector2d pixel{0, 0};
-};
+// One tracked pixel, as tracks.vnl holds it.
+using TrackObservation = io::TrackObservation;
 
 // A track that goes wrong (the tracker slides to another feature or drifts) from `frame` on.
 struct OutlierTruth {
