@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/io/vnlog.h"
@@ -401,6 +402,155 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
   write("few.vnl", "# frame track u v\n0 0 500 400\n1 0 501 401\n");
   EXPECT_EQ(omnisfm("sfm --camera lab/camera.ini --tracks few.vnl --out result").status, 2);
   EXPECT_FALSE(fs::exists(dir_ / "result"));
+}
+
+}  // namespace
+
+namespace {
+
+// The figure after `key` in `text`, e.g. "RMS 0.23 px" -> 0.23; NaN when absent.
+double figure_after(const std::string& text, const std::string& key) {
+  const size_t at = text.find(key);
+  return at == std::string::npos ? NAN : std::stod(text.substr(at + key.size()));
+}
+
+std::string real_data_folder() {
+  const char* source = std::getenv("OMNISFM_SOURCE_DIR");
+  return source ? (fs::path(source) / ".." / "shared" / "data" / "real-catadioptric").string()
+                : "";
+}
+
+TEST_F(CliTest, CalibrateRecoversTheLabMirrorFromSurveyedTargets) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --noise 0.1 --out lab").status, 0);
+  // The shipped equiangular rig is the lab's nominal, aligned design.
+  const Outcome run = omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+                              " --targets lab/targets.vnl --observations lab/observations.vnl"
+                              " --out calibrated.ini");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err.rfind("omnisfm: wrote calibrated.ini: RMS ", 0), 0u) << run.err;
+  EXPECT_NEAR(figure_after(run.err, "RMS "), 0.1, 0.02) << run.err;
+
+  const CatadioptricCamera truth = omnisfm::io::read_camera_file((dir_ / "lab/camera.ini").string());
+  const CatadioptricCamera found = omnisfm::io::read_camera_file((dir_ / "calibrated.ini").string());
+  EXPECT_LT((found.mirror_pose().translation() - truth.mirror_pose().translation()).norm(), 0.5e-3);
+  EXPECT_LT(std::abs(found.mirror_pose().rx - truth.mirror_pose().rx) * 180 / M_PI, 0.05);
+  EXPECT_LT(std::abs(found.mirror_pose().ry - truth.mirror_pose().ry) * 180 / M_PI, 0.05);
+  EXPECT_EQ(found.params().head(11), truth.params().head(11));  // lens and mirror shape held
+
+  const auto covariance = omnisfm::io::read_camera_covariance((dir_ / "calibrated.ini").string());
+  ASSERT_TRUE(covariance.has_value());
+  EXPECT_EQ(covariance->parameters, (std::vector<std::string>{"mirror_rx", "mirror_ry",
+                                                              "mirror_tx", "mirror_ty",
+                                                              "mirror_tz"}));
+  EXPECT_LT(std::sqrt(covariance->matrix(2, 2)), 0.5e-3);  // tx's sigma
+
+  const fs::path report = dir_ / "calibrated.report";
+  const std::string text = read_all(report / "report.txt");
+  EXPECT_NE(text.find("status: converged"), std::string::npos) << text;
+  EXPECT_NE(text.find("observations: 176, outliers: 0"), std::string::npos) << text;
+  EXPECT_EQ(VnlogTable::read((report / "residuals.vnl").string()).num_rows(), 176u);
+  if (std::system("gnuplot --version > /dev/null 2>&1") == 0) {
+    for (const char* png : {"residuals.png", "histogram.png", "uncertainty.png"})
+      EXPECT_TRUE(fs::exists(report / png)) << png;
+  }
+}
+
+TEST_F(CliTest, CalibrateReportsHeldOutViews) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --noise 0.1 --out lab").status, 0);
+  const Outcome run = omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+                              " --targets lab/targets.vnl --observations lab/observations.vnl"
+                              " --holdout 1 --out calibrated.ini");
+  ASSERT_EQ(run.status, 0) << run.err;
+  // Images 0, 10, 30, 40: the one held out is the third.
+  EXPECT_NEAR(figure_after(run.err, "held-out RMS "), 0.1, 0.03) << run.err;
+  const std::string text = read_all(dir_ / "calibrated.report/report.txt");
+  EXPECT_NE(text.find("held out: image 30"), std::string::npos) << text;
+  EXPECT_NE(text.find("observations: 132,"), std::string::npos) << text;
+  EXPECT_EQ(omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+                    " --targets lab/targets.vnl --observations lab/observations.vnl"
+                    " --holdout 4 --out other.ini")
+                .status,
+            2);
+}
+
+TEST_F(CliTest, CalibrateRejectsBadInputAndWritesNoCamera) {
+  const Outcome help = omnisfm("calibrate --help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("Usage: omnisfm calibrate"), std::string::npos) << help.out;
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
+  const std::string camera = " --camera " + quoted(shipped_camera("equiangular.ini"));
+  const std::string observations = read_all(dir_ / "lab/observations.vnl");
+  write("unknown.vnl", observations + "40 99 500 500\n");
+  const int unknown_line = 2 + 176;
+  std::istringstream rows(observations);
+  std::string few = "# image target u v\n", line;
+  std::getline(rows, line);
+  for (int i = 0; i < 5 && std::getline(rows, line); ++i) few += line + "\n";
+  write("few.vnl", few);
+  write("corners.vnl", "# filename x y level\na.png 1 2 0\na.png 3 4 0\na.png 5 6 0\n");
+  write("board.vnl", "# index x y z\n0 0 0 0\n1 0.1 0 0\n2 0 0.1 0\n3 0.1 0.1 0\n");
+
+  struct Case {
+    std::string args, message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"--targets lab/targets.vnl --observations unknown.vnl",
+            "omnisfm: unknown.vnl:" + std::to_string(unknown_line) +
+                ": target 99 has no survey entry"},
+           {"--targets lab/targets.vnl --observations few.vnl",
+            "omnisfm: few.vnl: image 0: no pose found for its 5 observations"},
+           {"--corners corners.vnl --board board.vnl",
+            "omnisfm: corners.vnl:2: image 'a.png' has 3 corners but the board (board.vnl) has 4"},
+           {"--corners corners.vnl --object-spacing 0.1 --object-width-n 2 --object-height-n 2",
+            "omnisfm: corners.vnl:2: image 'a.png' has 3 corners but the board (2x2 points"},
+           {"--corners corners.vnl", "omnisfm: --corners: needs --board"},
+           {"--targets lab/targets.vnl", "omnisfm: "},
+           {"--targets lab/targets.vnl --observations lab/observations.vnl --estimate shape",
+            "omnisfm: --estimate: unknown parameter group 'shape'"},
+           {"--targets lab/targets.vnl --observations missing.vnl", "omnisfm: missing.vnl"}}) {
+    const Outcome run = omnisfm("calibrate" + camera + " " + c.args + " --out calibrated.ini");
+    EXPECT_EQ(run.status, 2) << c.args << ": " << run.err;
+    EXPECT_EQ(run.err.rfind(c.message, 0), 0u) << c.args << ": " << run.err;
+    EXPECT_FALSE(fs::exists(dir_ / "calibrated.ini")) << c.args;
+  }
+}
+
+TEST_F(CliTest, CalibrateConvergesOnRealCatadioptricCheckerboards) {
+  const fs::path data = real_data_folder();
+  if (!fs::is_directory(data)) GTEST_SKIP() << "no real data at " << data;
+  const std::string vmr = " --camera " + quoted(shipped_camera("vmr-initial.ini")) +
+                          " --corners " + quoted((data / "vmr/corners.vnl").string());
+  const Outcome run = omnisfm("calibrate" + vmr + " --board " +
+                              quoted((data / "vmr/board.vnl").string()) +
+                              " --estimate mirror-pose,intrinsics,mirror-shape --out vmr.ini");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_LT(figure_after(run.err, "RMS "), 0.236) << run.err;  // OpenCV omnidir: 0.2352
+  const auto covariance = omnisfm::io::read_camera_covariance((dir_ / "vmr.ini").string());
+  ASSERT_TRUE(covariance.has_value());
+  EXPECT_EQ(covariance->parameters.size(), 10u);
+
+  // mrcal's board description: the same board up to a half turn, so the same calibration.
+  const Outcome spacing = omnisfm("calibrate" + vmr +
+                                  " --object-spacing 0.03 --object-width-n 6 --object-height-n 7"
+                                  " --estimate mirror-pose,intrinsics,mirror-shape --out vmr2.ini");
+  ASSERT_EQ(spacing.status, 0) << spacing.err;
+  EXPECT_NEAR(figure_after(spacing.err, "RMS "), figure_after(run.err, "RMS "), 1e-4);
+
+  // One view cannot tell every parameter: the solve fails and no camera is written.
+  write("one.vnl", "# filename x y level\n");
+  std::istringstream corners(read_all(data / "vmr/corners.vnl"));
+  std::string line, one = "# filename x y level\n";
+  std::getline(corners, line);
+  for (int i = 0; i < 42 && std::getline(corners, line); ++i) one += line + "\n";
+  write("one.vnl", one);
+  const Outcome fails = omnisfm("calibrate --camera " + quoted(shipped_camera("vmr-initial.ini")) +
+                                " --corners one.vnl --board " +
+                                quoted((data / "vmr/board.vnl").string()) +
+                                " --estimate all --out one.ini");
+  EXPECT_EQ(fails.status, 1) << fails.err;
+  EXPECT_EQ(fails.err.rfind("omnisfm: the calibration did not converge", 0), 0u) << fails.err;
+  EXPECT_FALSE(fs::exists(dir_ / "one.ini"));
+  EXPECT_TRUE(fs::exists(dir_ / "one.report/report.txt"));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@ void add_demo_verb(CLI::App& app);
 void add_simulate_verb(CLI::App& app);
 void add_sfm_verb(CLI::App& app);
 void add_eval_verb(CLI::App& app);
+void add_calibrate_verb(CLI::App& app);
 void add_export_mrcal_verb(CLI::App& app);
 
 }  // namespace omnisfm::app

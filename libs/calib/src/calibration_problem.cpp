@@ -75,9 +75,26 @@ class ProjectionResidual : public ceres::CostFunction {
   Eigen::Vector2d pixel_;
 };
 
+// Reports the solver's progress as an RMS residual in pixels.
+class ProgressCallback : public ceres::IterationCallback {
+ public:
+  ProgressCallback(const std::function<void(int, double)>& report, int num_residual_blocks,
+                   int iterations_before)
+      : report_(report), num_residuals_(2 * num_residual_blocks), before_(iterations_before) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    report_(before_ + summary.iteration, std::sqrt(2 * summary.cost / std::max(1, num_residuals_)));
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(int, double)>& report_;
+  int num_residuals_, before_;
+};
+
 struct Observation {
   int view, index;
   bool outlier = false;
+  bool unprojectable_at_start = false;  // until the solve has moved the camera
 };
 
 bool residual_of(const camera::CatadioptricCamera& camera, const CalibrationView& view,
@@ -148,6 +165,7 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
   for (auto& o : observations) {
     Eigen::Vector2d r;
     o.outlier = !residual_of(*camera, (*views)[o.view], poses[o.view].data(), o.index, &r);
+    o.unprojectable_at_start = o.outlier;
   }
 
   for (int round = 0; round <= settings.max_outlier_rounds; ++round) {
@@ -161,7 +179,8 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
       const auto& view = (*views)[o.view];
       problem.AddResidualBlock(
           new ProjectionResidual(shared.get(), view.points[o.index], view.pixels[o.index]),
-          nullptr, params.data(), poses[o.view].data());
+          settings.cauchy_scale_px > 0 ? new ceres::CauchyLoss(settings.cauchy_scale_px) : nullptr,
+          params.data(), poses[o.view].data());
       ++used;
     }
     if (2 * used <= num_unknowns) {
@@ -185,6 +204,8 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
     options.gradient_tolerance = 1e-12;
     options.num_threads = 2;
     options.logging_type = ceres::SILENT;
+    ProgressCallback progress(settings.progress, used, report.iterations);
+    if (settings.progress) options.callbacks.push_back(&progress);
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
     report.iterations += static_cast<int>(summary.iterations.size());
@@ -197,19 +218,35 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
       return report;
     }
 
-    // Reject what lies beyond the threshold; stop when nothing new is rejected.
-    const double sigma = std::sqrt(2 * summary.final_cost / std::max(1, 2 * used - num_unknowns));
-    int rejected = 0;
-    for (auto& o : observations) {
-      if (o.outlier) continue;
-      Eigen::Vector2d r;
-      if (!residual_of(*camera, (*views)[o.view], poses[o.view].data(), o.index, &r) ||
-          r.cwiseAbs().maxCoeff() > settings.outlier_threshold_sigma * sigma) {
-        o.outlier = true;
-        ++rejected;
+    // Reject what lies beyond the threshold; stop when nothing changes.
+    if (round == settings.max_outlier_rounds) break;
+    double sum_squares = 2 * summary.final_cost;
+    if (settings.cauchy_scale_px > 0) {  // the solver's cost is the robust one: use the squares
+      sum_squares = 0;
+      for (const auto& o : observations) {
+        Eigen::Vector2d r;
+        if (!o.outlier && residual_of(*camera, (*views)[o.view], poses[o.view].data(), o.index, &r))
+          sum_squares += r.squaredNorm();
       }
     }
-    if (rejected == 0) break;
+    const double sigma = std::sqrt(sum_squares / std::max(1, 2 * used - num_unknowns));
+    // What the starting guess could not project comes back once the solved camera projects it
+    // within the threshold.
+    int changed = 0;
+    for (auto& o : observations) {
+      Eigen::Vector2d r;
+      const bool beyond =
+          !residual_of(*camera, (*views)[o.view], poses[o.view].data(), o.index, &r) ||
+          r.cwiseAbs().maxCoeff() > settings.outlier_threshold_sigma * sigma;
+      if (!o.outlier && beyond) {
+        o.outlier = true;
+        ++changed;
+      } else if (o.outlier && o.unprojectable_at_start && !beyond) {
+        o.outlier = o.unprojectable_at_start = false;
+        ++changed;
+      }
+    }
+    if (changed == 0) break;
   }
 
   // Residuals, per-view figures.
@@ -270,8 +307,9 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
       report.message = "degenerate geometry: the estimated parameters are not all observable";
     } else {
       const Eigen::MatrixXd covariance = scale.asDiagonal() * lu.inverse() * scale.asDiagonal();
-      report.covariance = report.residual_sigma_px * report.residual_sigma_px *
-                          covariance.topLeftCorner(m, m);
+      report.joint_covariance = report.residual_sigma_px * report.residual_sigma_px *
+                                (covariance + covariance.transpose()) / 2;
+      report.covariance = report.joint_covariance.topLeftCorner(m, m);
     }
   }
   return report;

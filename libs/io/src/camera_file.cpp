@@ -345,6 +345,11 @@ void write_mirror(const MirrorProfile& mirror, const fs::path& ini_path, IniSect
 }  // namespace
 
 void write_camera_file(const std::string& path, const CatadioptricCamera& camera) {
+  write_camera_file(path, camera, {});
+}
+
+void write_camera_file(const std::string& path, const CatadioptricCamera& camera,
+                       const std::vector<IniSection>& more_sections) {
   IniFile ini(path);
   IniSection& section = ini.add_section(kCameraSection);
   section.set("image_width", std::to_string(camera.image_width()));
@@ -357,6 +362,13 @@ void write_camera_file(const std::string& path, const CatadioptricCamera& camera
   set_number(section, "mirror_tx", pose.tx);
   set_number(section, "mirror_ty", pose.ty);
   set_number(section, "mirror_tz", pose.tz);
+  for (const IniSection& more : more_sections) {
+    if (more.name() == kCameraSection || more.name().empty()) {
+      throw std::invalid_argument("write_camera_file: a further section must have its own name");
+    }
+    IniSection& copy = ini.add_section(more.name());
+    for (const IniEntry& entry : more.entries()) copy.set(entry.key, entry.value);
+  }
   write_text_atomically(path, [&ini](std::ostream& out) { ini.write(out); });
 }
 

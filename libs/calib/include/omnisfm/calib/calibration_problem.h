@@ -9,6 +9,7 @@
 // variance, the poses marginalised, as mrcal reports it.
 
 #include <Eigen/Geometry>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@ struct CalibrationView {
   std::string name;                     // image name, for reports
   std::vector<Eigen::Vector3d> points;  // in the object's frame (the room, the board)
   std::vector<Eigen::Vector2d> pixels;  // observed, one per point
+  std::vector<int> point_ids;           // optional, for reports: target ids, board indices
   Eigen::Isometry3d cam_from_object = Eigen::Isometry3d::Identity();  // initial, then solved
 };
 
@@ -28,8 +30,15 @@ struct CalibrationSettings {
   std::vector<bool> estimate;
   // A residual above this many times the residual sigma is an outlier (as mrcal's cut).
   double outlier_threshold_sigma = 4.0;
+  // Rounds of rejection, each followed by a new solve; 0 solves once and rejects nothing.
   int max_outlier_rounds = 5;
   int max_iterations = 200;
+  // When > 0, a Cauchy loss of this scale (pixels) instead of squares: for rough starting
+  // guesses, where a few far-off residuals would otherwise pull the whole solve.
+  double cauchy_scale_px = 0;
+  // Called after every solver iteration with the iteration count and the RMS residual (pixels
+  // per coordinate) so far; may be empty.
+  std::function<void(int iteration, double rms_px)> progress;
 };
 
 struct ObservationResidual {
@@ -49,6 +58,9 @@ struct CalibrationReport {
   std::vector<ObservationResidual> residuals;
   std::vector<std::string> estimated_names;
   Eigen::MatrixXd covariance;          // of the estimated parameters
+  // Of all unknowns: the estimated parameters, then each view's pose as the solver holds it
+  // (angle-axis, then translation, of cam_from_object).
+  Eigen::MatrixXd joint_covariance;
   double residual_sigma_px = 0;        // sqrt(SSR / (N - P))
 };
 

@@ -14,6 +14,7 @@
 // Other sections (a calibration's covariance) are left to their own readers.
 
 #include <string>
+#include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
 #include "omnisfm/io/ini_file.h"
@@ -34,5 +35,9 @@ camera::CatadioptricCamera camera_from_ini(const IniFile& ini);
 // referenced by name. Each file is replaced whole or not at all; throws std::runtime_error when
 // writing fails.
 void write_camera_file(const std::string& path, const camera::CatadioptricCamera& camera);
+// The same with further sections after [omni_camera] (a calibration's covariance), written in
+// the same atomic replacement.
+void write_camera_file(const std::string& path, const camera::CatadioptricCamera& camera,
+                       const std::vector<IniSection>& more_sections);
 
 }  // namespace omnisfm::io

@@ -1,0 +1,292 @@
+// omnisfm calibrate: the mirror-to-camera transform from surveyed targets (the paper's method), or
+// any chosen camera parameters from checkerboards; writes the calibrated camera with its
+// covariance, and a report folder beside it.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "omnisfm/calib/calibration_report.h"
+#include "omnisfm/calib/calibration_views.h"
+#include "omnisfm/calib/cross_validation.h"
+#include "omnisfm/calib/projection_uncertainty.h"
+#include "omnisfm/calib/staged_calibration.h"
+#include "omnisfm/io/camera_covariance.h"
+#include "omnisfm/io/checkerboard_files.h"
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/io/target_files.h"
+#include "verb_inputs.h"
+#include "verbs.h"
+
+namespace omnisfm::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CalibrateOptions {
+  std::string camera, targets, observations, corners, board, out;
+  double object_spacing = 0;
+  int object_width_n = 0, object_height_n = 0;
+  std::string estimate = "mirror-pose";
+  int holdout = 0;
+  double outlier_sigma = 4;
+  double uncertainty_distance = 1;
+};
+
+std::vector<std::string> comma_separated(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+// The views, and where they came from for the report and for errors.
+struct Inputs {
+  std::vector<calib::CalibrationView> views;
+  std::vector<std::string> description;
+  std::string observations_file;  // the file that errors about observations point at
+};
+
+Inputs read_inputs(const CalibrateOptions& o) {
+  Inputs inputs;
+  inputs.description.push_back("camera " + o.camera);
+  if (!o.targets.empty()) {
+    const auto targets = io::read_targets(o.targets);
+    const auto rows = io::read_target_observations(o.observations);
+    inputs.views = calib::target_views(targets, rows, o.observations);
+    inputs.observations_file = o.observations;
+    inputs.description.push_back("targets " + o.targets + " (" + std::to_string(targets.size()) +
+                                 " surveyed)");
+    inputs.description.push_back("observations " + o.observations + " (" +
+                                 std::to_string(rows.size()) + " in " +
+                                 std::to_string(inputs.views.size()) + " images)");
+    return inputs;
+  }
+  std::vector<Eigen::Vector3d> board;
+  std::string board_source;
+  if (!o.board.empty()) {
+    board = io::read_board(o.board);
+    board_source = o.board;
+  } else {
+    try {
+      board = io::regular_board(o.object_spacing, o.object_width_n, o.object_height_n);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--object-spacing/--object-width-n/--object-height-n", e.what());
+    }
+    std::ostringstream source;
+    source << o.object_width_n << "x" << o.object_height_n << " points, " << o.object_spacing
+           << " m apart";
+    board_source = source.str();
+  }
+  const auto images = io::read_corners(o.corners);
+  inputs.views = calib::board_views(images, board, o.corners, board_source);
+  inputs.observations_file = o.corners;
+  int observations = 0;
+  for (const auto& view : inputs.views) observations += static_cast<int>(view.points.size());
+  inputs.description.push_back("corners " + o.corners + " (" + std::to_string(observations) +
+                               " detected in " + std::to_string(inputs.views.size()) + " of " +
+                               std::to_string(images.size()) + " images)");
+  inputs.description.push_back("board " + board_source);
+  return inputs;
+}
+
+// Progress on one terminal line, only when stderr is a terminal.
+std::function<void(const std::string&, int, double)> terminal_progress() {
+  if (!::isatty(STDERR_FILENO)) return nullptr;
+  return [](const std::string& stage, int iteration, double rms) {
+    std::fprintf(stderr, "\romnisfm: calibrating, stage %-40s iteration %4d, RMS %9.4f px",
+                 stage.c_str(), iteration, rms);
+    std::fflush(stderr);
+  };
+}
+
+void check_writable_folder_of(const std::string& path) {
+  const fs::path parent = fs::absolute(path).lexically_normal().parent_path();
+  if (!fs::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0) {
+    throw io::InputError(path, 0, "cannot write here: " + parent.string() +
+                                      " is not a writable folder");
+  }
+}
+
+std::string report_folder_for(const std::string& camera_file) {
+  fs::path path(camera_file);
+  return (path.parent_path() / (path.stem().string() + ".report")).string();
+}
+
+void run_calibrate(const CalibrateOptions& o) {
+  camera::CatadioptricCamera camera = load_camera(o.camera);
+  check_writable_folder_of(o.out);
+  Inputs inputs = read_inputs(o);
+  if (inputs.views.empty()) {
+    throw io::InputError(inputs.observations_file, 0, "no observations to calibrate from");
+  }
+
+  // Held-out views leave the calibration now and come back to be measured against it.
+  std::vector<calib::CalibrationView> held;
+  if (o.holdout > 0) {
+    std::vector<int> chosen;
+    try {
+      chosen = calib::spread_views(static_cast<int>(inputs.views.size()), o.holdout);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--holdout", e.what());
+    }
+    std::vector<calib::CalibrationView> kept;
+    for (int v = 0; v < static_cast<int>(inputs.views.size()); ++v) {
+      const bool is_held = std::find(chosen.begin(), chosen.end(), v) != chosen.end();
+      (is_held ? held : kept).push_back(inputs.views[v]);
+    }
+    inputs.views = std::move(kept);
+    std::string names;
+    for (const auto& view : held) names += (names.empty() ? "" : ", ") + view.name;
+    inputs.description.push_back("held out: " + names);
+  }
+
+  calib::StagedSettings settings;
+  settings.groups = comma_separated(o.estimate);
+  settings.outlier_threshold_sigma = o.outlier_sigma;
+  settings.progress = terminal_progress();
+  calib::StagedReport report;
+  try {
+    report = calib::calibrate_in_stages(&camera, &inputs.views, settings);
+  } catch (const std::invalid_argument& e) {
+    if (settings.progress) std::cerr << "\n";
+    // An unknown group was caught by the option's check: what is left is about the observations.
+    throw io::InputError(inputs.observations_file, 0, e.what());
+  }
+  if (settings.progress) std::cerr << "\n";
+
+  calib::CalibrationOutcome outcome;
+  outcome.inputs = inputs.description;
+  outcome.camera = &camera;
+  outcome.report = &report;
+  outcome.views = &inputs.views;
+  outcome.outlier_threshold_sigma = o.outlier_sigma;
+  const std::string folder = report_folder_for(o.out);
+  const calib::CalibrationReport& final = report.final;
+
+  if (!final.converged) {
+    const std::string note = calib::write_calibration_report(folder, outcome);
+    throw std::runtime_error("the calibration did not converge: " + final.message + "; " + o.out +
+                             " was not written; the report is in " + folder +
+                             (note.empty() ? "" : " (" + note + ")"));
+  }
+
+  calib::HeldOutResult held_out;
+  if (!held.empty()) {
+    try {
+      held_out = calib::evaluate_held_out(camera, held);
+    } catch (const std::invalid_argument& e) {
+      throw io::InputError(inputs.observations_file, 0, std::string("held-out ") + e.what());
+    }
+    outcome.held_out = &held_out;
+  }
+  const int step = std::max(4, std::max(camera.image_width(), camera.image_height()) / 96);
+  const calib::UncertaintyMap uncertainty = calib::projection_uncertainty(
+      camera, report.estimated, inputs.views, final.joint_covariance, o.uncertainty_distance,
+      step);
+  const calib::UncertaintyMap uncertainty_camera_frame =
+      calib::projection_uncertainty_in_camera_frame(camera, report.estimated, final.covariance,
+                                                    o.uncertainty_distance, step);
+  outcome.uncertainty = &uncertainty;
+  outcome.uncertainty_camera_frame = &uncertainty_camera_frame;
+
+  io::write_calibrated_camera_file(o.out, camera, {report.estimated, final.covariance});
+  outcome.camera_file = o.out;
+  const std::string note = calib::write_calibration_report(folder, outcome);
+
+  std::cerr << "omnisfm: wrote " << o.out << ": RMS " << final.rms_px
+            << " px per coordinate, worst " << final.worst_px << " px, " << final.num_outliers
+            << " outliers of " << final.num_observations << " observations";
+  if (outcome.held_out) {
+    std::cerr << "; held-out RMS " << held_out.rms_px << " px over " << held_out.num_observations
+              << " observations";
+  }
+  std::cerr << "; report in " << folder << "\n";
+  if (!note.empty()) std::cerr << "omnisfm: warning: " << note << "\n";
+}
+
+}  // namespace
+
+void add_calibrate_verb(CLI::App& app) {
+  auto o = std::make_shared<CalibrateOptions>();
+  CLI::App* verb = app.add_subcommand(
+      "calibrate",
+      "Calibrate from surveyed targets (the mirror-to-camera transform, the paper's method) or "
+      "checkerboards (any camera parameters); writes the camera file with its covariance and a "
+      "report folder OUT-stem.report/ beside it");
+  verb->add_option("--camera", o->camera, "Starting camera file (the nominal design)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  auto* targets = verb->add_option("--targets", o->targets, "Surveyed targets, `# target x y z`");
+  auto* observations = verb->add_option("--observations", o->observations,
+                                        "Their observations, `# image target u v`");
+  auto* corners = verb->add_option("--corners", o->corners,
+                                   "Checkerboard corners, mrcal's `# filename x y level`");
+  auto* board = verb->add_option("--board", o->board, "The board's points, `# index x y z`");
+  auto* spacing = verb->add_option("--object-spacing", o->object_spacing,
+                                   "Board point spacing, metres (instead of --board)");
+  auto* width_n = verb->add_option("--object-width-n", o->object_width_n, "Board points across");
+  auto* height_n = verb->add_option("--object-height-n", o->object_height_n, "Board points down");
+  verb->add_option("--out", o->out, "Calibrated camera file to write")->required();
+  verb->add_option("--estimate", o->estimate,
+                   "Comma-separated parameter groups: mirror-pose, mirror-shape, intrinsics, "
+                   "distortion, all")
+      ->capture_default_str()
+      ->check([](const std::string& text) {
+        for (const std::string& group : comma_separated(text)) {
+          if (group != "mirror-pose" && group != "mirror-shape" && group != "intrinsics" &&
+              group != "distortion" && group != "all")
+            return "unknown parameter group '" + group +
+                   "' (expected mirror-pose, mirror-shape, intrinsics, distortion or all)";
+        }
+        return comma_separated(text).empty() ? std::string("no parameter group given")
+                                             : std::string();
+      });
+  verb->add_option("--holdout", o->holdout,
+                   "Leave this many views (spread evenly) out, and report their RMS against the "
+                   "calibration")
+      ->check(CLI::NonNegativeNumber);
+  verb->add_option("--outlier-sigma", o->outlier_sigma,
+                   "Reject a residual coordinate beyond this many residual sigmas")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
+  verb->add_option("--uncertainty-distance", o->uncertainty_distance,
+                   "Distance (metres) along each pixel's ray of the points in the projection-"
+                   "uncertainty map")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+
+  targets->needs(observations);
+  observations->needs(targets);
+  targets->excludes(corners);
+  corners->excludes(targets);
+  board->needs(corners);
+  spacing->needs(corners)->needs(width_n)->needs(height_n);
+  width_n->needs(spacing);
+  height_n->needs(spacing);
+  board->excludes(spacing);
+  spacing->excludes(board);
+  verb->callback([o, corners, targets, board, spacing] {
+    if (targets->count() == 0 && corners->count() == 0)
+      throw CLI::ValidationError("calibrate",
+                                 "give --targets with --observations, or --corners with --board");
+    if (corners->count() > 0 && board->count() == 0 && spacing->count() == 0)
+      throw CLI::ValidationError("--corners", "needs --board, or --object-spacing with "
+                                              "--object-width-n and --object-height-n");
+    run_calibrate(*o);
+  });
+}
+
+}  // namespace omnisfm::app
