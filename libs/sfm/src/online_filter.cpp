@@ -188,9 +188,9 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Eigen::Matrix3d*
     *X = points_ + correction.tail(n - 6);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
     for (int k = 2; k < X->size(); k += 3) (*X)[k] = std::max((*X)[k], kMinInverseDepth);
-    // Converged when the iterate stops moving (a micrometre).
-    if (iteration > 0 && (*t - previous_t).norm() < 1e-6 &&
-        (n == 6 || (*X - previous_X).cwiseAbs().maxCoeff() < 1e-6))
+    // Converged when the iterate stops moving (a tenth of a millimetre).
+    if (iteration > 0 && (*t - previous_t).norm() < 1e-4 &&
+        (n == 6 || (*X - previous_X).cwiseAbs().maxCoeff() < 1e-4))
       break;
   }
   // P = P - PHt S^-1 PHt^T, as a symmetric rank-2m downdate.
