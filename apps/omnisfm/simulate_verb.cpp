@@ -10,6 +10,7 @@
 #include "omnisfm/sim/image_file.h"
 #include "omnisfm/sim/renderer.h"
 #include "omnisfm/sim/scenario.h"
+#include "simulated_rawlog_output.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -19,6 +20,7 @@ void add_simulate_verb(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   auto render = std::make_shared<bool>(false);
   auto samples = std::make_shared<int>(4);
+  auto rawlog = std::make_shared<bool>(false);
   CLI::App* verb = app.add_subcommand(
       "simulate",
       "Simulate one of the paper's experiments with ground truth: camera.ini, tracks.vnl, "
@@ -46,7 +48,13 @@ void add_simulate_verb(CLI::App& app) {
   verb->add_option("--samples", *samples, "Samples per pixel when rendering (a square: 1, 4, 9...)")
       ->capture_default_str()
       ->check(CLI::IsMember({1, 4, 9, 16, 25}));
-  verb->callback([options, out, render, samples] {
+  verb->add_flag("--rawlog", *rawlog,
+                 "Also write dataset.rawlog for MRPT (load libomnisfm_mrpt.so to read it): "
+                 "tracks, the images with --render, wheel odometry that drifts, a biased gyro");
+  verb->callback([options, out, render, samples, rawlog] {
+    if (*rawlog && !can_write_rawlogs())
+      throw CLI::ValidationError("--rawlog", "this omnisfm was built without the MRPT plugin "
+                                             "(OMNISFM_BUILD_MRPT_PLUGIN=OFF)");
     sim::Dataset dataset = [&] {
       try {
         return sim::simulate(*options);
@@ -72,11 +80,16 @@ void add_simulate_verb(CLI::App& app) {
                     << (frame + 1 == frames ? "\n" : "") << std::flush;
       };
     }
-    sim::write_dataset(dataset, *out, write_image);
+    std::string rawlog_summary;
+    const sim::FolderWriter write_rawlog =
+        *rawlog ? simulated_rawlog_writer(dataset, options->seed, *render, &rawlog_summary)
+                : nullptr;
+    sim::write_dataset(dataset, *out, write_image, write_rawlog);
     std::cerr << "omnisfm: wrote " << *out << ": " << dataset.scenario << ", "
               << dataset.world_from_cam.size() << " frames, " << dataset.track_points.size()
               << " tracks, " << dataset.observations.size() << " observations, "
-              << dataset.outliers.size() << " mistracked\n";
+              << dataset.outliers.size() << " mistracked"
+              << (rawlog_summary.empty() ? "" : "; " + rawlog_summary) << "\n";
   });
 }
 

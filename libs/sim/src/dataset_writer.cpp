@@ -80,7 +80,7 @@ void write_contents(const Dataset& d, const fs::path& dir, const FrameImageWrite
 }  // namespace
 
 void write_dataset(const Dataset& dataset, const std::string& dir,
-                   const FrameImageWriter& write_image) {
+                   const FrameImageWriter& write_image, const FolderWriter& write_more) {
   const fs::path target = fs::absolute(dir).lexically_normal();
   const fs::path parent = target.parent_path();
   const std::string stem = target.filename().string();
@@ -99,6 +99,7 @@ void write_dataset(const Dataset& dataset, const std::string& dir,
                              ec.message());
   try {
     write_contents(dataset, partial, write_image);
+    if (write_more) write_more(partial.string());
   } catch (...) {
     fs::remove_all(partial, ec);
     throw;

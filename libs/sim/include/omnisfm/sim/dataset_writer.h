@@ -12,11 +12,14 @@ namespace omnisfm::sim {
 
 // Writes the image of `frame` to `path` (a PNG); throws on failure.
 using FrameImageWriter = std::function<void(int frame, const std::string& path)>;
+// Writes further files into the dataset's folder (given as a path), after the others.
+using FolderWriter = std::function<void(const std::string& dir)>;
 
 // Everything is written into a temporary folder beside `dir` and moved into place only when
 // complete, so a failure never leaves a dataset that looks whole; an existing `dir` is replaced.
 // Throws std::runtime_error naming the folder when it cannot be written.
 void write_dataset(const Dataset& dataset, const std::string& dir,
-                   const FrameImageWriter& write_image = nullptr);
+                   const FrameImageWriter& write_image = nullptr,
+                   const FolderWriter& write_more = nullptr);
 
 }  // namespace omnisfm::sim

@@ -1,0 +1,135 @@
+// Simulated odometry and gyro: exact without noise, and with their stated drift otherwise.
+
+#include "omnisfm/sim/dead_reckoning.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "omnisfm/sim/scenario.h"
+#include "omnisfm/sim/trajectories.h"
+
+namespace omnisfm::sim {
+namespace {
+
+Dataset dataset_of(const std::string& scenario) {
+  SimulationOptions options;
+  options.scenario = scenario;
+  return simulate(options);
+}
+
+DeadReckoningOptions perfect_sensors() {
+  DeadReckoningOptions o;
+  o.odometry_scale_error = o.odometry_yaw_scale_error = 0;
+  o.odometry_position_noise = o.odometry_heading_noise = 0;
+  o.gyro_noise_density = o.gyro_bias_sigma = o.gyro_bias_walk = 0;
+  return o;
+}
+
+Eigen::Vector3d planar(const Eigen::Isometry3d& T) {
+  return {T.translation().x(), T.translation().y(), std::atan2(T.linear()(1, 0), T.linear()(0, 0))};
+}
+
+Eigen::Matrix3d integrate(const std::vector<GyroReading>& gyro) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  for (size_t j = 0; j + 1 < gyro.size(); ++j) {
+    const Eigen::Vector3d angle = gyro[j].rate * (gyro[j + 1].timestamp - gyro[j].timestamp);
+    if (angle.norm() > 0)
+      R = R * Eigen::AngleAxisd(angle.norm(), angle.normalized()).toRotationMatrix();
+  }
+  return R;
+}
+
+class PerfectSensors : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PerfectSensors, ReproduceTheTrueMotion) {
+  const Dataset d = dataset_of(GetParam());
+  const DeadReckoning dr = simulate_dead_reckoning(d, perfect_sensors());
+  const Eigen::Isometry3d cam_from_body = dr.body_from_cam.inverse();
+  const Eigen::Isometry3d world_from_body0 = d.world_from_cam.front() * cam_from_body;
+  const Eigen::Isometry3d world_from_body1 = d.world_from_cam.back() * cam_from_body;
+
+  if (GetParam() == "crane") {
+    EXPECT_TRUE(dr.odometry.empty()) << "the crane's motion is not planar";
+  } else {
+    ASSERT_FALSE(dr.odometry.empty());
+    const Eigen::Vector3d expected = planar(world_from_body0.inverse() * world_from_body1);
+    EXPECT_NEAR(dr.odometry.back().timestamp, d.timestamps.back(), 1e-9);
+    EXPECT_LT((dr.odometry.back().pose - expected).norm(), 1e-9);
+  }
+  ASSERT_GT(dr.gyro.size(), 10u);
+  const Eigen::Matrix3d expected_rotation =
+      world_from_body0.linear().transpose() * world_from_body1.linear();
+  EXPECT_LT((integrate(dr.gyro) - expected_rotation).norm(), 1e-9);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, PerfectSensors, ::testing::Values("lab", "crane", "rover"));
+
+TEST(DeadReckoning, BodyIsUprightForEveryRig) {
+  // The lab's rig hangs upside down: its body frame is the camera's turned about x.
+  const DeadReckoning lab = simulate_dead_reckoning(dataset_of("lab"), perfect_sensors());
+  EXPECT_LT(
+      (lab.body_from_cam.linear() - Eigen::Vector3d(1, -1, -1).asDiagonal().toDenseMatrix()).norm(),
+      1e-15);
+  for (const auto& reading : lab.odometry) EXPECT_NEAR(reading.pose.z(), 0, 1e-12);
+  const DeadReckoning rover = simulate_dead_reckoning(dataset_of("rover"), perfect_sensors());
+  EXPECT_TRUE(rover.body_from_cam.isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(DeadReckoning, OdometryDriftsAsStated) {
+  const Dataset d = dataset_of("rover");
+  const DeadReckoningOptions options;
+  const DeadReckoning dr = simulate_dead_reckoning(d, options);
+  double read_length = 0;
+  for (size_t i = 1; i < dr.odometry.size(); ++i)
+    read_length += (dr.odometry[i].pose.head<2>() - dr.odometry[i - 1].pose.head<2>()).norm();
+  const double true_length = path_length(d.world_from_cam);
+  EXPECT_NEAR(read_length / true_length, 1 + options.odometry_scale_error, 0.003);
+
+  const Eigen::Vector3d truth =
+      planar(d.world_from_cam.front().inverse() * d.world_from_cam.back());
+  const double end_error = (dr.odometry.back().pose.head<2>() - truth.head<2>()).norm();
+  EXPECT_GT(end_error / true_length, 0.005);
+  EXPECT_LT(end_error / true_length, 0.05);
+}
+
+TEST(DeadReckoning, GyroCarriesItsBias) {
+  const Dataset d = dataset_of("rover");
+  const DeadReckoning noisy = simulate_dead_reckoning(d, DeadReckoningOptions{});
+  const DeadReckoning perfect = simulate_dead_reckoning(d, perfect_sensors());
+  ASSERT_EQ(noisy.gyro.size(), perfect.gyro.size());
+  Eigen::Vector3d mean_error = Eigen::Vector3d::Zero();
+  for (size_t j = 0; j < noisy.gyro.size(); ++j)
+    mean_error += noisy.gyro[j].rate - perfect.gyro[j].rate;
+  mean_error /= static_cast<double>(noisy.gyro.size());
+  EXPECT_GT(noisy.gyro_bias_at_start.norm(), 1e-4);
+  // The bias wanders by about 2e-5 * sqrt(75 s); the white noise averages to ~2e-5.
+  EXPECT_LT((mean_error - noisy.gyro_bias_at_start).norm(), 1e-3);
+}
+
+TEST(DeadReckoning, DeterministicForASeed) {
+  const Dataset d = dataset_of("lab");
+  DeadReckoningOptions options;
+  const DeadReckoning a = simulate_dead_reckoning(d, options);
+  const DeadReckoning b = simulate_dead_reckoning(d, options);
+  options.seed = 2;
+  const DeadReckoning c = simulate_dead_reckoning(d, options);
+  EXPECT_EQ(a.odometry.back().pose, b.odometry.back().pose);
+  EXPECT_EQ(a.gyro.back().rate, b.gyro.back().rate);
+  EXPECT_NE(a.odometry.back().pose, c.odometry.back().pose);
+}
+
+TEST(DeadReckoning, RejectsNonsense) {
+  Dataset d = dataset_of("lab");
+  DeadReckoningOptions options;
+  options.gyro_rate_hz = 0;
+  EXPECT_THROW(simulate_dead_reckoning(d, options), std::invalid_argument);
+  options = {};
+  options.odometry_heading_noise = -1;
+  EXPECT_THROW(simulate_dead_reckoning(d, options), std::invalid_argument);
+  d.timestamps[3] = d.timestamps[2];
+  EXPECT_THROW(simulate_dead_reckoning(d, DeadReckoningOptions{}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace omnisfm::sim

@@ -1,0 +1,68 @@
+#pragma once
+// Reading an MRPT rawlog object by object: either format (a sequence of observations, or of
+// sensory frames and actions), gzip-compressed or not.
+//
+// A rawlog has no index and no object lengths, so nothing after a damaged object can be found
+// again: reading stops there. Every object before it has been delivered; problem() then names the
+// file, the object's index (counting from 0) and what is wrong: the file ends inside the object
+// (truncated), its class is not registered (and which library defines it), its class version is
+// newer than this reader, or its bytes are corrupt. A file cut exactly between two objects reads
+// as a shorter, complete rawlog: the format cannot tell the difference.
+//
+// MRPT headers: the including target must link MRPT (mrpt::obs) itself.
+
+#include <mrpt/serialization/CSerializable.h>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+
+namespace mrpt::io {
+class CFileGZInputStream;
+}
+
+namespace omnisfm::mrpt_plugin {
+
+class RawlogReader {
+ public:
+  // Throws io::InputError naming the file when it cannot be opened.
+  explicit RawlogReader(const std::string& path);
+  ~RawlogReader();
+  RawlogReader(const RawlogReader&) = delete;
+  RawlogReader& operator=(const RawlogReader&) = delete;
+
+  // The next object, or nullptr at the end of the file or at the first object that cannot be
+  // read (then problem() is not empty). Objects stored as null are skipped.
+  mrpt::serialization::CSerializable::Ptr next();
+
+  // How many objects next() has returned (plus stored nulls): the index of the object it reads
+  // next, and after a problem that of the damaged object.
+  std::size_t index() const { return index_; }
+  // Empty while reading goes well and after a clean end; otherwise
+  // "PATH: object N: what is wrong; the N objects before it were read".
+  const std::string& problem() const { return problem_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string describe_failure(const std::string& mrpt_message);
+
+  std::string path_;
+  std::unique_ptr<mrpt::io::CFileGZInputStream> file_;
+  std::size_t index_ = 0;
+  bool finished_ = false;
+  std::string problem_;
+};
+
+// The sentence that tells a user how to read a rawlog holding the class `class_name`, which is
+// not registered: for omnisfm's classes, to load libomnisfm_mrpt.so.
+std::string unregistered_class_advice(const std::string& class_name);
+
+// How damage is reported: "PATH: object N (CLASS): WHAT; the N objects before it were read"
+// (without the class when it is empty).
+std::string describe_damage(const std::string& path, std::size_t index,
+                            const std::string& object_class, const std::string& what);
+
+// The innermost message of an MRPT exception's text, without MRPT's call stacks.
+std::string mrpt_error_reason(const std::string& what);
+
+}  // namespace omnisfm::mrpt_plugin

@@ -1,0 +1,47 @@
+#pragma once
+// A simulated dataset as an MRPT rawlog in the observation format (MRPT 2's preferred one: a
+// time-ordered sequence of CObservation objects, gzip-compressed as MRPT's tools write it):
+//   - first, a CObservationComment with the simulation's settings and the sensors' true errors
+//     (an INI section [omnisfm_simulation]), for whoever checks an estimator against them;
+//   - per frame, a CObservationTrackedFeatures (label OMNI_TRACKS) and, when image files are
+//     given, a CObservationOmniImage (label OMNI_CAMERA), both carrying the camera model;
+//   - wheel odometry, mrpt::obs::CObservationOdometry (label ODOMETRY), for planar motion only;
+//   - a gyro, mrpt::obs::CObservationIMU (label IMU) with the angular rates only,
+// from sim::simulate_dead_reckoning (its header states the sensor models). Cameras sit on the
+// robot at body_from_cam, the IMU at the robot's origin. A timestamp is start_time plus the
+// dataset's time (MRPT reserves time 0 for "no timestamp").
+//
+// MRPT-free: the omnisfm command calls this without MRPT headers.
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "omnisfm/sim/dataset.h"
+#include "omnisfm/sim/dead_reckoning.h"
+
+namespace omnisfm::mrpt_plugin {
+
+inline constexpr const char* kOmniCameraLabel = "OMNI_CAMERA";
+inline constexpr const char* kTrackedFeaturesLabel = "OMNI_TRACKS";
+inline constexpr const char* kOdometryLabel = "ODOMETRY";
+inline constexpr const char* kGyroLabel = "IMU";
+
+struct SimulatedRawlogOptions {
+  sim::DeadReckoningOptions sensors;
+  double start_time = 1e9;  // seconds since the Unix epoch at the dataset's time 0
+  // The image file (PNG, or any format OpenCV reads) of each frame; null for tracks only.
+  std::function<std::string(int frame)> image_file;
+};
+
+struct SimulatedRawlogSummary {
+  std::size_t images = 0, tracked_frames = 0, odometry = 0, gyro = 0;
+};
+
+// Writes the rawlog to `path`, replaced whole or not at all. Throws std::runtime_error naming the
+// file when it cannot be written or an image file cannot be read, and std::invalid_argument for
+// what sim::simulate_dead_reckoning rejects.
+SimulatedRawlogSummary write_simulated_rawlog(const sim::Dataset& dataset, const std::string& path,
+                                              const SimulatedRawlogOptions& options);
+
+}  // namespace omnisfm::mrpt_plugin

@@ -1,0 +1,173 @@
+#include "omnisfm/mrpt_plugin/catadioptric_camera_model.h"
+
+#include <mrpt/serialization/CArchive.h>
+
+#include <ostream>
+#include <stdexcept>
+
+#include "omnisfm/camera/conic_profile.h"
+#include "omnisfm/camera/equiangular_profile.h"
+#include "omnisfm/camera/mrcal_camera.h"
+#include "omnisfm/camera/orthographic_camera.h"
+#include "omnisfm/camera/pinhole_camera.h"
+#include "omnisfm/camera/table_profile.h"
+#include "omnisfm/io/number_text.h"
+
+IMPLEMENTS_SERIALIZABLE(CCatadioptricCameraModel, mrpt::serialization::CSerializable,
+                        omnisfm::mrpt_plugin)
+
+namespace omnisfm::mrpt_plugin {
+namespace {
+
+using mrpt::serialization::CArchive;
+
+std::vector<double> to_std(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+Eigen::VectorXd to_eigen(const std::vector<double>& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+[[noreturn]] void fail(const std::string& what) {
+  throw std::runtime_error("CCatadioptricCameraModel: the stored model is not a valid camera: " +
+                           what);
+}
+
+void require_size(const std::vector<double>& v, size_t size, const std::string& what) {
+  if (v.size() != size)
+    fail(what + " needs " + std::to_string(size) + " parameters, not " + std::to_string(v.size()));
+}
+
+std::unique_ptr<camera::InnerCamera> read_inner(CArchive& in) {
+  std::string kind;
+  std::vector<double> p;
+  in >> kind >> p;
+  if (kind == "pinhole") {
+    require_size(p, 9, "a pinhole camera");
+    return std::make_unique<camera::PinholeCamera>(
+        camera::PinholeIntrinsics{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]});
+  }
+  if (kind == "orthographic") {
+    require_size(p, 4, "an orthographic camera");
+    return std::make_unique<camera::OrthographicCamera>(
+        camera::OrthographicIntrinsics{p[0], p[1], p[2], p[3]});
+  }
+  if (kind == "mrcal") {
+    std::string lensmodel;
+    in >> lensmodel;
+    const int32_t width = in.ReadAs<int32_t>();
+    const int32_t height = in.ReadAs<int32_t>();
+    return std::make_unique<camera::MrcalCamera>(lensmodel, to_eigen(p), width, height);
+  }
+  fail("unknown inner camera kind '" + kind + "'");
+}
+
+void write_inner(CArchive& out, const camera::InnerCamera& inner) {
+  out << inner.kind() << to_std(inner.params());
+  if (const auto* mrcal = dynamic_cast<const camera::MrcalCamera*>(&inner)) {
+    out << mrcal->lensmodel_name();
+    out.WriteAs<int32_t>(mrcal->image_width());
+    out.WriteAs<int32_t>(mrcal->image_height());
+  }
+}
+
+std::unique_ptr<camera::MirrorProfile> read_mirror(CArchive& in) {
+  std::string kind;
+  std::vector<double> shape;
+  double s_min = 0, s_max = 0;
+  in >> kind >> shape >> s_min >> s_max;
+  if (kind == "equiangular") {
+    require_size(shape, 2, "an equiangular mirror");
+    return std::make_unique<camera::EquiangularProfile>(shape[0], shape[1], s_min, s_max);
+  }
+  if (kind == "conic") {
+    require_size(shape, 3, "a conic mirror");
+    return std::make_unique<camera::ConicProfile>(shape[0], shape[1], shape[2], s_min, s_max);
+  }
+  if (kind == "table") {
+    require_size(shape, 0, "a tabulated mirror");
+    std::vector<double> rho, z;
+    in >> rho >> z;
+    return std::make_unique<camera::TableProfile>(std::move(rho), std::move(z), s_min, s_max);
+  }
+  fail("unknown mirror kind '" + kind + "'");
+}
+
+void write_mirror(CArchive& out, const camera::MirrorProfile& mirror) {
+  out << mirror.kind() << to_std(mirror.shape_params()) << mirror.s_min() << mirror.s_max();
+  if (const auto* table = dynamic_cast<const camera::TableProfile*>(&mirror))
+    out << table->rho_samples() << table->z_samples();
+}
+
+camera::CatadioptricCamera read_camera_v0(CArchive& in) {
+  const int32_t width = in.ReadAs<int32_t>();
+  const int32_t height = in.ReadAs<int32_t>();
+  try {
+    std::unique_ptr<camera::InnerCamera> inner = read_inner(in);
+    std::unique_ptr<camera::MirrorProfile> mirror = read_mirror(in);
+    camera::MirrorPose pose;
+    in >> pose.rx >> pose.ry >> pose.tx >> pose.ty >> pose.tz;
+    return camera::CatadioptricCamera(std::move(inner), std::move(mirror), pose, width, height);
+  } catch (const std::invalid_argument& error) {
+    fail(error.what());
+  }
+}
+
+}  // namespace
+
+CCatadioptricCameraModel::CCatadioptricCameraModel(camera::CatadioptricCamera camera)
+    : camera_(std::move(camera)) {}
+
+const camera::CatadioptricCamera& CCatadioptricCameraModel::camera() const {
+  if (!camera_) throw std::logic_error("CCatadioptricCameraModel: no camera in this model");
+  return *camera_;
+}
+
+uint8_t CCatadioptricCameraModel::serializeGetVersion() const { return 0; }
+
+void CCatadioptricCameraModel::serializeTo(mrpt::serialization::CArchive& out) const {
+  out << camera_.has_value();
+  if (!camera_) return;
+  out.WriteAs<int32_t>(camera_->image_width());
+  out.WriteAs<int32_t>(camera_->image_height());
+  write_inner(out, camera_->inner());
+  write_mirror(out, camera_->mirror());
+  const camera::MirrorPose& pose = camera_->mirror_pose();
+  out << pose.rx << pose.ry << pose.tx << pose.ty << pose.tz;
+}
+
+void CCatadioptricCameraModel::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
+  switch (version) {
+    case 0: {
+      bool has_camera = false;
+      in >> has_camera;
+      camera_.reset();
+      if (has_camera) camera_ = read_camera_v0(in);
+      break;
+    }
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+}
+
+void CCatadioptricCameraModel::getDescriptionAsText(std::ostream& o) const {
+  if (!camera_) {
+    o << "Catadioptric camera model: none\n";
+    return;
+  }
+  const camera::CatadioptricCamera& c = *camera_;
+  o << "Catadioptric camera model: " << c.inner().kind() << " camera, " << c.mirror().kind()
+    << " mirror, " << c.image_width() << "x" << c.image_height() << " pixels\n";
+  if (const auto* mrcal = dynamic_cast<const camera::MrcalCamera*>(&c.inner()))
+    o << "  lens model: " << mrcal->lensmodel_name() << "\n";
+  const std::vector<std::string> names = c.param_names();
+  const Eigen::VectorXd values = c.params();
+  for (size_t i = 0; i < names.size(); ++i)
+    o << "  " << names[i] << " = " << io::format_double(values[static_cast<Eigen::Index>(i)])
+      << "\n";
+  o << "  mirror valid range: " << io::format_double(c.mirror().s_min()) << " .. "
+    << io::format_double(c.mirror().s_max()) << "\n";
+  if (const auto* table = dynamic_cast<const camera::TableProfile*>(&c.mirror()))
+    o << "  mirror table: " << table->rho_samples().size() << " samples\n";
+}
+
+}  // namespace omnisfm::mrpt_plugin

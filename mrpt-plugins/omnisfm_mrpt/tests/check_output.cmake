@@ -1,0 +1,28 @@
+# cmake -DCOMMAND=a|b|c -DEXPECTED=x|y [-DUNEXPECTED=z] -P check_output.cmake
+# Runs COMMAND (arguments separated by '|') and fails unless its output (stdout and stderr) holds
+# every EXPECTED text and no UNEXPECTED one. Texts are matched literally.
+string(REPLACE "|" ";" command "${COMMAND}")
+execute_process(COMMAND ${command} OUTPUT_VARIABLE output ERROR_VARIABLE errors
+                RESULT_VARIABLE status)
+string(APPEND output "${errors}")
+string(REPLACE "|" ";" expected "${EXPECTED}")
+string(REPLACE "|" ";" unexpected "${UNEXPECTED}")
+set(failed FALSE)
+foreach(text IN LISTS expected)
+  string(FIND "${output}" "${text}" at)
+  if(at EQUAL -1)
+    message(SEND_ERROR "missing from the output: ${text}")
+    set(failed TRUE)
+  endif()
+endforeach()
+foreach(text IN LISTS unexpected)
+  string(FIND "${output}" "${text}" at)
+  if(NOT at EQUAL -1)
+    message(SEND_ERROR "unexpected in the output: ${text}")
+    set(failed TRUE)
+  endif()
+endforeach()
+if(failed)
+  string(SUBSTRING "${output}" 0 4000 head)
+  message(FATAL_ERROR "${command} exited with ${status}; its output began:\n${head}")
+endif()

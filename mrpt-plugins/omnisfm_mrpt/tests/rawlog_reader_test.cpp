@@ -1,0 +1,193 @@
+// Reading rawlogs object by object, and what happens at damage: everything before the damaged
+// object is delivered, and the problem names the object's index and the kind of damage.
+
+#include "omnisfm/mrpt_plugin/rawlog_reader.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/mrpt_plugin/observation_tracked_features.h"
+#include "omnisfm/sim/scenario.h"
+#include "serialization_helpers.h"
+
+namespace omnisfm::mrpt_plugin {
+namespace {
+
+using testing::Bytes;
+
+// Six objects of four classes, two of them the plugin's.
+class DamagedRawlog : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    comment_.text = "a rawlog for the damage tests";
+    for (int i = 0; i < 2; ++i) {
+      odometry_[i].timestamp = mrpt::Clock::fromDouble(1e9 + i);
+      odometry_[i].sensorLabel = "ODOMETRY";
+      odometry_[i].odometry = mrpt::poses::CPose2D(0.1 * i, 0, 0);
+      features_[i].timestamp = mrpt::Clock::fromDouble(1e9 + i);
+      features_[i].sensorLabel = "OMNI_TRACKS";
+      features_[i].frame = i;
+      features_[i].features = {{1, 10.0 + i, 20.0}, {2, 30.0, 40.0 + i}};
+    }
+    features_[0].model.set_camera(sim::default_rig(1024, 768));
+    offsets_ = testing::write_plain_rawlog(
+        path_, {&comment_, &odometry_[0], &features_[0], &odometry_[1], &features_[1], &comment_});
+    bytes_ = testing::read_file(path_);
+  }
+
+  // Reads `bytes` as a rawlog: how many objects came out, and the problem.
+  std::pair<std::size_t, std::string> read(const Bytes& bytes) {
+    const std::string path = testing::temporary_path("damaged.rawlog");
+    testing::write_file(path, bytes);
+    RawlogReader reader(path);
+    std::size_t objects = 0;
+    while (reader.next()) ++objects;
+    EXPECT_EQ(reader.index(), objects);
+    return {objects, reader.problem()};
+  }
+
+  // The first occurrence of `from` at or after object `index`, replaced by `to`.
+  Bytes patched(std::size_t index, const std::string& from, const std::string& to) const {
+    Bytes object(bytes_.begin() + static_cast<std::ptrdiff_t>(offsets_[index]), bytes_.end());
+    testing::patch(&object, from, to);
+    Bytes result(bytes_.begin(), bytes_.begin() + static_cast<std::ptrdiff_t>(offsets_[index]));
+    result.insert(result.end(), object.begin(), object.end());
+    return result;
+  }
+
+  static constexpr std::size_t kObjects = 6;
+  const std::string path_ = testing::temporary_path("six_objects.rawlog");
+  mrpt::obs::CObservationComment comment_;
+  mrpt::obs::CObservationOdometry odometry_[2];
+  CObservationTrackedFeatures features_[2];
+  std::vector<std::size_t> offsets_;
+  Bytes bytes_;
+};
+
+TEST_F(DamagedRawlog, ReadsAWholeFile) {
+  RawlogReader reader(path_);
+  std::vector<std::string> classes;
+  while (const auto object = reader.next()) classes.push_back(object->GetRuntimeClass()->className);
+  EXPECT_TRUE(reader.problem().empty()) << reader.problem();
+  ASSERT_EQ(classes.size(), kObjects);
+  EXPECT_EQ(classes[2], "omnisfm::mrpt_plugin::CObservationTrackedFeatures");
+  EXPECT_EQ(classes[3], "mrpt::obs::CObservationOdometry");
+}
+
+TEST_F(DamagedRawlog, TruncatedInsideAnObjectStopsThereNamingIt) {
+  for (std::size_t index = 0; index < kObjects; ++index) {
+    const std::size_t begin = offsets_[index], end = offsets_[index + 1];
+    for (const std::size_t cut : {begin + 1, (begin + end) / 2, end - 1}) {
+      const auto [objects, problem] = read(Bytes(bytes_.begin(), bytes_.begin() + cut));
+      EXPECT_EQ(objects, index) << "cut at byte " << cut;
+      EXPECT_NE(problem.find("object " + std::to_string(index)), std::string::npos) << problem;
+      EXPECT_NE(problem.find("the file ends inside it (truncated)"), std::string::npos) << problem;
+    }
+  }
+  const std::string path = testing::temporary_path("damaged.rawlog");
+  // Cut inside the object's data, MRPT names its class; inside the class name it cannot.
+  EXPECT_EQ(read(Bytes(bytes_.begin(), bytes_.begin() + offsets_[5] - 5)).second,
+            path +
+                ": object 4 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): the file ends "
+                "inside it (truncated); the 4 objects before it were read");
+  EXPECT_EQ(read(Bytes(bytes_.begin(), bytes_.begin() + offsets_[1] + 10)).second,
+            path +
+                ": object 1: the file ends inside it (truncated); the 1 object before it was "
+                "read");
+}
+
+TEST_F(DamagedRawlog, CutBetweenObjectsReadsAsAShorterRawlog) {
+  const auto [objects, problem] = read(Bytes(bytes_.begin(), bytes_.begin() + offsets_[4]));
+  EXPECT_EQ(objects, 4u);
+  EXPECT_TRUE(problem.empty()) << problem;
+}
+
+TEST_F(DamagedRawlog, CorruptObjectStopsThereNamingIt) {
+  Bytes bytes = bytes_;
+  bytes[offsets_[3] - 1] ^= 0xff;  // object 2's end-of-object flag
+  const auto [objects, problem] = read(bytes);
+  EXPECT_EQ(objects, 2u);
+  EXPECT_NE(problem.find(": object 2 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): it is "
+                         "corrupt (end-flag missing"),
+            std::string::npos)
+      << problem;
+}
+
+TEST_F(DamagedRawlog, UnregisteredClassSaysWhichLibraryToLoad) {
+  {
+    const auto [objects, problem] =
+        read(patched(2, "CObservationTrackedFeatures", "CObservationTrackedFeaturez"));
+    EXPECT_EQ(objects, 2u);
+    EXPECT_NE(problem.find("object 2: its class "
+                           "'omnisfm::mrpt_plugin::CObservationTrackedFeaturez' is not registered"),
+              std::string::npos)
+        << problem;
+    EXPECT_NE(problem.find("load the plugin that defines it, libomnisfm_mrpt.so"),
+              std::string::npos)
+        << problem;
+  }
+  {
+    const auto [objects, problem] =
+        read(patched(1, "CObservationOdometry", "CObservationOdometrz"));
+    EXPECT_EQ(objects, 1u);
+    EXPECT_NE(problem.find("'mrpt::obs::CObservationOdometrz' is not registered: load the library "
+                           "that defines it"),
+              std::string::npos)
+        << problem;
+  }
+}
+
+TEST_F(DamagedRawlog, NewerClassVersionSaysSo) {
+  const std::string name = "omnisfm::mrpt_plugin::CObservationTrackedFeatures";
+  Bytes bytes = bytes_;
+  Bytes object(bytes.begin() + static_cast<std::ptrdiff_t>(offsets_[4]), bytes.end());
+  bytes[offsets_[4] + testing::version_byte(object, name)] = 3;
+  const auto [objects, problem] = read(bytes);
+  EXPECT_EQ(objects, 4u);
+  EXPECT_NE(problem.find("object 4 (" + name +
+                         "): it was stored by a newer version (3) of its "
+                         "class"),
+            std::string::npos)
+      << problem;
+}
+
+TEST_F(DamagedRawlog, CompressedAndTruncated) {
+  const std::string compressed = testing::temporary_path("compressed.rawlog");
+  {
+    mrpt::io::CFileGZOutputStream file(compressed);
+    file.Write(bytes_.data(), bytes_.size());
+  }
+  const Bytes whole = testing::read_file(compressed);
+  const auto [all, no_problem] = read(whole);
+  EXPECT_EQ(all, kObjects);
+  EXPECT_TRUE(no_problem.empty()) << no_problem;
+
+  const auto [objects, problem] = read(Bytes(whole.begin(), whole.begin() + whole.size() / 2));
+  EXPECT_LT(objects, kObjects);
+  EXPECT_NE(problem.find("object " + std::to_string(objects)), std::string::npos) << problem;
+  EXPECT_NE(problem.find("truncated"), std::string::npos) << problem;
+}
+
+TEST(RawlogReader, MissingFileIsAnInputError) {
+  const std::string path = testing::temporary_path("no_such.rawlog");
+  try {
+    RawlogReader reader(path);
+    FAIL() << "a missing file was opened";
+  } catch (const io::InputError& error) {
+    EXPECT_EQ(std::string(error.what()), path + ": cannot open the rawlog: no such file");
+  }
+}
+
+TEST(RawlogReader, AdviceForUnregisteredClasses) {
+  EXPECT_NE(
+      unregistered_class_advice("omnisfm::mrpt_plugin::CObservationX").find("libomnisfm_mrpt.so"),
+      std::string::npos);
+  EXPECT_EQ(unregistered_class_advice("mrpt::obs::CObservationX").find("libomnisfm_mrpt.so"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace omnisfm::mrpt_plugin

@@ -1,0 +1,60 @@
+# The plugin's tests: its classes through MRPT serialization, rawlog reading (and damage) and
+# writing, the committed rawlog of version 0; then stock MRPT's rawlog-edit loading the plugin on
+# a rawlog that `omnisfm simulate --rawlog` wrote.
+
+omnisfm_add_test(omnisfm_mrpt_tests
+  SOURCES
+    tests/camera_model_test.cpp
+    tests/observations_test.cpp
+    tests/rawlog_reader_test.cpp
+    tests/rawlog_input_test.cpp
+    tests/simulated_rawlog_test.cpp
+    tests/legacy_rawlog_test.cpp
+  DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io mrpt::obs mrpt::img mrpt::io mrpt::poses
+       mrpt::serialization opencv_imgcodecs)
+# The camera contract's cameras: every inner camera and mirror the model must store.
+target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests)
+target_compile_definitions(omnisfm_mrpt_tests PRIVATE
+  OMNISFM_MRPT_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/tests/data")
+
+find_program(OMNISFM_RAWLOG_EDIT rawlog-edit)
+if(NOT OMNISFM_RAWLOG_EDIT)
+  message(WARNING "rawlog-edit not found (Debian: mrpt-apps); the rawlog_edit tests will fail")
+  set(OMNISFM_RAWLOG_EDIT rawlog-edit)
+endif()
+
+set(lab_dir ${CMAKE_CURRENT_BINARY_DIR}/rawlog_lab)
+set(lab_rawlog ${lab_dir}/dataset.rawlog)
+set(plugin $<TARGET_FILE:omnisfm_mrpt>)
+set(check ${CMAKE_CURRENT_SOURCE_DIR}/tests/check_output.cmake)
+
+add_test(NAME omnisfm_simulate_rawlog
+  COMMAND omnisfm simulate --scenario lab --out ${lab_dir} --rawlog --render
+          --width 256 --height 192 --samples 1)
+set_tests_properties(omnisfm_simulate_rawlog PROPERTIES
+  LABELS interop FIXTURES_SETUP mrpt_lab_rawlog
+  PASS_REGULAR_EXPRESSION "dataset.rawlog with 41 images, 41 tracked frames, 401 odometry and 4001 gyro readings")
+
+# --info parses every object: 1 comment, 41 images, 41 tracked frames, 401 odometry, 4001 gyro.
+add_test(NAME rawlog_edit_info
+  COMMAND ${CMAKE_COMMAND}
+          "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|-p|${plugin}|--info|-i|${lab_rawlog}"
+          "-DEXPECTED=Overall number of objects         : 4485|OMNI_CAMERA /     41 /1.000|OMNI_TRACKS /     41 /1.000|ODOMETRY /    401 /10.000|IMU /   4001 /100.000"
+          "-DUNEXPECTED=exception"
+          -P ${check})
+# --describe prints each object's getDescriptionAsText.
+add_test(NAME rawlog_edit_describe
+  COMMAND ${CMAKE_COMMAND}
+          "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|-p|${plugin}|--describe|-i|${lab_rawlog}"
+          "-DEXPECTED=ClassName: omnisfm::mrpt_plugin::CObservationOmniImage|ClassName: omnisfm::mrpt_plugin::CObservationTrackedFeatures|Catadioptric camera model: pinhole camera, equiangular mirror, 256x192 pixels|Tracked features (omnisfm): frame 40, 44 features|ClassName: mrpt::obs::CObservationOdometry|ClassName: mrpt::obs::CObservationIMU"
+          "-DUNEXPECTED=exception"
+          -P ${check})
+# Without the plugin rawlog-edit stops at the first image and names its class; the rawlog's
+# leading comment, which --describe prints, says to load libomnisfm_mrpt.so.
+add_test(NAME rawlog_edit_without_plugin
+  COMMAND ${CMAKE_COMMAND}
+          "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|--describe|-i|${lab_rawlog}"
+          "-DEXPECTED=rawlog-edit -p /path/to/libomnisfm_mrpt.so|Stored object has class 'omnisfm::mrpt_plugin::CObservationOmniImage' which is not registered"
+          -P ${check})
+set_tests_properties(rawlog_edit_info rawlog_edit_describe rawlog_edit_without_plugin PROPERTIES
+  LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 120)
