@@ -1,11 +1,18 @@
 #include "omnisfm/sfm/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <set>
 #include <stdexcept>
 
 namespace omnisfm::sfm {
+namespace {
+
+// Below this baseline, as a fraction of the scene's median depth, motion counts as rotation only.
+constexpr double kMinBaselineRatio = 0.01;
+
+}  // namespace
 
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,
                   const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
@@ -30,6 +37,24 @@ SfmResult run_sfm(const camera::CatadioptricCamera& camera,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   result.online_points = filter.points();
   result.outliers = filter.rejected();
+
+  // Without translation the points' depths are not observable: refuse rather than report a
+  // structure made of the initialisation's guesses.
+  double baseline = 0, depth = 0;
+  const Eigen::Vector3d first = result.online_cam_from_world.front().inverse().translation();
+  for (const auto& T : result.online_cam_from_world)
+    baseline = std::max(baseline, (T.inverse().translation() - first).norm());
+  std::vector<double> depths;
+  for (const auto& [track, X] : result.online_points) depths.push_back((X - first).norm());
+  if (!depths.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+    depth = depths[depths.size() / 2];
+  }
+  if (!(baseline > kMinBaselineRatio * depth))
+    throw std::runtime_error(
+        "degenerate motion: the camera moves " + std::to_string(baseline) +
+        " (filter units) against a median point distance of " + std::to_string(depth) +
+        "; with (nearly) pure rotation the structure cannot be recovered");
   if (!settings.run_batch) return result;
 
   std::set<int> rejected;

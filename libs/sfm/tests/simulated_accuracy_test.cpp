@@ -8,6 +8,7 @@
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
+#include "omnisfm/sim/track_simulator.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -81,6 +82,33 @@ TEST(SimulatedAccuracy, Lab) {
   EXPECT_TRUE(r.result.batch.converged) << r.result.batch.message;
   EXPECT_LT(r.batch.translation_error_percent, 0.12);
   EXPECT_LT(r.batch.rotation_spread_deg, 0.40);
+}
+
+TEST(SimulatedAccuracy, PureRotationIsRefused) {
+  // The rover's rig turning on the spot: no parallax, so no structure.
+  sim::Dataset d{"spin", sim::default_rig(1024, 768), {}, {}, {}, {}, {}, {}, {}, {}};
+  for (int i = 0; i < 40; ++i) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(0.02 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T.translation() << 0, 0, 0.6;
+    d.world_from_cam.push_back(T);
+    d.timestamps.push_back(i);
+  }
+  std::mt19937_64 rng(3);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 60; ++i) {
+    const double a = sim::uniform(rng, -M_PI, M_PI), r = sim::uniform(rng, 1.5, 5);
+    points.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+  }
+  sim::TrackSimulationOptions tracking;
+  sim::simulate_tracks(points, tracking, rng, &d);
+  ASSERT_GT(d.observations.size(), 1000u);
+  try {
+    run_sfm(d.camera, d.observations, SfmSettings());
+    FAIL() << "pure rotation was not refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("degenerate motion"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ struct SfmResult {
 using Progress = std::function<void(int, int)>;
 
 // Throws std::invalid_argument when the tracks cannot support an estimate (no frames, fewer than
-// 6 tracks in the first frame).
+// 6 tracks in the first frame), and std::runtime_error when the motion is degenerate (the camera
+// translates by less than 1 % of the scene's depth: rotation alone reveals no structure).
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,
                   const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
                   const Progress& progress = nullptr);
