@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   omnisfm::app::add_calibrate_verb(app);
   omnisfm::app::add_demo_verb(app);
   omnisfm::app::add_export_mrcal_verb(app);
+  omnisfm::app::add_track_verb(app);
 
   try {
     app.parse(argc, argv);

@@ -13,5 +13,6 @@ void add_sfm_verb(CLI::App& app);
 void add_eval_verb(CLI::App& app);
 void add_calibrate_verb(CLI::App& app);
 void add_export_mrcal_verb(CLI::App& app);
+void add_track_verb(CLI::App& app);
 
 }  // namespace omnisfm::app

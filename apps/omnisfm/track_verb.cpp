@@ -1,0 +1,91 @@
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/track/frames_file.h"
+#include "omnisfm/track/image_sequence.h"
+#include "omnisfm/track/track_images.h"
+#include "verb_inputs.h"
+#include "verbs.h"
+
+namespace omnisfm::app {
+
+void add_track_verb(CLI::App& app) {
+  struct Options {
+    std::string camera, images, out, timestamps;
+    track::TrackerSettings settings;
+    bool no_reacquisition = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* verb = app.add_subcommand(
+      "track",
+      "Track features through images seen through the mirror (pyramidal Lucas-Kanade, refined "
+      "against each track's first appearance); writes tracks.vnl and frames.vnl beside it");
+  verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
+  verb->add_option("--images", o->images,
+                   "A folder of PNG or JPG images (taken in file-name order), or a video file")
+      ->required();
+  verb->add_option("--out", o->out, "The tracks file to write (# frame track u v)")->required();
+  verb->add_option("--timestamps", o->timestamps,
+                   "A table with image and timestamp columns (such as a simulated dataset's "
+                   "frames.vnl) giving each image's time; default: a video's own times, else "
+                   "the frame index");
+  verb->add_option("--max-tracks", o->settings.max_tracks, "Tracks kept alive")
+      ->capture_default_str()
+      ->check(CLI::Range(6, 100000));
+  verb->add_option("--min-ncc", o->settings.min_ncc,
+                   "End a track whose patch correlates less than this with its first appearance")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  verb->add_flag("--no-reacquisition", o->no_reacquisition, "Do not look for lost features again");
+  verb->callback([o] {
+    o->settings.reacquire = !o->no_reacquisition;
+    const camera::CatadioptricCamera camera = load_camera(o->camera);
+    const std::filesystem::path out = std::filesystem::absolute(o->out).lexically_normal();
+    if (!std::filesystem::is_directory(out.parent_path()) ||
+        ::access(out.parent_path().c_str(), W_OK) != 0)
+      throw io::InputError(
+          o->out, 0,
+          "cannot write here: " + out.parent_path().string() + " is not a writable folder");
+    if (std::filesystem::is_directory(out))
+      throw io::InputError(o->out, 0, "is a folder; give the tracks file's name");
+    const auto timestamps = o->timestamps.empty() ? std::map<std::string, double>()
+                                                  : track::read_image_timestamps(o->timestamps);
+
+    track::ImageSequence images(o->images);
+    const bool terminal = ::isatty(STDERR_FILENO);
+    track::TrackedSequence result =
+        track::track_images(camera, images, o->settings, [terminal](int done, int expected) {
+          if (!terminal || (done % 10 != 0 && done != expected)) return;
+          std::cerr << "\romnisfm: tracked " << done;
+          if (expected > 0) std::cerr << "/" << expected;
+          std::cerr << " frames" << std::flush;
+        });
+    if (terminal) std::cerr << "\n";
+    if (result.frames.size() < 2)
+      throw io::InputError(o->images, 0, "holds a single image: there is nothing to track");
+    if (!o->timestamps.empty()) track::apply_timestamps(timestamps, o->timestamps, &result.frames);
+
+    // frames.vnl first: a complete tracks.vnl is the sign that both are written.
+    track::write_frames_file((out.parent_path() / "frames.vnl").string(), result.frames);
+    io::write_tracks(out.string(), result.observations);
+
+    const auto& s = result.statistics;
+    std::printf(
+        "frames %zu, tracks %d, observations %zu, reacquired %d; ended: %d failed the "
+        "forward-backward check, %d the appearance check, %d changed shape too much, %d left "
+        "the mirror, %d duplicates; %.1f ms per frame\n",
+        result.frames.size(), s.started, result.observations.size(), s.reacquired,
+        s.forward_backward + s.lost, s.appearance, s.reshaped, s.left_region, s.duplicate,
+        1000 * result.tracking_seconds / result.frames.size());
+    finish_stdout();
+  });
+}
+
+}  // namespace omnisfm::app

@@ -1,0 +1,105 @@
+#pragma once
+// The tracker: features followed from image to image, as the paper's first stage.
+//
+// Per image: pyramidal Lucas-Kanade (OpenCV) from the previous image predicts every live track,
+// starting from its last image velocity; tracking that prediction back must return to the old
+// position (the forward-backward check). The track's reference patch, taken where the track
+// started, is then aligned affinely at the prediction (patch_alignment.h): the track's position
+// comes from that alignment, so it does not drift, and a poor correlation or a large correction
+// ends the track (the appearance check). Tracks leaving the trackable region end; of two tracks
+// on one feature the younger ends. Tracks that end suddenly are remembered and looked for again
+// near where their image motion predicts them (tracker_settings.h, reacquisition); found, they
+// continue under their old id. Whenever fewer than max_tracks are alive, new corners start new
+// tracks, spread over the image.
+
+#include <Eigen/Core>
+#include <deque>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "omnisfm/track/feature_descriptor.h"
+#include "omnisfm/track/feature_detector.h"
+#include "omnisfm/track/patch_alignment.h"
+#include "omnisfm/track/tracker_settings.h"
+
+namespace omnisfm::track {
+
+struct TrackedPoint {
+  int track = 0;
+  Eigen::Vector2d pixel{0, 0};
+};
+
+// Why tracks ended, and how many started, over the whole sequence.
+struct TrackerStatistics {
+  int frames = 0;
+  int started = 0;
+  int reacquired = 0;
+  int lost = 0;              // Lucas-Kanade found nothing
+  int forward_backward = 0;  // failed the forward-backward check
+  int appearance = 0;        // failed the appearance check
+  int reshaped = 0;          // scaled or sheared beyond max_patch_distortion
+  int left_region = 0;
+  int duplicate = 0;
+};
+
+class FeatureTracker {
+ public:
+  // region: CV_8UC1, 255 where tracks may be (valid_region_mask with rim_margin_px); not empty.
+  FeatureTracker(const cv::Mat& region, const TrackerSettings& settings);
+
+  // Tracks into the next image (CV_8UC1, the region's size) and returns the tracks seen in it.
+  std::vector<TrackedPoint> track(const cv::Mat& full_image);
+
+  const TrackerStatistics& statistics() const { return statistics_; }
+  int num_live_tracks() const { return static_cast<int>(live_.size()); }
+
+ private:
+  struct Track {
+    int id = 0;
+    int first_frame = 0, last_frame = 0;
+    Eigen::Vector2d position{0, 0};
+    Eigen::Vector2d velocity{0, 0};       // pixels per frame, over the last step
+    std::vector<Eigen::Vector2d> recent;  // the last few positions, oldest first
+    AffineWarp warp;                      // the reference patch in the latest image
+    ReferencePatch reference;
+    double ncc = 1;                  // of the latest alignment
+    FeatureSurroundings first_look;  // around the feature where its reference was taken
+    Descriptor descriptor;           // of first_look, once the track is lost
+
+    // Where the track's image motion before its last frames puts it at `frame`.
+    Eigen::Vector2d predicted(int frame) const;
+  };
+
+  // The blurred float image patches are aligned on.
+  cv::Mat alignment_image(const cv::Mat& image) const;
+  // Starts a track at `at` of the current frame; false when there is no texture to follow.
+  bool start_track(const cv::Point2f& at, int id);
+  void follow_live_tracks();
+  void remove_duplicates();
+  // Reacquires lost tracks, then starts new ones from fresh corners up to max_tracks.
+  void replenish();
+  // Lost tracks recognised near their predicted position continue; the corners near where
+  // they are found are removed, and their positions added to `reacquired`.
+  void reacquire(std::vector<cv::Point2f>* corners, std::vector<cv::Point2f>* reacquired);
+  // Counts the end in *counter; a track that may come back (not one that left the region or
+  // changed its look) is remembered for reacquisition.
+  void end_track(size_t index, int* counter, bool may_return = true);
+  bool in_region(const Eigen::Vector2d& p) const;
+
+  // All work is done in the region's bounding box (with a border for the pyramid and the
+  // descriptors): positions inside the tracker are relative to its corner.
+  cv::Size image_size_;
+  cv::Rect bounds_;
+  cv::Mat region_;
+  TrackerSettings settings_;
+  FeatureDetector detector_;
+  int frame_ = -1;
+  int next_id_ = 0;
+  std::vector<cv::Mat> previous_pyramid_, pyramid_;
+  cv::Mat image_, aligned_image_;  // the current frame: grey, and for alignment
+  std::vector<Track> live_;
+  std::deque<Track> lost_;  // recently ended, oldest first
+  TrackerStatistics statistics_;
+};
+
+}  // namespace omnisfm::track

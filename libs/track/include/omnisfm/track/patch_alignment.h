@@ -1,0 +1,72 @@
+#pragma once
+// Sub-pixel alignment of a track's reference patch into a later image, so that a track's position
+// is measured against how the feature first looked rather than chained from frame to frame (a
+// chain of frame-to-frame matches drifts as a random walk).
+//
+// The patch is an affine image of the reference: template offset x (pixels from the feature)
+// lands at A x + b in the image. Alignment is inverse-compositional Lucas-Kanade (Baker and
+// Matthews) on the six affine parameters, with the warped image normalised to the template's mean
+// and contrast at every step, so that it minimises a weighted zero-mean normalised SSD; the
+// Gaussian window weight (sigma: the half size) lets the patch's rim matter less.
+//
+// The template is the image's own pixels around the feature (no resampling: an interpolated
+// template is smoothed by an amount that depends on its sub-pixel phase, which would bias every
+// later alignment); template coordinates are offsets from the feature itself. Images are
+// CV_32FC1, sampled bilinearly; a warp whose patch comes within a pixel of the border fails.
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace omnisfm::track {
+
+struct AffineWarp {
+  Eigen::Matrix2d A = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d b{0, 0};  // where the feature lands
+};
+
+struct AlignmentResult {
+  bool converged = false;
+  int iterations = 0;
+  double ncc = 0;  // weighted zero-mean normalised cross-correlation after the last step
+};
+
+class ReferencePatch {
+ public:
+  ReferencePatch() = default;
+
+  // The (2 half_size + 1)^2 pixels of `image` around the pixel nearest `feature`. False when
+  // the patch does not fit in the image or is flat (no texture to align on).
+  static bool extract(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size,
+                      ReferencePatch* patch);
+
+  // Moves *warp to the best alignment, starting from it. Not converged when the patch leaves the
+  // image, the warp degenerates, or max_iterations pass before a step of the feature is
+  // below step_tolerance_px.
+  AlignmentResult align(const cv::Mat& image, AffineWarp* warp, int max_iterations,
+                        double step_tolerance_px) const;
+
+  // The weighted zero-mean NCC of the patch against `image` at `warp`, or -1 when it leaves
+  // the image.
+  double ncc(const cv::Mat& image, const AffineWarp& warp) const;
+
+  int half_size() const { return half_size_; }
+  bool empty() const { return values_.empty(); }
+
+ private:
+  // Samples `image` at warp * offset for every offset, and returns the weighted zero-mean NCC
+  // of the template against them, their weighted mean and the gain that maps their contrast onto
+  // the template's. -1 when the patch leaves the image.
+  double sample(const cv::Mat& image, const AffineWarp& warp, std::vector<float>* values,
+                double* mean, double* gain) const;
+
+  int half_size_ = 0;
+  std::vector<Eigen::Vector2f> offsets_;  // from the feature to each template pixel, row-major
+  std::vector<float> weights_;            // Gaussian window about the feature, sums to 1
+  std::vector<float> values_;             // the template, weighted mean removed
+  double norm_ = 0;                       // sqrt(sum w * values^2)
+  std::vector<Eigen::Matrix<float, 6, 1>> steepest_;  // weighted steepest-descent images
+  Eigen::Matrix<double, 6, 6> hessian_inverse_;
+};
+
+}  // namespace omnisfm::track

@@ -1,0 +1,41 @@
+#pragma once
+// A whole image sequence through the tracker: the trackable region from the camera model, every
+// frame tracked, and the tracks as shape-from-motion reads them.
+
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/track/feature_tracker.h"
+#include "omnisfm/track/image_sequence.h"
+#include "omnisfm/track/tracker_settings.h"
+
+namespace omnisfm::track {
+
+struct TrackedFrame {
+  int index = 0;
+  std::string file;                                             // empty for a video's frame
+  double timestamp = std::numeric_limits<double>::quiet_NaN();  // seconds; NaN: none known
+};
+
+struct TrackedSequence {
+  // Sorted by frame, then track; tracks seen in a single frame are left out (nothing to
+  // triangulate, and tracks.vnl does not allow them).
+  std::vector<io::TrackObservation> observations;
+  std::vector<TrackedFrame> frames;
+  TrackerStatistics statistics;
+  double tracking_seconds = 0;  // in FeatureTracker::track, decoding and set-up excluded
+};
+
+// Called after each frame: (frames done, frames expected; 0 when unknown).
+using TrackingProgress = std::function<void(int, int)>;
+
+// Throws io::InputError when an image is not the camera's size, and what ImageSequence throws.
+TrackedSequence track_images(const camera::CatadioptricCamera& camera, ImageSequence& images,
+                             const TrackerSettings& settings,
+                             const TrackingProgress& progress = nullptr);
+
+}  // namespace omnisfm::track

@@ -1,0 +1,97 @@
+#include "omnisfm/track/feature_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "omnisfm/track/valid_region.h"
+
+namespace omnisfm::track {
+
+FeatureDetector::FeatureDetector(const cv::Mat& region, const TrackerSettings& settings)
+    : settings_(settings), centre_(region_centre(region)) {
+  CV_Assert(region.type() == CV_8UC1 && settings.sectors >= 1 && settings.rings >= 1);
+  CV_Assert(settings.detection_level >= 0);
+  level_scale_ = std::ldexp(1.0, settings.detection_level);
+  cv::Size level_size = region.size();
+  for (int l = 0; l < settings.detection_level; ++l)
+    level_size = cv::Size((level_size.width + 1) / 2, (level_size.height + 1) / 2);
+  level_region_.create(level_size, CV_8UC1);
+  for (int y = 0; y < level_size.height; ++y)
+    for (int x = 0; x < level_size.width; ++x) {
+      const int fx = static_cast<int>(x * level_scale_), fy = static_cast<int>(y * level_scale_);
+      level_region_.at<uchar>(y, x) =
+          fx < region.cols && fy < region.rows ? region.at<uchar>(fy, fx) : 0;
+    }
+  level_bounds_ = cv::boundingRect(level_region_);
+
+  // Equal-area rings between the region's nearest and farthest pixels from the centre.
+  const cv::Rect bounds = cv::boundingRect(region);
+  double r_min = 1e300, r_max = 0;
+  for (int y = bounds.y; y < bounds.y + bounds.height; ++y)
+    for (int x = bounds.x; x < bounds.x + bounds.width; ++x)
+      if (region.at<uchar>(y, x)) {
+        const double r = std::hypot(x - centre_.x, y - centre_.y);
+        r_min = std::min(r_min, r);
+        r_max = std::max(r_max, r);
+      }
+  for (int i = 1; i <= settings.rings; ++i)
+    ring_radii_.push_back(
+        std::sqrt(r_min * r_min + (r_max * r_max - r_min * r_min) * i / settings.rings));
+}
+
+int FeatureDetector::cell(const cv::Point2f& point) const {
+  const double dx = point.x - centre_.x, dy = point.y - centre_.y;
+  const double r = std::hypot(dx, dy);
+  int ring = 0;
+  while (ring + 1 < static_cast<int>(ring_radii_.size()) && r > ring_radii_[ring]) ++ring;
+  const double turn = (std::atan2(dy, dx) + M_PI) / (2 * M_PI);
+  const int sector = std::min(settings_.sectors - 1, static_cast<int>(turn * settings_.sectors));
+  return ring * settings_.sectors + sector;
+}
+
+std::vector<cv::Point2f> FeatureDetector::corners(const cv::Mat& level_image,
+                                                  const std::vector<cv::Point2f>& live) const {
+  CV_Assert(level_image.type() == CV_8UC1 && level_image.size() == level_region_.size());
+  if (level_bounds_.empty()) return {};
+  const double level_distance = settings_.min_distance_px / level_scale_;
+  cv::Mat allowed = level_region_(level_bounds_).clone();
+  for (const auto& p : live)
+    cv::circle(allowed,
+               cv::Point(cvRound(p.x / level_scale_) - level_bounds_.x,
+                         cvRound(p.y / level_scale_) - level_bounds_.y),
+               static_cast<int>(std::ceil(level_distance)), 0, cv::FILLED);
+  std::vector<cv::Point2f> found;
+  // Enough candidates for every cell to choose from.
+  const int wanted = 2 * settings_.max_tracks + 32;
+  cv::goodFeaturesToTrack(level_image(level_bounds_), found, wanted, settings_.quality_level,
+                          level_distance, allowed, 3);
+  const float scale = static_cast<float>(level_scale_);
+  for (auto& p : found)
+    p = cv::Point2f((p.x + level_bounds_.x) * scale, (p.y + level_bounds_.y) * scale);
+  return found;
+}
+
+std::vector<cv::Point2f> FeatureDetector::spread(const std::vector<cv::Point2f>& candidates,
+                                                 const std::vector<cv::Point2f>& live,
+                                                 int count) const {
+  std::vector<int> occupancy(settings_.rings * settings_.sectors, 0);
+  for (const auto& p : live) ++occupancy[cell(p)];
+  // Per cell, its candidates strongest first.
+  std::vector<std::vector<cv::Point2f>> per_cell(occupancy.size());
+  for (const auto& p : candidates) per_cell[cell(p)].push_back(p);
+  std::vector<size_t> next(occupancy.size(), 0);
+  std::vector<cv::Point2f> chosen;
+  while (static_cast<int>(chosen.size()) < count) {
+    int best = -1;
+    for (size_t c = 0; c < per_cell.size(); ++c)
+      if (next[c] < per_cell[c].size() && (best < 0 || occupancy[c] < occupancy[best]))
+        best = static_cast<int>(c);
+    if (best < 0) break;
+    chosen.push_back(per_cell[best][next[best]++]);
+    ++occupancy[best];
+  }
+  return chosen;
+}
+
+}  // namespace omnisfm::track

@@ -1,0 +1,375 @@
+#include "omnisfm/track/feature_tracker.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <type_traits>
+
+namespace omnisfm::track {
+namespace {
+
+constexpr int kMaxAlignmentIterations = 20;
+constexpr size_t kRecentPositions = 8;
+// Around the region's bounding box: room for the coarsest pyramid level's window and for ORB.
+constexpr int kBoundsBorder = 40;
+constexpr double kAlignmentTolerancePx = 0.002;
+
+cv::Point2f point(const Eigen::Vector2d& p) {
+  return {static_cast<float>(p.x()), static_cast<float>(p.y())};
+}
+
+Eigen::Vector2d vector(const cv::Point2f& p) { return {p.x, p.y}; }
+
+cv::Mat half_sizes(const cv::Mat& image, int times) {
+  cv::Mat smaller = image;
+  for (int i = 0; i < times; ++i) cv::pyrDown(smaller, smaller);
+  return smaller;
+}
+
+cv::Rect bordered_bounds(const cv::Mat& region) {
+  CV_Assert(region.type() == CV_8UC1 && cv::countNonZero(region) > 0);
+  const cv::Rect box = cv::boundingRect(region);
+  const cv::Rect grown(box.x - kBoundsBorder, box.y - kBoundsBorder, box.width + 2 * kBoundsBorder,
+                       box.height + 2 * kBoundsBorder);
+  return grown & cv::Rect(0, 0, region.cols, region.rows);
+}
+
+}  // namespace
+
+FeatureTracker::FeatureTracker(const cv::Mat& region, const TrackerSettings& settings)
+    : image_size_(region.size()),
+      bounds_(bordered_bounds(region)),
+      region_(region(bounds_).clone()),
+      settings_(settings),
+      detector_(region_, settings) {
+  // Tracks move around in vectors every frame: copying them would cost more than tracking.
+  static_assert(std::is_nothrow_move_constructible_v<Track>);
+  CV_Assert(settings.max_tracks >= 0 && settings.lk_window >= 3 && settings.pyramid_levels >= 1 &&
+            settings.patch_half_size >= 1);
+}
+
+cv::Mat FeatureTracker::alignment_image(const cv::Mat& image) const {
+  cv::Mat converted;
+  if (settings_.image_blur_sigma <= 0) {
+    image.convertTo(converted, CV_32F);
+    return converted;
+  }
+  // Blur and conversion in one pass.
+  const int half = std::max(1, static_cast<int>(std::ceil(3 * settings_.image_blur_sigma)));
+  const cv::Mat kernel = cv::getGaussianKernel(2 * half + 1, settings_.image_blur_sigma, CV_32F);
+  cv::sepFilter2D(image, converted, CV_32F, kernel, kernel, cv::Point(-1, -1), 0,
+                  cv::BORDER_REFLECT_101);
+  return converted;
+}
+
+bool FeatureTracker::in_region(const Eigen::Vector2d& p) const {
+  const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
+  return x >= 0 && y >= 0 && x < region_.cols && y < region_.rows && region_.at<uchar>(y, x);
+}
+
+std::vector<TrackedPoint> FeatureTracker::track(const cv::Mat& full_image) {
+  CV_Assert(full_image.type() == CV_8UC1 && full_image.size() == image_size_);
+  ++frame_;
+  ++statistics_.frames;
+  image_ = full_image(bounds_);
+  aligned_image_ = alignment_image(image_);
+  previous_pyramid_.swap(pyramid_);
+  cv::buildOpticalFlowPyramid(image_, pyramid_, cv::Size(settings_.lk_window, settings_.lk_window),
+                              settings_.pyramid_levels - 1, true);
+  if (frame_ > 0) {
+    follow_live_tracks();
+    remove_duplicates();
+  }
+  replenish();
+
+  std::vector<TrackedPoint> seen;
+  seen.reserve(live_.size());
+  const Eigen::Vector2d corner(bounds_.x, bounds_.y);
+  for (const Track& t : live_) seen.push_back({t.id, t.position + corner});
+  return seen;
+}
+
+void FeatureTracker::end_track(size_t index, int* counter, bool may_return) {
+  ++*counter;
+  if (!may_return) return;
+  // Only a feature that looked like itself until it vanished can be seen again: one that faded
+  // (its look changing with the viewpoint) will not match its reference any better later.
+  Track& t = live_[index];
+  if (!settings_.reacquire || t.ncc < settings_.sudden_loss_ncc || !in_region(t.predicted(frame_)))
+    return;
+  if (!t.descriptor.valid) {  // not yet described: lost for the first time
+    t.descriptor = describe(t.first_look, 0);
+    t.first_look = FeatureSurroundings();
+  }
+  if (t.descriptor.valid) lost_.push_back(std::move(t));
+}
+
+void FeatureTracker::follow_live_tracks() {
+  if (live_.empty()) return;
+  std::vector<cv::Point2f> previous, predicted, back;
+  for (const Track& t : live_) {
+    previous.push_back(point(t.position));
+    predicted.push_back(point(t.position + t.velocity));
+  }
+  const cv::Size window(settings_.lk_window, settings_.lk_window);
+  // Lucas-Kanade only predicts (the reference alignment measures) and checks consistency to
+  // max_forward_backward_px: a few hundredths of a pixel is enough.
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03);
+  std::vector<uchar> forward_ok, backward_ok;
+  std::vector<float> errors;
+  cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid_, previous, predicted, forward_ok, errors,
+                           window, settings_.pyramid_levels - 1, criteria,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  // Back from where the step ends, starting where it began: a consistent step returns there
+  // within a level or two of the pyramid.
+  back = previous;
+  cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok, errors,
+                           window, std::min(1, settings_.pyramid_levels - 1), criteria,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+
+  std::vector<Track> kept;
+  kept.reserve(live_.size());
+  for (size_t i = 0; i < live_.size(); ++i) {
+    Track& t = live_[i];
+    if (!forward_ok[i] || !backward_ok[i]) {
+      end_track(i, &statistics_.lost);
+      continue;
+    }
+    if ((vector(back[i]) - t.position).norm() > settings_.max_forward_backward_px) {
+      end_track(i, &statistics_.forward_backward);
+      continue;
+    }
+    AffineWarp warp = t.warp;
+    warp.b = vector(predicted[i]);
+    AlignmentResult aligned;
+    if (settings_.refine) {
+      aligned =
+          t.reference.align(aligned_image_, &warp, kMaxAlignmentIterations, kAlignmentTolerancePx);
+    } else {
+      aligned.converged = true;
+      aligned.ncc = t.reference.ncc(aligned_image_, warp);
+    }
+    if (!aligned.converged || aligned.ncc < settings_.min_ncc ||
+        (warp.b - vector(predicted[i])).norm() > settings_.max_refinement_shift_px) {
+      end_track(i, &statistics_.appearance);
+      continue;
+    }
+    const Eigen::Vector2d stretch = Eigen::JacobiSVD<Eigen::Matrix2d>(warp.A).singularValues();
+    if (std::max(std::abs(stretch(0) - 1), std::abs(stretch(1) - 1)) >
+        settings_.max_patch_distortion) {
+      end_track(i, &statistics_.reshaped, false);
+      continue;
+    }
+    if (!in_region(warp.b)) {
+      end_track(i, &statistics_.left_region, false);
+      continue;
+    }
+    t.velocity = warp.b - t.position;
+    t.position = warp.b;
+    t.warp = warp;
+    t.last_frame = frame_;
+    t.ncc = aligned.ncc;
+    t.recent.push_back(t.position);
+    if (t.recent.size() > kRecentPositions) t.recent.erase(t.recent.begin());
+    kept.push_back(std::move(t));
+  }
+  live_.swap(kept);
+}
+
+void FeatureTracker::remove_duplicates() {
+  std::vector<bool> ended(live_.size(), false);
+  for (size_t i = 0; i < live_.size(); ++i)
+    for (size_t j = i + 1; j < live_.size(); ++j) {
+      if (ended[i] || ended[j]) continue;
+      if ((live_[i].position - live_[j].position).norm() >= settings_.min_track_separation_px)
+        continue;
+      const bool i_younger =
+          live_[i].first_frame > live_[j].first_frame ||
+          (live_[i].first_frame == live_[j].first_frame && live_[i].id > live_[j].id);
+      ended[i_younger ? i : j] = true;
+    }
+  std::vector<Track> kept;
+  for (size_t i = 0; i < live_.size(); ++i) {
+    if (ended[i])
+      ++statistics_.duplicate;  // not worth reacquiring: another track has it
+    else
+      kept.push_back(std::move(live_[i]));
+  }
+  live_.swap(kept);
+}
+
+bool FeatureTracker::start_track(const cv::Point2f& at, int id) {
+  Track t;
+  if (!ReferencePatch::extract(aligned_image_, vector(at), settings_.patch_half_size, &t.reference))
+    return false;
+  t.id = id;
+  t.first_frame = t.last_frame = frame_;
+  t.position = vector(at);
+  t.warp.b = t.position;
+  t.recent.push_back(t.position);
+  // Kept to be described as it looked when its reference was taken, should it be lost: by
+  // then an occluder may cover it.
+  if (settings_.reacquire) t.first_look = surroundings(image_, at);
+  live_.push_back(std::move(t));
+  return true;
+}
+
+void FeatureTracker::replenish() {
+  while (!lost_.empty() && frame_ - lost_.front().last_frame > settings_.reacquire_frames)
+    lost_.pop_front();
+  std::vector<cv::Point2f> corners;
+  if (static_cast<int>(live_.size()) < settings_.max_tracks) {
+    std::vector<cv::Point2f> live_points;
+    for (const Track& t : live_) live_points.push_back(point(t.position));
+    // The pyramid holds each level's image then its derivatives.
+    const int level = std::min(settings_.detection_level, settings_.pyramid_levels - 1);
+    const cv::Mat level_image = level == settings_.detection_level
+                                    ? pyramid_[2 * level]
+                                    : half_sizes(image_, settings_.detection_level);
+    corners = detector_.corners(level_image, live_points);
+  }
+  std::vector<cv::Point2f> reacquired;
+  if (settings_.reacquire && !lost_.empty()) reacquire(&corners, &reacquired);
+
+  std::vector<cv::Point2f> fresh;
+  for (const cv::Point2f& c : corners) {
+    // Corners kept their distance from the tracks alive before, not from those just reacquired.
+    const bool crowded = std::any_of(
+        reacquired.begin(), reacquired.end(),
+        [&](const cv::Point2f& p) { return cv::norm(p - c) < settings_.min_distance_px; });
+    if (!crowded) fresh.push_back(c);
+  }
+  const int wanted = settings_.max_tracks - static_cast<int>(live_.size());
+  if (wanted <= 0) return;
+  std::vector<cv::Point2f> live_points;
+  for (const Track& t : live_) live_points.push_back(point(t.position));
+  // In the spread's order, past corners too flat to start a track on.
+  int started = 0;
+  const int all = static_cast<int>(fresh.size());
+  for (const cv::Point2f& at : detector_.spread(fresh, live_points, all)) {
+    if (started == wanted) break;
+    if (!start_track(at, next_id_)) continue;
+    ++next_id_;
+    ++started;
+    ++statistics_.started;
+  }
+}
+
+Eigen::Vector2d FeatureTracker::Track::predicted(int frame) const {
+  // The image velocity from before the last few frames, which an occluder that is creeping over
+  // the feature may have biased.
+  constexpr size_t kSkipped = 3;
+  Eigen::Vector2d earlier_velocity = Eigen::Vector2d::Zero();
+  if (recent.size() > kSkipped + 1)
+    earlier_velocity = (recent[recent.size() - 1 - kSkipped] - recent.front()) /
+                       static_cast<double>(recent.size() - 1 - kSkipped);
+  return position + (frame - last_frame) * earlier_velocity;
+}
+
+void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
+                               std::vector<cv::Point2f>* reacquired) {
+  constexpr double kSamePositionPx = 1.0;
+  constexpr size_t kCornersTried = 1;
+  // A start where the reference correlates this little is not near the feature: not worth an
+  // alignment.
+  constexpr double kMinStartNcc = 0.25;
+  std::vector<bool> corner_used(corners->size(), false), young_ended(live_.size(), false);
+  std::deque<Track> still_lost;
+  std::vector<Track> back;
+  for (Track& t : lost_) {
+    const Eigen::Vector2d predicted = t.predicted(frame_);
+    const double radius = settings_.reacquire_radius_px +
+                          (frame_ - t.last_frame) * settings_.reacquire_radius_growth_px;
+    // Where to start looking: the prediction, the nearest new corner, and the nearest track
+    // started since the loss (the feature coming out from behind an occluder may have been taken
+    // for a new one before it could be recognised).
+    std::vector<std::pair<Eigen::Vector2d, int>> starts{{predicted, -1}};  // (where, young track)
+    std::vector<std::pair<double, size_t>> nearest;
+    for (size_t c = 0; c < corners->size(); ++c) {
+      const double distance = (vector((*corners)[c]) - predicted).norm();
+      if (!corner_used[c] && distance <= radius) nearest.emplace_back(distance, c);
+    }
+    std::sort(nearest.begin(), nearest.end());
+    for (size_t k = 0; k < std::min(kCornersTried, nearest.size()); ++k)
+      starts.emplace_back(vector((*corners)[nearest[k].second]), -1);
+    int nearest_young = -1;
+    double young_distance = radius;
+    for (size_t i = 0; i < live_.size(); ++i) {
+      const double distance = (live_[i].position - predicted).norm();
+      if (!young_ended[i] && live_[i].first_frame > t.last_frame && distance <= young_distance) {
+        nearest_young = static_cast<int>(i);
+        young_distance = distance;
+      }
+    }
+    if (nearest_young >= 0) starts.emplace_back(live_[nearest_young].position, nearest_young);
+
+    // Every place the track's reference aligns well near the prediction; more than one is
+    // repeated texture, and refused.
+    struct Found {
+      AffineWarp warp;
+      int young;  // the young track there, or -1
+      double ncc;
+    };
+    std::vector<Found> found;
+    for (const auto& [start, young] : starts) {
+      AffineWarp warp = t.warp;
+      warp.b = start;
+      if (t.reference.ncc(aligned_image_, warp) < kMinStartNcc) continue;
+      const AlignmentResult aligned =
+          t.reference.align(aligned_image_, &warp, kMaxAlignmentIterations, kAlignmentTolerancePx);
+      if (!aligned.converged || aligned.ncc < settings_.sudden_loss_ncc ||
+          (warp.b - predicted).norm() > radius || !in_region(warp.b))
+        continue;
+      const auto same = std::find_if(found.begin(), found.end(), [&](const Found& f) {
+        return (f.warp.b - warp.b).norm() < kSamePositionPx;
+      });
+      if (same == found.end())
+        found.push_back({warp, young, aligned.ncc});
+      else if (young >= 0)
+        same->young = young;
+    }
+    bool recognised = found.size() == 1;
+    if (recognised) {
+      // The descriptor, taken where the track started, must agree too.
+      const Eigen::Matrix2d& A = found[0].warp.A;
+      const double turned = std::atan2(A(1, 0) - A(0, 1), A(0, 0) + A(1, 1));
+      const Descriptor now = describe(image_, point(found[0].warp.b), turned);
+      recognised = now.valid && t.descriptor.valid &&
+                   hamming_distance(now, t.descriptor) <= settings_.max_descriptor_distance;
+    }
+    if (!recognised) {
+      still_lost.push_back(std::move(t));
+      continue;
+    }
+    const Found& here = found[0];
+    if (here.young >= 0) young_ended[here.young] = true;
+    for (size_t c = 0; c < corners->size(); ++c)
+      if ((vector((*corners)[c]) - here.warp.b).norm() < settings_.min_distance_px)
+        corner_used[c] = true;
+    t.position = here.warp.b;
+    t.warp = here.warp;
+    t.ncc = here.ncc;
+    t.last_frame = frame_;
+    t.recent.assign(1, t.position);
+    t.velocity = Eigen::Vector2d::Zero();
+    reacquired->push_back(point(t.position));
+    back.push_back(std::move(t));
+    ++statistics_.reacquired;
+  }
+  lost_.swap(still_lost);
+
+  // A young track recognised as a lost one gives way to it.
+  std::vector<Track> kept;
+  for (size_t i = 0; i < live_.size(); ++i)
+    if (!young_ended[i]) kept.push_back(std::move(live_[i]));
+  for (Track& t : back) kept.push_back(std::move(t));
+  live_.swap(kept);
+  std::vector<cv::Point2f> unused;
+  for (size_t c = 0; c < corners->size(); ++c)
+    if (!corner_used[c]) unused.push_back((*corners)[c]);
+  corners->swap(unused);
+}
+
+}  // namespace omnisfm::track

@@ -1,0 +1,225 @@
+#include "omnisfm/track/feature_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <map>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "synthetic_images.h"
+
+namespace omnisfm::track {
+namespace {
+
+using testing::WaveTexture;
+
+constexpr int kWidth = 320, kHeight = 240;
+
+// The whole image but a 20-pixel border.
+cv::Mat open_region() {
+  cv::Mat region(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
+  region(cv::Rect(20, 20, kWidth - 40, kHeight - 40)).setTo(255);
+  return region;
+}
+
+// Frame f shows the texture moved by motion(f): texture point u appears at pixel A(f) u + b(f).
+struct Motion {
+  Eigen::Matrix2d A = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d b{0, 0};
+  Eigen::Vector2d image_of(const Eigen::Vector2d& u) const { return A * u + b; }
+};
+
+cv::Mat frame_image(const WaveTexture& texture, const Motion& m) {
+  return texture.image(kWidth, kHeight, m.A.inverse(), -m.A.inverse() * m.b);
+}
+
+struct Outcome {
+  double worst_error = 0, median_error = 0;
+  int observations = 0;
+  std::map<int, std::vector<int>> frames_of_track;
+  std::map<int, Eigen::Vector2d> first_pixel;
+  // Tracks with a gap whose observations after it, clear of the edit, are all within 0.1 px of
+  // the truth, or not.
+  int reacquired_correctly = 0, reacquired_wrongly = 0;
+  TrackerStatistics statistics;
+};
+
+// Tracks `frames` images of the texture under `motion`, each changed by edit(frame, image), and
+// compares every tracked point with where the motion takes its first position. Near `edited` (a
+// rectangle the edit changes), closer than a patch's half width: tracks that start there are
+// left out (they follow the edit), and so are observations (a partly hidden patch is pulled off
+// its feature by up to a pixel, however it is tracked).
+template <typename MotionOf, typename Edit>
+Outcome track_texture(const WaveTexture& texture, int frames, MotionOf motion_of,
+                      const TrackerSettings& settings, Edit edit, const cv::Rect& edited = {}) {
+  FeatureTracker tracker(open_region(), settings);
+  std::map<int, Eigen::Vector2d> texture_point;  // of each track
+  std::vector<double> errors;
+  std::map<int, double> worst_after_gap;
+  Outcome outcome;
+  for (int f = 0; f < frames; ++f) {
+    const Motion m = motion_of(f);
+    cv::Mat image = frame_image(texture, m);
+    edit(f, image);
+    for (const TrackedPoint& p : tracker.track(image)) {
+      auto& seen = outcome.frames_of_track[p.track];
+      const bool after_gap =
+          !seen.empty() && (seen.back() != f - 1 || worst_after_gap.count(p.track));
+      seen.push_back(f);
+      const auto known = texture_point.find(p.track);
+      if (known == texture_point.end()) {
+        texture_point[p.track] = m.A.inverse() * (p.pixel - m.b);
+        outcome.first_pixel[p.track] = p.pixel;
+        continue;
+      }
+      const int reach = settings.patch_half_size + 2;
+      const cv::Rect near(edited.x - reach, edited.y - reach, edited.width + 2 * reach,
+                          edited.height + 2 * reach);
+      const Eigen::Vector2d& first = outcome.first_pixel[p.track];
+      if (!edited.empty() && near.contains(cv::Point2f(first.x(), first.y()))) continue;
+      if (after_gap) worst_after_gap.emplace(p.track, 0.0);
+      if (!edited.empty() && near.contains(cv::Point2f(p.pixel.x(), p.pixel.y()))) continue;
+      const double error = (m.image_of(known->second) - p.pixel).norm();
+      errors.push_back(error);
+      if (after_gap) worst_after_gap[p.track] = std::max(worst_after_gap[p.track], error);
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  if (!errors.empty()) {
+    outcome.worst_error = errors.back();
+    outcome.median_error = errors[errors.size() / 2];
+  }
+  outcome.observations = static_cast<int>(errors.size());
+  for (const auto& [track, worst] : worst_after_gap)
+    ++(worst < 0.1 ? outcome.reacquired_correctly : outcome.reacquired_wrongly);
+  outcome.statistics = tracker.statistics();
+  return outcome;
+}
+
+template <typename MotionOf>
+Outcome track_texture(const WaveTexture& texture, int frames, MotionOf motion_of,
+                      const TrackerSettings& settings) {
+  return track_texture(texture, frames, motion_of, settings, [](int, cv::Mat&) {});
+}
+
+TEST(FeatureTracker, FollowsATranslatingTextureWithoutDrift) {
+  const WaveTexture texture(5);
+  TrackerSettings settings;
+  settings.max_tracks = 40;
+  const Outcome o = track_texture(
+      texture, 40,
+      [](int f) {
+        Motion m;
+        m.b = Eigen::Vector2d(1.37 * f, -0.61 * f);
+        return m;
+      },
+      settings);
+  EXPECT_GT(o.observations, 500);
+  EXPECT_LT(o.median_error, 0.02);
+  EXPECT_LT(o.worst_error, 0.1);
+}
+
+TEST(FeatureTracker, FollowsARotatingAndScalingTexture) {
+  const WaveTexture texture(8);
+  TrackerSettings settings;
+  settings.max_tracks = 40;
+  const Eigen::Vector2d centre(160, 120);
+  const Outcome o = track_texture(
+      texture, 40,
+      [&](int f) {
+        Motion m;
+        m.A = (1 + 0.004 * f) * Eigen::Rotation2Dd(0.01 * f).toRotationMatrix();
+        m.b = centre - m.A * centre + Eigen::Vector2d(0.5 * f, 0.2 * f);
+        return m;
+      },
+      settings);
+  EXPECT_GT(o.observations, 500);
+  EXPECT_LT(o.median_error, 0.02);
+  EXPECT_LT(o.worst_error, 0.1);
+}
+
+TEST(FeatureTracker, KeepsTheAskedNumberOfTracksInsideTheRegionSpreadOut) {
+  const WaveTexture texture(2);
+  TrackerSettings settings;
+  settings.max_tracks = 30;
+  // A ring, as a mirror's image is.
+  cv::Mat region(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
+  cv::circle(region, {160, 120}, 105, 255, cv::FILLED);
+  cv::circle(region, {160, 120}, 30, 0, cv::FILLED);
+  FeatureTracker tracker(region, settings);
+  for (int f = 0; f < 10; ++f) {
+    Motion m;
+    m.b = Eigen::Vector2d(0.7 * f, 0.3 * f);
+    const auto points = tracker.track(frame_image(texture, m));
+    EXPECT_EQ(static_cast<int>(points.size()), settings.max_tracks) << "frame " << f;
+    int quadrants[4] = {0, 0, 0, 0};
+    for (const auto& p : points) {
+      EXPECT_EQ(region.at<uchar>(cvRound(p.pixel.y()), cvRound(p.pixel.x())), 255);
+      ++quadrants[(p.pixel.x() > 160) + 2 * (p.pixel.y() > 120)];
+    }
+    for (const int count : quadrants) EXPECT_GE(count, 5) << "frame " << f;
+  }
+}
+
+TEST(FeatureTracker, EndsTracksWhoseFeatureChanges) {
+  const WaveTexture texture(4), other(40);
+  TrackerSettings settings;
+  settings.max_tracks = 40;
+  settings.reacquire = false;
+  constexpr int kSwap = 10;
+  // From frame kSwap on, the right half shows another texture.
+  const Outcome o = track_texture(
+      texture, 16,
+      [](int f) {
+        Motion m;
+        m.b = Eigen::Vector2d(0.8 * f, 0.5 * f);
+        return m;
+      },
+      settings,
+      [&](int f, cv::Mat& image) {
+        if (f < kSwap) return;
+        Motion m;
+        m.b = Eigen::Vector2d(0.8 * f, 0.5 * f);
+        frame_image(other, m)(cv::Rect(160, 0, 160, kHeight))
+            .copyTo(image(cv::Rect(160, 0, 160, kHeight)));
+      },
+      cv::Rect(160, 0, 1, kHeight));
+  int ended = 0;
+  for (const auto& [track, frames] : o.frames_of_track) {
+    const Eigen::Vector2d& first = o.first_pixel.at(track);
+    if (frames.front() >= kSwap || frames.back() < kSwap - 1 || first.x() < 180) continue;
+    // Tracks of the swapped half seen just before the swap must not go on.
+    EXPECT_LT(frames.back(), kSwap) << "track " << track << " at " << first.transpose();
+    ++ended;
+  }
+  EXPECT_GE(ended, 10);
+  EXPECT_LT(o.worst_error, 0.1);
+}
+
+// Features pass behind a bar that covers the texture; those that come out again continue
+// their old tracks, at the right place.
+TEST(FeatureTracker, ReacquiresFeaturesAfterAnOcclusion) {
+  const WaveTexture texture(6);
+  const cv::Rect bar(140, 20, 18, 200);
+  auto motion = [](int f) {
+    Motion m;
+    m.b = Eigen::Vector2d(2.0 * f, 0.1 * f);
+    return m;
+  };
+  auto occlude = [&](int, cv::Mat& image) { image(bar).setTo(90); };
+  TrackerSettings settings;
+  settings.max_tracks = 60;
+  const Outcome with = track_texture(texture, 45, motion, settings, occlude, bar);
+  EXPECT_GE(with.reacquired_correctly, 5);
+  EXPECT_EQ(with.reacquired_wrongly, 0);
+  EXPECT_LT(with.worst_error, 0.1);
+
+  settings.reacquire = false;
+  const Outcome without = track_texture(texture, 45, motion, settings, occlude, bar);
+  EXPECT_EQ(without.reacquired_correctly + without.reacquired_wrongly, 0);
+}
+
+}  // namespace
+}  // namespace omnisfm::track
