@@ -397,9 +397,23 @@ TEST_F(CliTest, SfmThenEvalOnASimulatedCrane) {
       "crane/ground_truth.tum --out result");
   ASSERT_EQ(run.status, 0) << run.err;
   for (const char* file : {"online.tum", "batch.tum", "points.vnl", "points.ply", "outliers.vnl",
-                           "report.txt", "motion.png", "path.png"})
+                           "report.txt", "motion.png", "path.png", "residuals.png",
+                           "residuals_per_frame.png"})
     EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
   EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 10u);
+  // The plotted residuals are the batch's: their RMS is the tracks' 0.2 px noise (within 15 %).
+  const VnlogTable residuals = VnlogTable::read((dir_ / "result/residuals.vnl").string());
+  ASSERT_GT(residuals.num_rows(), 1000u);
+  const std::vector<double> du = residuals.numbers("du"), dv = residuals.numbers("dv"),
+                            outlier = residuals.numbers("outlier");
+  double sum_sq = 0;
+  int n = 0;
+  for (size_t i = 0; i < du.size(); ++i) {
+    if (outlier[i] != 0) continue;
+    sum_sq += du[i] * du[i] + dv[i] * dv[i];
+    n += 2;
+  }
+  EXPECT_NEAR(std::sqrt(sum_sq / n), 0.2, 0.03);
   const Outcome figures =
       omnisfm("eval --estimate result/batch.tum --ground-truth crane/ground_truth.tum");
   ASSERT_EQ(figures.status, 0) << figures.err;

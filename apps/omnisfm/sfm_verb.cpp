@@ -15,6 +15,7 @@
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sfm/settings_file.h"
 #include "output_folder.h"
+#include "residual_plots.h"
 #include "sfm_outputs.h"
 #include "trajectory_plots.h"
 #include "verb_inputs.h"
@@ -115,8 +116,12 @@ void add_sfm_verb(CLI::App& app) {
 
     write_folder(o->out, [&](const std::string& dir) {
       write_sfm_outputs(dir, result, settings.run_batch, times, report.str());
-      if (!plotted.empty() && !write_trajectory_plots(dir, plot_truth, plotted))
-        std::cerr << "omnisfm: gnuplot failed: no plots drawn\n";
+      const bool residuals_plotted =
+          write_residual_plots(dir, camera, tracks, result, settings.run_batch);
+      const bool trajectories_plotted =
+          plotted.empty() || write_trajectory_plots(dir, plot_truth, plotted);
+      if (!residuals_plotted || !trajectories_plotted)
+        std::cerr << "omnisfm: gnuplot failed: plots missing\n";
     });
     std::cout << report.str();
   });
