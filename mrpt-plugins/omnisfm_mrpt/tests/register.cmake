@@ -33,7 +33,7 @@ add_test(NAME omnisfm_simulate_rawlog
           --width 256 --height 192 --samples 1)
 set_tests_properties(omnisfm_simulate_rawlog PROPERTIES
   LABELS interop FIXTURES_SETUP mrpt_lab_rawlog
-  PASS_REGULAR_EXPRESSION "dataset.rawlog with 41 images, 41 tracked frames, 401 odometry and 4001 gyro readings")
+  PASS_REGULAR_EXPRESSION "dataset.rawlog with 41 images, 41 tracked frames, 401 odometry, 4001 gyro readings")
 
 # --info parses every object: 1 comment, 41 images, 41 tracked frames, 401 odometry, 4001 gyro.
 add_test(NAME rawlog_edit_info
