@@ -92,26 +92,10 @@ void add_sfm_verb(CLI::App& app) {
              << result.batch.iterations << " iterations, " << result.batch.solve_seconds
              << " s; RMS " << result.batch.initial_rms_px << " -> " << result.batch.final_rms_px
              << " px per coordinate (" << result.batch.message << ")\n";
-    std::vector<PlottedTrajectory> plotted;
-    std::vector<Eigen::Isometry3d> plot_truth;
-    if (truth.size() == static_cast<size_t>(result.num_frames)) {
-      std::vector<Eigen::Isometry3d> truth_poses;
-      for (const auto& p : truth) truth_poses.push_back(p.world_from_cam);
-      const auto online = eval::trajectory_errors(world_from_cam(result.online_cam_from_world),
-                                                  truth_poses, true);
-      report << figures_line("online", online);
-      plotted.push_back({"online", world_from_cam(result.online_cam_from_world), online.alignment});
-      if (settings.run_batch) {
-        const auto batch = eval::trajectory_errors(world_from_cam(result.batch.cam_from_world),
-                                                   truth_poses, true);
-        report << figures_line("batch", batch);
-        plotted.push_back({"batch", world_from_cam(result.batch.cam_from_world), batch.alignment});
-      }
-      plot_truth = truth_poses;
-    } else if (!truth.empty()) {
-      throw io::InputError(o->ground_truth, 0,
-                           "has " + std::to_string(truth.size()) + " poses for " +
-                               std::to_string(result.num_frames) + " frames");
+    TruthComparison comparison;
+    if (!truth.empty()) {
+      comparison = compare_with_truth(result, settings.run_batch, truth, o->ground_truth);
+      report << comparison.report;
     }
 
     write_folder(o->out, [&](const std::string& dir) {
@@ -119,7 +103,8 @@ void add_sfm_verb(CLI::App& app) {
       const bool residuals_plotted =
           write_residual_plots(dir, camera, tracks, result, settings.run_batch);
       const bool trajectories_plotted =
-          plotted.empty() || write_trajectory_plots(dir, plot_truth, plotted);
+          comparison.plotted.empty() ||
+          write_trajectory_plots(dir, comparison.truth, comparison.plotted);
       if (!residuals_plotted || !trajectories_plotted)
         std::cerr << "omnisfm: gnuplot failed: plots missing\n";
     });
