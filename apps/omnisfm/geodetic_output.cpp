@@ -29,7 +29,7 @@ Eigen::Isometry3d pose_at(const std::vector<Eigen::Isometry3d>& poses,
 
 GpsFit fit_trajectory_to_gps(const std::vector<Eigen::Isometry3d>& world_from_cam,
                              const std::vector<double>& frame_times,
-                             const sfm::MotionSensors& sensors) {
+                             const sfm::MotionSensors& sensors, bool world_is_enu) {
   const Eigen::Isometry3d cam_from_body = sensors.body_from_cam.inverse();
   std::vector<Eigen::Vector3d> estimated, measured;
   for (const sfm::GpsSample& fix : sensors.gps) {
@@ -45,7 +45,7 @@ GpsFit fit_trajectory_to_gps(const std::vector<Eigen::Isometry3d>& world_from_ca
                                 " GPS fixes fall within the frames' times: 3 are needed to place "
                                 "the trajectory");
   GpsFit fit;
-  fit.enu_from_world = eval::align(estimated, measured, true);
+  if (!world_is_enu) fit.enu_from_world = eval::align(estimated, measured, true);
   fit.fixes = static_cast<int>(estimated.size());
   double sum = 0;
   for (std::size_t i = 0; i < estimated.size(); ++i)

@@ -6,7 +6,8 @@
 // The estimate's world frame is placed in the local ENU frame of the fixes by the similarity that
 // best maps the estimated antenna positions at the fixes' times onto the fixes (Horn's closed
 // form): vision alone leaves that frame's pose and scale free. An estimate already in ENU (GPS
-// fused) comes out with a transform near the identity.
+// fused into it) is taken as it is: the transform is the identity, the RMS that of the fixes
+// against it.
 
 #include <Eigen/Geometry>
 #include <string>
@@ -28,7 +29,7 @@ struct GpsFit {
 // collinear.
 GpsFit fit_trajectory_to_gps(const std::vector<Eigen::Isometry3d>& world_from_cam,
                              const std::vector<double>& frame_times,
-                             const sfm::MotionSensors& sensors);
+                             const sfm::MotionSensors& sensors, bool world_is_enu);
 
 // Writes geodetic.vnl into `path`; throws std::runtime_error when it cannot.
 void write_geodetic_trajectory(const std::string& path,

@@ -5,12 +5,12 @@
 #include <optional>
 #include <sstream>
 
-#include "fused_estimate.h"
 #include "geodetic_output.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
+#include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/mrpt_plugin/scene_file.h"
 #include "output_folder.h"
 #include "residual_plots.h"
@@ -31,10 +31,7 @@ std::string sensors_line(const mrpt_plugin::ReplayInput& in) {
          << " " << in.gps_origin->height_m << ")";
   if (in.out_of_order > 0) line << "; " << in.out_of_order << " dropped, out of time order";
   line << "\n"
-       << "fusion: "
-       << (fusion_available() ? "odometry, gyro and GPS with vision"
-                              : "not yet available: vision alone; the motion sensors are read "
-                                "but not used")
+       << "fusion: " << (in.sensors.empty() ? "none: vision alone" : "the sensors with vision")
        << "\n";
   return line.str();
 }
@@ -114,12 +111,12 @@ void add_run_verb(CLI::App& app) {
 
     sfm::SfmResult result;
     try {
-      result = estimate_fused(*in.camera, in.tracks, in.frame_times, in.sensors, settings.sfm,
-                              [terminal](int done, int all) {
-                                if (terminal && (done % 10 == 0 || done == all))
-                                  std::cerr << "\romnisfm: filter " << done << "/" << all
-                                            << " frames" << std::flush;
-                              });
+      result = sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings.sfm,
+                                  [terminal](int done, int all) {
+                                    if (terminal && (done % 10 == 0 || done == all))
+                                      std::cerr << "\romnisfm: filter " << done << "/" << all
+                                                << " frames" << std::flush;
+                                  });
     } catch (const std::invalid_argument& e) {
       throw io::InputError(o->rawlog, 0, e.what());
     }
@@ -145,9 +142,14 @@ void add_run_verb(CLI::App& app) {
     std::optional<GpsFit> gps_fit;
     if (in.gps_origin) {
       try {
-        gps_fit = fit_trajectory_to_gps(trajectory, in.frame_times, in.sensors);
-        report << "GPS: the trajectory placed on " << gps_fit->fixes << " fixes, RMS "
-               << gps_fit->rms_m << " m, scale " << gps_fit->enu_from_world.scale << "\n";
+        gps_fit =
+            fit_trajectory_to_gps(trajectory, in.frame_times, in.sensors, result.world_is_enu);
+        if (result.world_is_enu)
+          report << "GPS: the estimate is in ENU; " << gps_fit->fixes << " fixes, RMS "
+                 << gps_fit->rms_m << " m against it\n";
+        else
+          report << "GPS: the trajectory placed on " << gps_fit->fixes << " fixes, RMS "
+                 << gps_fit->rms_m << " m, scale " << gps_fit->enu_from_world.scale << "\n";
       } catch (const std::invalid_argument& e) {
         report << "GPS: no geodetic trajectory: " << e.what() << "\n";
       }

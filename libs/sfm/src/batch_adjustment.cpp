@@ -7,12 +7,11 @@
 #include <chrono>
 #include <cmath>
 
+#include "batch_terms.h"
 #include "projection_cost.h"
 
 namespace omnisfm::sfm {
 namespace {
-
-using PoseVector = Eigen::Matrix<double, 6, 1>;
 
 PoseVector to_vector(const Eigen::Isometry3d& T) {
   PoseVector v;
@@ -38,6 +37,14 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& start_points,
                          const BatchSettings& settings) {
+  return batch_adjust(camera, observations, cam_from_world, start_points, settings, nullptr);
+}
+
+BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
+                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<Eigen::Isometry3d>& cam_from_world,
+                         const std::map<int, Eigen::Vector3d>& start_points,
+                         const BatchSettings& settings, ExtraTerms* extra) {
   const auto started = std::chrono::steady_clock::now();
   FLAGS_minloglevel = std::max(FLAGS_minloglevel, google::GLOG_ERROR);
   BatchResult result;
@@ -47,6 +54,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
 
   ceres::Problem problem;
   int used = 0;
+  std::vector<ceres::ResidualBlockId> projections;
   for (const auto& o : observations) {
     auto point = points.find(o.track);
     if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size())) continue;
@@ -59,31 +67,47 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     }
     ceres::LossFunction* loss =
         settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
-    problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data());
+    projections.push_back(
+        problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data()));
     ++used;
   }
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
     return result;
   }
-  if (problem.HasParameterBlock(poses[0].data())) problem.SetParameterBlockConstant(poses[0].data());
+  const bool gauge_fixed = extra && extra->add(&problem, &poses);
+  if (!gauge_fixed && problem.HasParameterBlock(poses[0].data()))
+    problem.SetParameterBlockConstant(poses[0].data());
 
   ceres::Solver::Options options;
   options.linear_solver_type = poses.size() <= 300 ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
-  // Eliminate whichever side leaves the smaller reduced system: long tracks make it dense. Poses
-  // never share a residual, nor do points, so either is an independent set.
+  // Eliminate whichever side leaves the smaller reduced system: long tracks make it dense. Without
+  // extra residuals poses never share a residual, nor do points, so either is an independent set.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  const bool eliminate_poses = 6 * poses.size() > 3 * points.size();
+  const bool eliminate_poses = !extra && 6 * poses.size() > 3 * points.size();
   for (auto& v : poses)
     if (problem.HasParameterBlock(v.data())) ordering->AddElementToGroup(v.data(), eliminate_poses ? 0 : 1);
   for (auto& [track, p] : points)
     if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), eliminate_poses ? 1 : 0);
+  std::vector<double*> blocks_in_problem;
+  problem.GetParameterBlocks(&blocks_in_problem);
+  for (double* block : blocks_in_problem)
+    if (!ordering->IsMember(block)) ordering->AddElementToGroup(block, 1);
   options.linear_solver_ordering = ordering;
   options.max_num_iterations = settings.max_iterations;
   options.num_threads = 2;
   options.logging_type = ceres::SILENT;
   options.function_tolerance = 1e-10;
   options.parameter_tolerance = 1e-10;
+  // With extra residuals, the pixel figures are the reprojections' share of the cost alone.
+  const auto reprojection_cost = [&] {
+    ceres::Problem::EvaluateOptions reprojections;
+    reprojections.residual_blocks = projections;
+    double cost = 0;
+    problem.Evaluate(reprojections, &cost, nullptr, nullptr, nullptr);
+    return cost;
+  };
+  const double initial_reprojection_cost = extra ? reprojection_cost() : 0;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   result.converged = summary.termination_type == ceres::CONVERGENCE;
@@ -91,6 +115,10 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   result.iterations = static_cast<int>(summary.iterations.size());
   result.initial_rms_px = std::sqrt(summary.initial_cost / used);
   result.final_rms_px = std::sqrt(summary.final_cost / used);
+  if (extra) {
+    result.initial_rms_px = std::sqrt(initial_reprojection_cost / used);
+    result.final_rms_px = std::sqrt(reprojection_cost() / used);
+  }
   result.solve_seconds = summary.total_time_in_seconds;
   for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
   result.points = points;
@@ -109,7 +137,8 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
       if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
     if (covariance.Compute(blocks, &problem)) {
       // Scaled by the residual variance: the pixel noise is estimated, not assumed.
-      const double dof = std::max(1.0, 2.0 * used - problem.NumParameters() + 6);
+      const double held = gauge_fixed ? 0 : 6;
+      const double dof = std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
       const double variance = 2 * summary.final_cost / dof;
       result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
       for (size_t f = 0; f < poses.size(); ++f) {

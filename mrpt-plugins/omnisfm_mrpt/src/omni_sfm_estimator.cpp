@@ -7,6 +7,7 @@
 
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
+#include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/track/track_images.h"
 
 #include "eigen_poses.h"
@@ -82,8 +83,16 @@ void OmniSfmEstimator::start(const camera::CatadioptricCamera& camera,
   filter_ = std::make_unique<sfm::OnlineFilter>(camera, options_.filter);
 }
 
-void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels) {
-  filter_->process_frame(frames_, pixels);
+void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
+                                     double timestamp) {
+  const sfm::MotionSensors& sensors = collector_.sensors();
+  if (frames_ > 0 && (!sensors.odometry.empty() || !sensors.gyro.empty()))
+    filter_->process_frame(frames_, pixels,
+                           sfm::predict_camera_motion(sensors, previous_frame_time_, timestamp,
+                                                      options_.filter));
+  else
+    filter_->process_frame(frames_, pixels);
+  previous_frame_time_ = timestamp;
   ++frames_;
 }
 
@@ -104,7 +113,7 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     std::vector<sfm::TrackPixel> pixels;
     for (const TrackedFeature& f : features->features)
       pixels.push_back({f.track, Eigen::Vector2d(f.u, f.v)});
-    process_frame(pixels);
+    process_frame(pixels, mrpt::Clock::toDouble(features->timestamp));
   } else if (const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation)) {
     if (!filter_) {
       std::optional<camera::CatadioptricCamera> camera = options_.camera;
@@ -126,7 +135,7 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     std::vector<sfm::TrackPixel> pixels;
     for (const track::TrackedPoint& p : tracker_->add(frame, image->sensorLabel))
       pixels.push_back({p.track, p.pixel});
-    process_frame(pixels);
+    process_frame(pixels, mrpt::Clock::toDouble(image->timestamp));
   }
 }
 

@@ -1,5 +1,5 @@
-// The MRPT-style estimator driven by a simulated rawlog: its pose is the online filter's, carried
-// into MRPT's robot frame; its covariance is the filter's carried to MRPT's (x, y, z, yaw, pitch,
+// The MRPT-style estimator driven by a simulated rawlog: its pose is the online filter's,
+// propagated by the rawlog's odometry and gyro, carried into MRPT's robot frame; its covariance is the filter's carried to MRPT's (x, y, z, yaw, pitch,
 // roll), checked by sampling; sensory frames with odometry actions give the same estimate and the
 // odometry composed from the actions.
 
@@ -15,6 +15,7 @@
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/mrpt_plugin/rawlog_reader.h"
 #include "omnisfm/mrpt_plugin/simulated_rawlog.h"
+#include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sim/scenario.h"
 #include "serialization_helpers.h"
 
@@ -51,28 +52,39 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
   const RoverRawlog& rover = rover_rawlog();
   OmniSfmEstimator estimator;
   EXPECT_EQ(estimator.getCurrentPoseEstimation()->mean.norm(), 0) << "the origin before frame 0";
+  std::vector<double> frame_times;
   for (const auto& observation : rover.observations) {
     if (estimator.framesProcessed() == kFrames) break;
     estimator.processObservation(observation);
+    if (std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation))
+      frame_times.push_back(mrpt::Clock::toDouble(observation->timestamp));
   }
   ASSERT_EQ(estimator.framesProcessed(), kFrames);
   EXPECT_GT(estimator.motionSensors().gyro.size(), 0u);
   EXPECT_GT(estimator.motionSensors().odometry.size(), 0u);
 
-  // The filter on the same tracks, directly.
-  sfm::OnlineFilter filter(rover.dataset.camera, sfm::FilterSettings{});
+  // The filter on the same tracks, directly, propagated by the same odometry and gyro.
+  const sfm::FilterSettings settings;
+  sfm::OnlineFilter filter(rover.dataset.camera, settings);
   for (int f = 0; f < kFrames; ++f) {
     std::vector<sfm::TrackPixel> pixels;
     for (const auto& o : rover.dataset.observations)
       if (o.frame == f) pixels.push_back({o.track, o.pixel});
-    filter.process_frame(f, pixels);
+    if (f == 0)
+      filter.process_frame(f, pixels);
+    else
+      filter.process_frame(f, pixels,
+                           sfm::predict_camera_motion(estimator.motionSensors(),
+                                                      frame_times[f - 1], frame_times[f], settings));
   }
   const Eigen::Isometry3d B = sim::body_from_cam(rover.dataset);
   const Eigen::Isometry3d expected = B * filter.cam_from_world().inverse() * B.inverse();
   const mrpt::poses::CPose3DPDFGaussian::Ptr pdf = estimator.getCurrentPoseEstimation();
   EXPECT_LT((isometry(pdf->mean).matrix() - expected.matrix()).norm(), 1e-9);
 
-  // Against the truth: the rotation exactly observable, the translation up to scale.
+  // Against the truth: the rotation, and the translation in metres. The odometry gives the scale
+  // (measured: 9 % off after these 30 frames, while the filter still weighs its points' first
+  // guesses; the whole rover run ends within 2 %). Vision alone has no metric scale.
   const Eigen::Isometry3d truth = B * rover.dataset.world_from_cam[0].inverse() *
                                   rover.dataset.world_from_cam[kFrames - 1] * B.inverse();
   const double angle =
@@ -81,6 +93,7 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
   EXPECT_GT(truth.translation().normalized().dot(isometry(pdf->mean).translation().normalized()),
             0.99);
   EXPECT_NEAR(pdf->mean.z(), 0, 0.01 * truth.translation().norm()) << "the rover drives flat";
+  EXPECT_NEAR(isometry(pdf->mean).translation().norm() / truth.translation().norm(), 1, 0.15);
 
   const auto points = estimator.points();
   ASSERT_FALSE(points.empty());

@@ -79,7 +79,9 @@ class OmniSfmEstimator {
 
  private:
   void start(const camera::CatadioptricCamera& camera, const mrpt::poses::CPose3D& camera_pose);
-  void process_frame(const std::vector<sfm::TrackPixel>& pixels);
+  // The filter propagated by the odometry and gyro collected since the previous frame (when there
+  // are any), then updated by the frame's pixels.
+  void process_frame(const std::vector<sfm::TrackPixel>& pixels, double timestamp);
   bool is_camera(const mrpt::obs::CObservation& observation) const;
 
   OmniSfmEstimatorOptions options_;
@@ -88,6 +90,7 @@ class OmniSfmEstimator {
   std::unique_ptr<track::SequenceTracker> tracker_;
   Eigen::Isometry3d body_from_cam_ = Eigen::Isometry3d::Identity();
   int frames_ = 0;
+  double previous_frame_time_ = 0;
 };
 
 // MRPT's pose (x, y, z, yaw, pitch, roll) of map_from_robot, and its covariance, from the
