@@ -736,6 +736,17 @@ TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
   ASSERT_NE(rigid, std::string::npos) << run.out;
   const size_t open = run.out.find("m mean (", rigid);
   EXPECT_LT(std::stod(run.out.substr(open + 8)), 1.02) << run.out;
+
+  // The track verb reads the same rawlog's images, with the model they carry.
+  fs::create_directories(dir_ / "tracked");
+  const Outcome tracked = omnisfm("track --images lab/dataset.rawlog --out tracked/tracks.vnl");
+  ASSERT_EQ(tracked.status, 0) << tracked.err;
+  EXPECT_EQ(VnlogTable::read((dir_ / "tracked/frames.vnl").string()).num_rows(), 41u);
+  const Outcome sfm = omnisfm(
+      "sfm --camera lab/camera.ini --tracks tracked/tracks.vnl --out tracked/sfm "
+      "--ground-truth lab/ground_truth.tum");
+  ASSERT_EQ(sfm.status, 0) << sfm.err;
+  EXPECT_LT(figure_after(sfm.out, "batch   translation "), 0.12) << sfm.out;
 }
 
 TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
