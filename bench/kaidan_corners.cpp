@@ -14,7 +14,8 @@
 // and used in every image: as a board of its own it is the same in every image, whichever part of
 // the physical board it is.
 // Writes mrcal's corners.vnl (`# filename x y level`; `filename - - -` where nothing was found).
-//   kaidan_corners KAIDAN_DIR W H > corners.vnl
+//   kaidan_corners KAIDAN_DIR W H [IMAGE...] > corners.vnl
+// With IMAGE names, only those are searched (the mirror is still found on all images).
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -120,10 +121,11 @@ std::optional<std::vector<cv::Point2f>> find_board(const cv::Mat& image, const A
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: kaidan_corners KAIDAN_DIR W H > corners.vnl\n");
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: kaidan_corners KAIDAN_DIR W H [IMAGE...] > corners.vnl\n");
     return 2;
   }
+  const std::vector<std::string> only(argv + 4, argv + argc);
   const std::filesystem::path folder = argv[1];
   const cv::Size grid(std::atoi(argv[2]), std::atoi(argv[3]));
   std::vector<std::filesystem::path> paths;
@@ -141,9 +143,11 @@ int main(int argc, char** argv) {
                annulus.centre.x, annulus.centre.y, annulus.inner_radius, annulus.outer_radius);
 
   std::printf("# filename x y level\n");
-  int found = 0;
+  int found = 0, searched = 0;
   for (size_t i = 0; i < paths.size(); ++i) {
     const std::string name = paths[i].filename().string();
+    if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;
+    ++searched;
     const auto corners = find_board(images[i], annulus, grid);
     if (!corners) {
       std::printf("%s - - -\n", name.c_str());
@@ -152,7 +156,7 @@ int main(int argc, char** argv) {
     ++found;
     for (const cv::Point2f& c : *corners) std::printf("%s %.4f %.4f 0\n", name.c_str(), c.x, c.y);
   }
-  std::fprintf(stderr, "kaidan_corners: a %dx%d grid in %d of %zu images\n", grid.width,
-               grid.height, found, paths.size());
+  std::fprintf(stderr, "kaidan_corners: a %dx%d grid in %d of %d images\n", grid.width,
+               grid.height, found, searched);
   return 0;
 }
