@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sin_cos.h"
+
 namespace omnisfm::camera {
 namespace {
 
@@ -23,9 +25,19 @@ struct SurfacePoint {
   Eigen::Vector3d m, dm_ds, d2m_ds2, e_rho, e_phi;
 
   SurfacePoint() = default;
-  SurfacePoint(const MirrorProfile& mirror, double s, double phi, MeridianShapeJacobian* J_shape) {
-    mirror.evaluate(s, &meridian, J_shape);
-    const double c = std::cos(phi), sn = std::sin(phi);
+  SurfacePoint(const MirrorProfile& mirror, double s, double phi) {
+    mirror.evaluate(s, &meridian, nullptr);
+    double sn, c;
+    sin_cos(phi, &sn, &c);
+    set(c, sn);
+  }
+  // From an evaluated meridian point and the azimuth's cosine and sine.
+  SurfacePoint(const MeridianPoint& meridian_point, double c, double sn)
+      : meridian(meridian_point) {
+    set(c, sn);
+  }
+
+  void set(double c, double sn) {
     e_rho << c, sn, 0;
     e_phi << -sn, c, 0;
     m << meridian.rho * c, meridian.rho * sn, meridian.z;
@@ -142,7 +154,7 @@ void CatadioptricCamera::refresh() {
   guess_s_.resize(kGuessTableSize);
   for (int i = 0; i < kGuessTableSize; ++i) {
     const double s = domain_hi_ * (i + 0.5) / kGuessTableSize;
-    const SurfacePoint sp(*mirror_, s, 0.0, nullptr);
+    const SurfacePoint sp(*mirror_, s, 0.0);
     const Eigen::Vector3d n = sp.outward_normal();
     const Eigen::Vector3d u =
         inner_->is_orthographic()
@@ -196,57 +208,72 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   double phi = std::atan2(X_M.y(), X_M.x());
   const double s_scale = domain_hi_;
 
-  // Newton's method on F(s, phi) = (w . dm/ds, w . e_phi), w = unit(camera - m) + unit(X - m).
+  // Newton's method on F(s, phi) = (w . dm/ds, w . e_phi), w = unit(camera - m) + unit(X - m),
+  // worked in the frame (e_rho, e_phi, z) of the current azimuth: there m = (rho, 0, z), dm/ds =
+  // (drho, 0, dz) and d2m/ds2 = (d2rho, 0, d2z), so F and its Jacobian A reduce to a few products.
+  // dw/dm (W = -(I - v v^T)/dv - (I - u u^T)/du) enters only through such products.
+  const bool want_shape = J_params && mirror_->num_shape_params() > 0;
   MeridianShapeJacobian J_shape;
-  Eigen::Vector3d u, v, w;
+  MeridianPoint mp;
+  double cos_phi = 1, sin_phi = 0;
+  double u_local[3], v_local[3];
   double du = 0, dv = 0;
-  Eigen::Matrix2d A;
+  double A00 = 0, A01 = 0, A10 = 0, A11 = 0;
   bool converged = false;
   int iteration = 0;
   int boundary_hits = 0;
-  SurfacePoint sp;
   for (; iteration < kMaxNewtonIterations; ++iteration) {
     // With parameter Jacobians wanted, the shape derivatives come with every evaluation: the last
     // one is at the solution, which saves evaluating the surface again.
-    const bool want_shape = J_params && mirror_->num_shape_params() > 0;
-    sp = SurfacePoint(*mirror_, s, phi, want_shape ? &J_shape : nullptr);
-    if (central) {
-      const Eigen::Vector3d to_camera = centre_M_ - sp.m;
-      du = to_camera.norm();
-      u = to_camera / du;
-    } else {
-      u = toward_camera_M_;
-    }
-    const Eigen::Vector3d to_point = X_M - sp.m;
-    dv = to_point.norm();
-    if (!(dv > 1e-12) || (central && !(du > 1e-12))) return false;
-    v = to_point / dv;
-    w = u + v;
-
-    // dw/dm: unit vectors toward fixed points turn as m moves. Applied to vectors, not formed.
-    const auto apply_W = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
-      Eigen::Vector3d r = -(x - v * v.dot(x)) / dv;
-      if (central) r -= (x - u * u.dot(x)) / du;
-      return r;
+    mirror_->evaluate(s, &mp, want_shape ? &J_shape : nullptr);
+    sin_cos(phi, &sin_phi, &cos_phi);
+    const auto to_local = [&](const Eigen::Vector3d& x, double* out) {
+      out[0] = cos_phi * x.x() + sin_phi * x.y();
+      out[1] = cos_phi * x.y() - sin_phi * x.x();
+      out[2] = x.z();
     };
-    const double rho = sp.meridian.rho, drho = sp.meridian.drho;
-    const Eigen::Vector3d W_ts = apply_W(sp.dm_ds), W_ephi = apply_W(sp.e_phi);
-    const Eigen::Vector2d F(w.dot(sp.dm_ds), w.dot(sp.e_phi));
-    A << sp.dm_ds.dot(W_ts) + w.dot(sp.d2m_ds2), rho * sp.dm_ds.dot(W_ephi) + drho * w.dot(sp.e_phi),
-        sp.e_phi.dot(W_ts), rho * sp.e_phi.dot(W_ephi) - w.dot(sp.e_rho);
-    const double det = A.determinant();
+    to_local(X_M, v_local);
+    v_local[0] -= mp.rho;
+    v_local[2] -= mp.z;
+    dv = std::sqrt(v_local[0] * v_local[0] + v_local[1] * v_local[1] + v_local[2] * v_local[2]);
+    if (!(dv > 1e-12)) return false;
+    const double inv_dv = 1 / dv;
+    double inv_du = 0;  // no dw/dm term from a fixed viewing direction
+    if (central) {
+      to_local(centre_M_, u_local);
+      u_local[0] -= mp.rho;
+      u_local[2] -= mp.z;
+      du = std::sqrt(u_local[0] * u_local[0] + u_local[1] * u_local[1] + u_local[2] * u_local[2]);
+      if (!(du > 1e-12)) return false;
+      inv_du = 1 / du;
+      for (double& x : u_local) x *= inv_du;
+    } else {
+      to_local(toward_camera_M_, u_local);
+    }
+    for (double& x : v_local) x *= inv_dv;
+    const double w0 = u_local[0] + v_local[0], w1 = u_local[1] + v_local[1],
+                 w2 = u_local[2] + v_local[2];
+    const double F0 = w0 * mp.drho + w2 * mp.dz, F1 = w1;
+    const double v_t = v_local[0] * mp.drho + v_local[2] * mp.dz;
+    const double u_t = u_local[0] * mp.drho + u_local[2] * mp.dz;
+    const double t_t = mp.drho * mp.drho + mp.dz * mp.dz;
+    A00 = -(t_t - v_t * v_t) * inv_dv - (t_t - u_t * u_t) * inv_du + w0 * mp.d2rho + w2 * mp.d2z;
+    A10 = v_t * v_local[1] * inv_dv + u_t * u_local[1] * inv_du;
+    A01 = mp.rho * A10 + mp.drho * F1;
+    A11 = -mp.rho * ((1 - v_local[1] * v_local[1]) * inv_dv +
+                     (1 - u_local[1] * u_local[1]) * inv_du) -
+          w0;
+    const double det = A00 * A11 - A01 * A10;
     if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
-    Eigen::Vector2d step = -(Eigen::Matrix2d() << A(1, 1), -A(0, 1), -A(1, 0), A(0, 0)).finished() *
-                           F / det;
-    if (std::abs(step[0]) < kStepTolerance * s_scale && std::abs(step[1]) < kStepTolerance) {
+    double step_s = -(A11 * F0 - A01 * F1) / det;
+    double step_phi = -(A00 * F1 - A10 * F0) / det;
+    if (std::abs(step_s) < kStepTolerance * s_scale && std::abs(step_phi) < kStepTolerance) {
       converged = true;
       break;
     }
     // Damp wild first steps; the solution is near the aligned guess.
-    step[0] = std::clamp(step[0], -0.25 * s_scale, 0.25 * s_scale);
-    step[1] = std::clamp(step[1], -0.5, 0.5);
-    s += step[0];
-    phi += step[1];
+    s += std::clamp(step_s, -0.25 * s_scale, 0.25 * s_scale);
+    phi += std::clamp(step_phi, -0.5, 0.5);
     if (s < domain_lo_ || s > domain_hi_) {
       s = std::clamp(s, domain_lo_, domain_hi_);
       if (++boundary_hits > 2) return false;
@@ -256,8 +283,15 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   // The same point named with a positive profile parameter; the derivatives below keep the
   // solver's (s, phi), which sp describes.
   const double s_positive = std::abs(s);
-  const double phi_positive = std::remainder(s < 0 ? phi + M_PI : phi, 2 * M_PI);
   if (!mirror_->is_valid_parameter(s_positive)) return false;
+
+  const SurfacePoint sp(mp, cos_phi, sin_phi);
+  const auto from_local = [&](const double* x) -> Eigen::Vector3d {
+    return x[0] * sp.e_rho + x[1] * sp.e_phi + Eigen::Vector3d(0, 0, x[2]);
+  };
+  const Eigen::Vector3d u = from_local(u_local), v = from_local(v_local), w = u + v;
+  Eigen::Matrix2d A;
+  A << A00, A01, A10, A11;
 
   // The reflection must happen on the mirror's front face, seen by both camera and point.
   const Eigen::Vector3d normal = sp.outward_normal();
@@ -266,7 +300,8 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   const Eigen::Vector3d m_C = R_ * sp.m + t;
   Eigen::Matrix<double, 2, 3> J_pixel_mC;
   if (!inner_->project(m_C, pixel, want_jacobians ? &J_pixel_mC : nullptr, J_params)) return false;
-  if (reflection) *reflection = {s_positive, phi_positive, m_C, iteration};
+  if (reflection)
+    *reflection = {s_positive, std::remainder(s < 0 ? phi + M_PI : phi, 2 * M_PI), m_C, iteration};
   if (!want_jacobians) return true;
 
   // Implicit function theorem: d(s, phi)/dy = -A^-1 dF/dy, so dm/dy = K dF/dy (+ direct terms).
@@ -398,7 +433,7 @@ bool CatadioptricCamera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d
   const Eigen::Vector3d p = o + lambda * d;
   const double s = mirror_->parameter_at(std::hypot(p.x(), p.y()), p.z());
   if (!mirror_->is_valid_parameter(s)) return false;
-  const SurfacePoint sp(*mirror_, s, std::atan2(p.y(), p.x()), nullptr);
+  const SurfacePoint sp(*mirror_, s, std::atan2(p.y(), p.x()));
   const Eigen::Vector3d normal = sp.outward_normal();
   const double incidence = d.dot(normal);
   if (!(incidence < -kMinGrazingCosine)) return false;
