@@ -12,6 +12,7 @@ namespace {
 
 constexpr int kMaxNewtonIterations = 30;
 constexpr int kGuessTableSize = 64;
+constexpr int kGuessBuckets = 128;
 constexpr int kUnprojectMarchSteps = 24;
 // Steps below this fraction of the solve domain (and radians in azimuth) mean convergence: far
 // below 1e-9 px for any realistic focal length, since Newton converges quadratically.
@@ -148,50 +149,103 @@ void CatadioptricCamera::refresh() {
     if (i == kPatchSamples / 2) patch_z_mid_ = p.z;
   }
 
-  // The aligned, far-point solution: where a ray leaves the mirror, as a function of s, for a
-  // camera on the axis at the height of the actual one.
-  guess_angle_.resize(kGuessTableSize);
-  guess_s_.resize(kGuessTableSize);
+  build_guess_table();
+}
+
+void CatadioptricCamera::build_guess_table() {
+  const bool central = !inner_->is_orthographic();
+  guess_.resize(kGuessTableSize);
   for (int i = 0; i < kGuessTableSize; ++i) {
+    // The aligned, far-point reflection at (s, azimuth 0), where frame M is the local frame.
     const double s = domain_hi_ * (i + 0.5) / kGuessTableSize;
     const SurfacePoint sp(*mirror_, s, 0.0);
     const Eigen::Vector3d n = sp.outward_normal();
-    const Eigen::Vector3d u =
-        inner_->is_orthographic()
-            ? Eigen::Vector3d(0, 0, -1)
-            : (Eigen::Vector3d(0, 0, centre_M_.z()) - sp.m).normalized();
+    Eigen::Vector3d u(0, 0, -1);
+    double du = 0;
+    if (central) {
+      const Eigen::Vector3d to_camera = Eigen::Vector3d(0, 0, centre_M_.z()) - sp.m;
+      du = to_camera.norm();
+      u = to_camera / du;
+    }
     const Eigen::Vector3d out = 2 * u.dot(n) * n - u;
-    guess_s_[i] = s;
-    guess_angle_[i] = std::atan2(out.x(), out.z());
+    // Implicit function theorem there (dF/d(s, phi) is diagonal, w = u + out): d(s, phi)/dc =
+    // -A^-1 dF/dc for a sideways move c of the camera's centre, or of its viewing direction.
+    const Eigen::Vector3d w = u + out;
+    const double u_t = u.dot(sp.dm_ds);
+    double A00 = w.dot(sp.d2m_ds2), A11 = -w.x();
+    double dF0_dradial = sp.dm_ds.x(), dF1_dtangential = 1;
+    if (central) {
+      A00 -= (sp.dm_ds.squaredNorm() - u_t * u_t) / du;
+      A11 -= sp.meridian.rho / du;
+      dF0_dradial = (sp.dm_ds.x() - u_t * u.x()) / du;
+      dF1_dtangential /= du;
+    }
+    guess_[i] = {out.x() / (1 - out.z()), s, sp.meridian.rho, sp.meridian.z,
+                 A00 != 0 ? -dF0_dradial / A00 : 0.0, A11 != 0 ? -dF1_dtangential / A11 : 0.0};
   }
-  guess_decreasing_ = true;
-  for (int i = 1; i < kGuessTableSize; ++i)
-    guess_decreasing_ = guess_decreasing_ && guess_angle_[i] < guess_angle_[i - 1];
+
+  // Keep the nodes up to where the key stops growing; when that leaves out part of the valid
+  // patch, search all of them for the nearest key instead.
+  size_t growing = 1;
+  while (growing < guess_.size() && std::isfinite(guess_[growing].key) &&
+         guess_[growing].key > guess_[growing - 1].key)
+    ++growing;
+  guess_monotonic_ = growing >= 2 && guess_[growing - 1].s >= mirror_->s_max();
+  if (!guess_monotonic_) return;
+  guess_.resize(growing);
+  const double key_min = guess_.front().key;
+  guess_bucket_scale_ = kGuessBuckets / (guess_.back().key - key_min);
+  guess_bucket_node_.resize(kGuessBuckets);
+  size_t node = 0;
+  for (int b = 0; b < kGuessBuckets; ++b) {
+    const double bucket_start = key_min + b / guess_bucket_scale_;
+    while (node + 2 < guess_.size() && guess_[node + 1].key <= bucket_start) ++node;
+    guess_bucket_node_[b] = static_cast<int>(node);
+  }
 }
 
-double CatadioptricCamera::initial_parameter(const Eigen::Vector3d& X_M) const {
-  const double angle = std::atan2(std::hypot(X_M.x(), X_M.y()), X_M.z() - patch_z_mid_);
-  if (guess_decreasing_) {
-    // Outgoing angles fall as s grows: interpolate between the bracketing entries.
-    const auto it = std::lower_bound(guess_angle_.begin(), guess_angle_.end(), angle,
-                                     [](double a, double b) { return a > b; });
-    if (it == guess_angle_.begin()) return guess_s_.front();
-    if (it == guess_angle_.end()) return guess_s_.back();
-    const size_t i = it - guess_angle_.begin();
-    const double f = (angle - guess_angle_[i - 1]) / (guess_angle_[i] - guess_angle_[i - 1]);
-    return guess_s_[i - 1] + f * (guess_s_[i] - guess_s_[i - 1]);
-  }
-  // Otherwise the nearest tabulated angle.
-  int best = 0;
-  double best_error = INFINITY;
-  for (int i = 0; i < kGuessTableSize; ++i) {
-    const double e = std::abs(guess_angle_[i] - angle);
-    if (e < best_error) {
-      best_error = e;
-      best = i;
+void CatadioptricCamera::initial_guess(const Eigen::Vector3d& X_M, double cos_azimuth,
+                                       double sin_azimuth, double* s,
+                                       double* azimuth_offset) const {
+  const double rho_X = cos_azimuth * X_M.x() + sin_azimuth * X_M.y();
+  // The key of the direction to X from (rho, z) in X's meridian plane.
+  const auto key_from = [&](double rho, double z) {
+    const double a = rho_X - rho, b = X_M.z() - z;
+    const double denominator = std::sqrt(a * a + b * b) - b;
+    return denominator > 0 ? a / denominator : INFINITY;
+  };
+  if (!guess_monotonic_) {
+    const double key = key_from(0, patch_z_mid_);
+    double best_error = INFINITY;
+    for (const GuessNode& node : guess_) {
+      if (std::abs(node.key - key) < best_error) {
+        best_error = std::abs(node.key - key);
+        *s = node.s;
+      }
     }
+    *azimuth_offset = 0;
+    return;
   }
-  return guess_s_[best];
+  // Linear interpolation between the nodes around key (the end nodes beyond them).
+  const auto look_up = [&](double key) {
+    const double bucket = (key - guess_.front().key) * guess_bucket_scale_;
+    size_t i = guess_bucket_node_[std::clamp(bucket, 0.0, kGuessBuckets - 1.0)];
+    while (i + 2 < guess_.size() && guess_[i + 1].key <= key) ++i;
+    const GuessNode &a = guess_[i], &b = guess_[i + 1];
+    const double f = std::clamp((key - a.key) / (b.key - a.key), 0.0, 1.0);
+    return GuessNode{key, a.s + f * (b.s - a.s), a.rho + f * (b.rho - a.rho),
+                     a.z + f * (b.z - a.z), a.ds_dradial + f * (b.ds_dradial - a.ds_dradial),
+                     a.dphi_dtangential + f * (b.dphi_dtangential - a.dphi_dtangential)};
+  };
+  // The camera's sideways offset, in X's meridian plane and across it.
+  const Eigen::Vector3d& offset = inner_->is_orthographic() ? toward_camera_M_ : centre_M_;
+  const double radial = cos_azimuth * offset.x() + sin_azimuth * offset.y();
+  const double tangential = cos_azimuth * offset.y() - sin_azimuth * offset.x();
+  // From the middle of the patch, then again from the mirror point found.
+  GuessNode node = look_up(key_from(0, patch_z_mid_));
+  node = look_up(key_from(node.rho, node.z));
+  *s = node.s + node.ds_dradial * radial;
+  *azimuth_offset = node.dphi_dtangential * tangential;
 }
 
 bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
@@ -204,8 +258,13 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   const bool central = !inner_->is_orthographic();
   const bool want_jacobians = J_X || J_params;
 
-  double s = initial_parameter(X_M);
-  double phi = std::atan2(X_M.y(), X_M.x());
+  // The azimuth is carried as an offset phi from X's own, whose cosine and sine need no
+  // trigonometry (on the axis any azimuth will do).
+  const double rho_X = std::sqrt(X_M.x() * X_M.x() + X_M.y() * X_M.y());
+  const double cos_base = rho_X > 0 ? X_M.x() / rho_X : 1.0;
+  const double sin_base = rho_X > 0 ? X_M.y() / rho_X : 0.0;
+  double s, phi;
+  initial_guess(X_M, cos_base, sin_base, &s, &phi);
   const double s_scale = domain_hi_;
 
   // Newton's method on F(s, phi) = (w . dm/ds, w . e_phi), w = unit(camera - m) + unit(X - m),
@@ -226,7 +285,10 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
     // With parameter Jacobians wanted, the shape derivatives come with every evaluation: the last
     // one is at the solution, which saves evaluating the surface again.
     mirror_->evaluate(s, &mp, want_shape ? &J_shape : nullptr);
-    sin_cos(phi, &sin_phi, &cos_phi);
+    double sin_offset, cos_offset;
+    sin_cos(phi, &sin_offset, &cos_offset);
+    cos_phi = cos_base * cos_offset - sin_base * sin_offset;
+    sin_phi = sin_base * cos_offset + cos_base * sin_offset;
     const auto to_local = [&](const Eigen::Vector3d& x, double* out) {
       out[0] = cos_phi * x.x() + sin_phi * x.y();
       out[1] = cos_phi * x.y() - sin_phi * x.x();
@@ -301,7 +363,8 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   Eigen::Matrix<double, 2, 3> J_pixel_mC;
   if (!inner_->project(m_C, pixel, want_jacobians ? &J_pixel_mC : nullptr, J_params)) return false;
   if (reflection)
-    *reflection = {s_positive, std::remainder(s < 0 ? phi + M_PI : phi, 2 * M_PI), m_C, iteration};
+    *reflection = {s_positive, std::atan2(s < 0 ? -sin_phi : sin_phi, s < 0 ? -cos_phi : cos_phi),
+                   m_C, iteration};
   if (!want_jacobians) return true;
 
   // Implicit function theorem: d(s, phi)/dy = -A^-1 dF/dy, so dm/dy = K dF/dy (+ direct terms).

@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "omnisfm/camera/inner_camera.h"
@@ -78,7 +79,11 @@ class CatadioptricCamera {
  private:
   // Rebuilds what is derived from the parameters: rotation, the starting-guess table.
   void refresh();
-  double initial_parameter(const Eigen::Vector3d& X_M) const;
+  // The starting point of the Newton solve for X_M: profile parameter, and azimuth relative to
+  // X_M's own, whose cosine and sine are given.
+  void initial_guess(const Eigen::Vector3d& X_M, double cos_azimuth, double sin_azimuth,
+                     double* s, double* azimuth_offset) const;
+  void build_guess_table();
 
   std::unique_ptr<InnerCamera> inner_;
   std::unique_ptr<MirrorProfile> mirror_;
@@ -93,9 +98,20 @@ class CatadioptricCamera {
   double domain_lo_ = 0, domain_hi_ = 0;
   double patch_z_mid_ = 0;              // a representative height of the valid patch
   double box_rho_max_ = 0, box_z_min_ = 0, box_z_max_ = 0;  // bounding region of the patch
-  // Aligned, far-point starting guess: outgoing polar angle (decreasing) -> profile parameter.
-  std::vector<double> guess_angle_, guess_s_;
-  bool guess_decreasing_ = false;
+  // The starting guess: the far-point solution of the mirror aligned with a camera on its axis at
+  // the actual height, tabulated over s with key = tan(b / 2), b the outgoing ray's angle from -z
+  // (no flat spot at b = 0, unlike cos b). Each node also holds the mirror point, for a second
+  // look-up from it (parallax of near points), and the first-order change of the solution with
+  // the camera's sideways offset from the axis (its centre, or for an orthographic camera its
+  // viewing direction), radially in s and tangentially in azimuth.
+  struct GuessNode {
+    double key, s, rho, z, ds_dradial, dphi_dtangential;
+  };
+  std::vector<GuessNode> guess_;
+  // While the key grows with s, uniform buckets of the key point at the node starting each.
+  bool guess_monotonic_ = false;
+  std::vector<int> guess_bucket_node_;
+  double guess_bucket_scale_ = 0;
 };
 
 }  // namespace omnisfm::camera
