@@ -25,20 +25,10 @@ struct SurfacePoint {
   MeridianPoint meridian;
   Eigen::Vector3d m, dm_ds, d2m_ds2, e_rho, e_phi;
 
-  SurfacePoint() = default;
   SurfacePoint(const MirrorProfile& mirror, double s, double phi) {
     mirror.evaluate(s, &meridian, nullptr);
     double sn, c;
     sin_cos(phi, &sn, &c);
-    set(c, sn);
-  }
-  // From an evaluated meridian point and the azimuth's cosine and sine.
-  SurfacePoint(const MeridianPoint& meridian_point, double c, double sn)
-      : meridian(meridian_point) {
-    set(c, sn);
-  }
-
-  void set(double c, double sn) {
     e_rho << c, sn, 0;
     e_phi << -sn, c, 0;
     m << meridian.rho * c, meridian.rho * sn, meridian.z;
@@ -52,10 +42,6 @@ struct SurfacePoint {
     return (meridian.dz * e_rho - meridian.drho * Eigen::Vector3d::UnitZ()).normalized();
   }
 };
-
-Eigen::Matrix3d tangent_projector(const Eigen::Vector3d& unit) {
-  return Eigen::Matrix3d::Identity() - unit * unit.transpose();
-}
 
 }  // namespace
 
@@ -132,6 +118,10 @@ void CatadioptricCamera::refresh() {
   pose_.rotation_derivatives(&dR_drx_, &dR_dry_);
   centre_M_ = -R_.transpose() * pose_.translation();
   toward_camera_M_ = -R_.row(2).transpose();
+  const Eigen::Matrix3d* dRs[2] = {&dR_drx_, &dR_dry_};
+  for (int j = 0; j < 2; ++j)
+    dcamera_M_[j] = -dRs[j]->transpose() *
+                    (inner_->is_orthographic() ? Eigen::Vector3d::UnitZ() : pose_.translation());
   mirror_->solve_domain(&domain_lo_, &domain_hi_);
 
   // Bounding region of the valid patch, for unprojection.
@@ -347,19 +337,19 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   const double s_positive = std::abs(s);
   if (!mirror_->is_valid_parameter(s_positive)) return false;
 
-  const SurfacePoint sp(mp, cos_phi, sin_phi);
-  const auto from_local = [&](const double* x) -> Eigen::Vector3d {
-    return x[0] * sp.e_rho + x[1] * sp.e_phi + Eigen::Vector3d(0, 0, x[2]);
-  };
-  const Eigen::Vector3d u = from_local(u_local), v = from_local(v_local), w = u + v;
-  Eigen::Matrix2d A;
-  A << A00, A01, A10, A11;
+  // The reflection must happen on the mirror's front face, seen by both camera and point: the
+  // outward normal is (dz, 0, -drho) in the local frame.
+  const Eigen::Vector3d u_l(u_local[0], u_local[1], u_local[2]);
+  const Eigen::Vector3d v_l(v_local[0], v_local[1], v_local[2]);
+  const Eigen::Vector3d normal_l = Eigen::Vector3d(mp.dz, 0, -mp.drho).normalized();
+  if (!(u_l.dot(normal_l) > kMinGrazingCosine) || !(v_l.dot(normal_l) > kMinGrazingCosine))
+    return false;
 
-  // The reflection must happen on the mirror's front face, seen by both camera and point.
-  const Eigen::Vector3d normal = sp.outward_normal();
-  if (!(u.dot(normal) > kMinGrazingCosine) || !(v.dot(normal) > kMinGrazingCosine)) return false;
-
-  const Eigen::Vector3d m_C = R_ * sp.m + t;
+  // The local frame in frame C: S = R [e_rho e_phi z].
+  Eigen::Matrix3d S;
+  S << cos_phi * R_.col(0) + sin_phi * R_.col(1), cos_phi * R_.col(1) - sin_phi * R_.col(0),
+      R_.col(2);
+  const Eigen::Vector3d m_C = S * Eigen::Vector3d(mp.rho, 0, mp.z) + t;
   Eigen::Matrix<double, 2, 3> J_pixel_mC;
   if (!inner_->project(m_C, pixel, want_jacobians ? &J_pixel_mC : nullptr, J_params)) return false;
   if (reflection)
@@ -367,51 +357,63 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
                    m_C, iteration};
   if (!want_jacobians) return true;
 
-  // Implicit function theorem: d(s, phi)/dy = -A^-1 dF/dy, so dm/dy = K dF/dy (+ direct terms).
-  Eigen::Matrix<double, 3, 2> B;
-  B << sp.dm_ds, sp.meridian.rho * sp.e_phi;
-  const Eigen::Matrix<double, 3, 2> K = -B * A.inverse();
-  Eigen::Matrix<double, 2, 3> P;
-  P << sp.dm_ds.transpose(), sp.e_phi.transpose();
-  const Eigen::Matrix<double, 2, 3> dF_dXM = P * tangent_projector(v) / dv;
-  const Eigen::Matrix<double, 2, 3> J_pixel_mM = J_pixel_mC * R_;
-
-  if (J_X) *J_X = J_pixel_mM * K * dF_dXM * R_.transpose();
+  // Implicit function theorem, in the local frame: d(s, phi)/dy = -A^-1 dF/dy moves m by
+  // dm/d(s, phi) = [t, rho e_phi], t = (drho, 0, dz); so d pixel / dy = GK dF/dy (+ direct terms)
+  // with G = d pixel / d m_local and GK = -G [t, rho e_phi] A^-1.
+  const Eigen::Matrix<double, 2, 3> G = J_pixel_mC * S;
+  Eigen::Matrix2d G_dm_dsphi;
+  G_dm_dsphi << G.col(0) * mp.drho + G.col(2) * mp.dz, G.col(1) * mp.rho;
+  Eigen::Matrix2d A;
+  A << A00, A01, A10, A11;
+  const Eigen::Matrix2d GK = -G_dm_dsphi * A.inverse();
+  // dF/dX_local = P (I - v v^T) / dv, P = [t, e_phi]^T; the same with u for the camera's centre.
+  const Eigen::Vector3d tangent_l(mp.drho, 0, mp.dz);
+  const auto dF_dtarget = [&](const Eigen::Vector3d& unit, double inverse_distance) {
+    Eigen::Matrix<double, 2, 3> d;
+    d.row(0) = (tangent_l - unit * unit.dot(tangent_l)).transpose() * inverse_distance;
+    d.row(1) = (Eigen::Vector3d::UnitY() - unit * unit.y()).transpose() * inverse_distance;
+    return d;
+  };
+  const Eigen::Matrix<double, 2, 3> dF_dXl = dF_dtarget(v_l, 1 / dv);
+  const Eigen::Matrix<double, 2, 3> dF_dX_C = dF_dXl * S.transpose();
+  if (J_X) *J_X = GK * dF_dX_C;
   if (!J_params) return true;
 
-  Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic>> J(J_params, 2, num_params());
   // The inner camera's columns were written by inner_->project.
-
   const int ns = mirror_->num_shape_params();
-  if (ns > 0) {
-    Eigen::Matrix3d W = -tangent_projector(v) / dv;
-    if (central) W -= tangent_projector(u) / du;
-    for (int j = 0; j < ns; ++j) {
-      const Eigen::Vector3d dm = sp.e_rho * J_shape(0, j) + Eigen::Vector3d::UnitZ() * J_shape(1, j);
-      const Eigen::Vector3d dts =
-          sp.e_rho * J_shape(2, j) + Eigen::Vector3d::UnitZ() * J_shape(3, j);
-      const Eigen::Vector2d dF(sp.dm_ds.dot(W * dm) + w.dot(dts), sp.e_phi.dot(W * dm));
-      J.col(shape_param_offset() + j) = J_pixel_mM * (K * dF + dm);
-    }
+  const double inv_dv = 1 / dv, inv_du = central ? 1 / du : 0.0;
+  const Eigen::Vector3d w_l = u_l + v_l;
+  for (int j = 0; j < ns; ++j) {
+    // The surface point and its tangent move in the meridian plane; dw/dm = W applied to that.
+    const Eigen::Vector3d dm(J_shape(0, j), 0, J_shape(1, j));
+    const Eigen::Vector3d W_dm =
+        -(dm - v_l * v_l.dot(dm)) * inv_dv - (dm - u_l * u_l.dot(dm)) * inv_du;
+    const double w_dtangent = w_l.x() * J_shape(2, j) + w_l.z() * J_shape(3, j);
+    const Eigen::Vector2d dF(tangent_l.dot(W_dm) + w_dtangent, W_dm.y());
+    Eigen::Map<Eigen::Vector2d>(J_params + 2 * (shape_param_offset() + j)) = GK * dF + G * dm;
   }
 
-  // Mirror pose: X_M = R^T (X - t); camera centre c_M = -R^T t; toward-camera u_M = -R^T z.
-  const Eigen::Matrix<double, 2, 3> dF_dcentre =
-      central ? Eigen::Matrix<double, 2, 3>(P * tangent_projector(u) / du)
-              : Eigen::Matrix<double, 2, 3>::Zero();
+  // Mirror pose: X_M = R^T (X - t); the camera's centre -R^T t, or its direction -R^T z.
+  const Eigen::Matrix<double, 2, 3> dF_dcamera_l =
+      central ? dF_dtarget(u_l, inv_du)
+              : (Eigen::Matrix<double, 2, 3>() << tangent_l.transpose(), 0, 1, 0).finished();
+  const auto to_local = [&](const Eigen::Vector3d& x) {
+    return Eigen::Vector3d(cos_phi * x.x() + sin_phi * x.y(), cos_phi * x.y() - sin_phi * x.x(),
+                           x.z());
+  };
+  const Eigen::Vector3d m_M(cos_phi * mp.rho, sin_phi * mp.rho, mp.z);
   const int po = pose_param_offset();
   const Eigen::Matrix3d* dRs[2] = {&dR_drx_, &dR_dry_};
   for (int j = 0; j < 2; ++j) {
-    const Eigen::Matrix3d dRt = dRs[j]->transpose();
-    Eigen::Vector2d dF = dF_dXM * (dRt * (X - t));
-    if (central)
-      dF += dF_dcentre * (-dRt * t);
-    else
-      dF += P * (-dRt.col(2));
-    J.col(po + j) = J_pixel_mC * (*dRs[j] * sp.m + R_ * (K * dF));
+    const Eigen::Vector2d dF = dF_dXl * to_local(dRs[j]->transpose() * (X - t)) +
+                               dF_dcamera_l * to_local(dcamera_M_[j]);
+    Eigen::Map<Eigen::Vector2d>(J_params + 2 * (po + j)) = J_pixel_mC * (*dRs[j] * m_M) + GK * dF;
   }
-  const Eigen::Matrix<double, 2, 3> dF_dt = -(dF_dXM + dF_dcentre) * R_.transpose();
-  J.middleCols<3>(po + 2) = J_pixel_mC * (Eigen::Matrix3d::Identity() + R_ * K * dF_dt);
+  Eigen::Map<Eigen::Matrix<double, 2, 3>> J_t(J_params + 2 * (po + 2));
+  if (central)
+    J_t = J_pixel_mC - GK * ((dF_dXl + dF_dcamera_l) * S.transpose());
+  else
+    J_t = J_pixel_mC - GK * dF_dX_C;
   return true;
 }
 

@@ -95,6 +95,7 @@ class CatadioptricCamera {
   Eigen::Matrix3d dR_drx_, dR_dry_;
   Eigen::Vector3d centre_M_;            // inner camera centre in frame M (central cameras)
   Eigen::Vector3d toward_camera_M_;     // -z of C in frame M (orthographic cameras)
+  Eigen::Vector3d dcamera_M_[2];        // d centre_M_ (or toward_camera_M_) / d rx, ry
   double domain_lo_ = 0, domain_hi_ = 0;
   double patch_z_mid_ = 0;              // a representative height of the valid patch
   double box_rho_max_ = 0, box_z_min_ = 0, box_z_max_ = 0;  // bounding region of the patch
