@@ -74,7 +74,7 @@ void EquiangularProfile::evaluate(double theta, MeridianPoint* p,
   const double tk = sk / ck;
   // cos(k theta)^(-1/k) through its logarithm, which the shape derivative reuses.
   const double log_ck = std::log(ck);
-  const double r = r0_ * std::exp(-log_ck / k);
+  const double r = r0_ * std::exp(log_ck * (-1 / k));
   const double dr = r * tk;                         // dr/dtheta
   const double d2r = r * (tk * tk + k * (1 + tk * tk));
 

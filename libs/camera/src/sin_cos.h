@@ -1,21 +1,13 @@
 #pragma once
 // sin and cos of one angle together, inline: the projection's Newton loop needs both for a few
 // angles per step, and the library's sincos costs several times this. Reduction by quarter turns
-// (pi/2 in two parts, exact enough for the few radians the loop meets), then Taylor polynomials
-// on [-pi/4, pi/4] whose truncation (below 1e-18) is far under rounding: about one unit in the last
-// place, like the library. Angles beyond kMaxReducedAngle go to the library.
+// (pi/2 in two parts, exact enough for the few radians the loop meets), then minimax polynomials
+// on [-pi/4, pi/4]: within two units in the last place (the library: one). Angles beyond
+// kMaxReducedAngle go to the library.
 
 #include <cmath>
 
 namespace omnisfm::camera {
-
-// c[0] + c[1] x + ... + c[N-1] x^(N-1) by Horner's rule.
-template <int N>
-inline double polynomial(double x, const double (&c)[N]) {
-  double result = c[N - 1];
-  for (int i = N - 2; i >= 0; --i) result = result * x + c[i];
-  return result;
-}
 
 inline void sin_cos(double x, double* sine, double* cosine) {
   constexpr double kMaxReducedAngle = 64.0;
@@ -29,17 +21,17 @@ inline void sin_cos(double x, double* sine, double* cosine) {
   constexpr double kHalfPiLow = 6.123233995736766036e-17;      // pi/2 - kHalfPiHigh
   const int quarter_turns = static_cast<int>(x * kTwoOverPi + (x >= 0 ? 0.5 : -0.5));
   const double r = (x - quarter_turns * kHalfPiHigh) - quarter_turns * kHalfPiLow;
-  const double r2 = r * r;
-  // sin r = r + r^3 (-1/3! + r^2/5! - ... + r^14/17!),
-  // cos r = 1 - r^2/2 + r^4 (1/4! - r^2/6! + ... - r^14/18!).
-  constexpr double kSinTail[] = {-1.0 / 6,          1.0 / 120,           -1.0 / 5040,
-                                 1.0 / 362880,      -1.0 / 39916800,     1.0 / 6227020800,
-                                 -1.0 / 1307674368000, 1.0 / 355687428096000};
-  constexpr double kCosTail[] = {1.0 / 24,          -1.0 / 720,          1.0 / 40320,
-                                 -1.0 / 3628800,    1.0 / 479001600,     -1.0 / 87178291200,
-                                 1.0 / 20922789888000, -1.0 / 6402373705728000};
-  const double sin_tail = r2 * polynomial(r2, kSinTail);
-  const double cos_tail = r2 * r2 * polynomial(r2, kCosTail);
+  // fdlibm's minimax polynomials (__kernel_sin, __kernel_cos), evaluated pairwise (Estrin) so
+  // that the dependency chain stays short.
+  const double r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+  const double sin_tail =
+      r2 * ((-1.66666666666666324348e-01 + 8.33333333332248946124e-03 * r2) +
+            r4 * (-1.98412698298579493134e-04 + 2.75573137070700676789e-06 * r2) +
+            r8 * (-2.50507602534068634195e-08 + 1.58969099521155010221e-10 * r2));
+  const double cos_tail =
+      r4 * ((4.16666666666666019037e-02 - 1.38888888888741095749e-03 * r2) +
+            r4 * (2.48015872894767294178e-05 - 2.75573143513906633035e-07 * r2) +
+            r8 * (2.08757232129817482790e-09 - 1.13596475577881948265e-11 * r2));
   const double s = r + r * sin_tail;
   const double c = (1 - 0.5 * r2) + cos_tail;
   switch (quarter_turns & 3) {
