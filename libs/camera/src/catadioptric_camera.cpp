@@ -12,7 +12,7 @@ namespace {
 
 constexpr int kMaxNewtonIterations = 30;
 constexpr int kGuessTableSize = 64;
-constexpr int kGuessBuckets = 128;
+constexpr int kGuessKeyNodes = 128;
 constexpr int kUnprojectMarchSteps = 24;
 // Steps below this fraction of the solve domain (and radians in azimuth) mean convergence: far
 // below 1e-9 px for any realistic focal length, since Newton converges quadratically.
@@ -42,6 +42,17 @@ struct SurfacePoint {
     return (meridian.dz * e_rho - meridian.drho * Eigen::Vector3d::UnitZ()).normalized();
   }
 };
+
+// a + f (b - a), field by field.
+template <typename Node>
+Node interpolate(const Node& a, const Node& b, double f) {
+  return {a.key + f * (b.key - a.key),
+          a.s + f * (b.s - a.s),
+          a.rho + f * (b.rho - a.rho),
+          a.z + f * (b.z - a.z),
+          a.ds_dradial + f * (b.ds_dradial - a.ds_dradial),
+          a.dphi_dtangential + f * (b.dphi_dtangential - a.dphi_dtangential)};
+}
 
 }  // namespace
 
@@ -174,23 +185,26 @@ void CatadioptricCamera::build_guess_table() {
                  A00 != 0 ? -dF0_dradial / A00 : 0.0, A11 != 0 ? -dF1_dtangential / A11 : 0.0};
   }
 
-  // Keep the nodes up to where the key stops growing; when that leaves out part of the valid
-  // patch, search all of them for the nearest key instead.
+  // Keep the nodes up to where the key stops growing, resampled uniformly in the key so that a
+  // look-up is an index; when that leaves out part of the valid patch, search all the nodes for
+  // the nearest key instead.
   size_t growing = 1;
   while (growing < guess_.size() && std::isfinite(guess_[growing].key) &&
          guess_[growing].key > guess_[growing - 1].key)
     ++growing;
   guess_monotonic_ = growing >= 2 && guess_[growing - 1].s >= mirror_->s_max();
   if (!guess_monotonic_) return;
-  guess_.resize(growing);
-  const double key_min = guess_.front().key;
-  guess_bucket_scale_ = kGuessBuckets / (guess_.back().key - key_min);
-  guess_bucket_node_.resize(kGuessBuckets);
-  size_t node = 0;
-  for (int b = 0; b < kGuessBuckets; ++b) {
-    const double bucket_start = key_min + b / guess_bucket_scale_;
-    while (node + 2 < guess_.size() && guess_[node + 1].key <= bucket_start) ++node;
-    guess_bucket_node_[b] = static_cast<int>(node);
+  const std::vector<GuessNode> by_s(guess_.begin(), guess_.begin() + growing);
+  guess_key_min_ = by_s.front().key;
+  const double key_step = (by_s.back().key - guess_key_min_) / (kGuessKeyNodes - 1);
+  guess_key_scale_ = 1 / key_step;
+  guess_.resize(kGuessKeyNodes);
+  size_t j = 0;
+  for (int i = 0; i < kGuessKeyNodes; ++i) {
+    const double key = guess_key_min_ + key_step * i;
+    while (j + 2 < by_s.size() && by_s[j + 1].key <= key) ++j;
+    const GuessNode &a = by_s[j], &b = by_s[j + 1];
+    guess_[i] = interpolate(a, b, (key - a.key) / (b.key - a.key));
   }
 }
 
@@ -218,14 +232,10 @@ void CatadioptricCamera::initial_guess(const Eigen::Vector3d& X_M, double cos_az
   }
   // Linear interpolation between the nodes around key (the end nodes beyond them).
   const auto look_up = [&](double key) {
-    const double bucket = (key - guess_.front().key) * guess_bucket_scale_;
-    size_t i = guess_bucket_node_[std::clamp(bucket, 0.0, kGuessBuckets - 1.0)];
-    while (i + 2 < guess_.size() && guess_[i + 1].key <= key) ++i;
-    const GuessNode &a = guess_[i], &b = guess_[i + 1];
-    const double f = std::clamp((key - a.key) / (b.key - a.key), 0.0, 1.0);
-    return GuessNode{key, a.s + f * (b.s - a.s), a.rho + f * (b.rho - a.rho),
-                     a.z + f * (b.z - a.z), a.ds_dradial + f * (b.ds_dradial - a.ds_dradial),
-                     a.dphi_dtangential + f * (b.dphi_dtangential - a.dphi_dtangential)};
+    const double t = std::clamp((key - guess_key_min_) * guess_key_scale_, 0.0,
+                                kGuessKeyNodes - 1.0);
+    const int i = std::min(static_cast<int>(t), kGuessKeyNodes - 2);
+    return interpolate(guess_[i], guess_[i + 1], t - i);
   };
   // The camera's sideways offset, in X's meridian plane and across it.
   const Eigen::Vector3d& offset = inner_->is_orthographic() ? toward_camera_M_ : centre_M_;

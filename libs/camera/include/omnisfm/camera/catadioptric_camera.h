@@ -100,7 +100,7 @@ class CatadioptricCamera {
   double patch_z_mid_ = 0;              // a representative height of the valid patch
   double box_rho_max_ = 0, box_z_min_ = 0, box_z_max_ = 0;  // bounding region of the patch
   // The starting guess: the far-point solution of the mirror aligned with a camera on its axis at
-  // the actual height, tabulated over s with key = tan(b / 2), b the outgoing ray's angle from -z
+  // the actual height, tabulated with key = tan(b / 2), b the outgoing ray's angle from -z
   // (no flat spot at b = 0, unlike cos b). Each node also holds the mirror point, for a second
   // look-up from it (parallax of near points), and the first-order change of the solution with
   // the camera's sideways offset from the axis (its centre, or for an orthographic camera its
@@ -108,11 +108,11 @@ class CatadioptricCamera {
   struct GuessNode {
     double key, s, rho, z, ds_dradial, dphi_dtangential;
   };
+  // Uniform in the key from guess_key_min_, guess_key_scale_ nodes per unit, while the key grows
+  // with s; otherwise (guess_monotonic_ false) uniform in s.
   std::vector<GuessNode> guess_;
-  // While the key grows with s, uniform buckets of the key point at the node starting each.
   bool guess_monotonic_ = false;
-  std::vector<int> guess_bucket_node_;
-  double guess_bucket_scale_ = 0;
+  double guess_key_min_ = 0, guess_key_scale_ = 0;
 };
 
 }  // namespace omnisfm::camera
