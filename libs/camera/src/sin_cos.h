@@ -19,7 +19,10 @@ inline void sin_cos(double x, double* sine, double* cosine) {
   constexpr double kTwoOverPi = 0.63661977236758134308;
   constexpr double kHalfPiHigh = 1.5707963267948966192;        // pi/2 rounded to double
   constexpr double kHalfPiLow = 6.123233995736766036e-17;      // pi/2 - kHalfPiHigh
-  const int quarter_turns = static_cast<int>(x * kTwoOverPi + (x >= 0 ? 0.5 : -0.5));
+  // Round to the nearest quarter turn by adding and removing 1.5 * 2^52, which leaves no bits
+  // below the unit: shorter than a round trip through an integer register.
+  constexpr double kRoundingShift = 6755399441055744.0;
+  const double quarter_turns = (x * kTwoOverPi + kRoundingShift) - kRoundingShift;
   const double r = (x - quarter_turns * kHalfPiHigh) - quarter_turns * kHalfPiLow;
   // fdlibm's minimax polynomials (__kernel_sin, __kernel_cos), evaluated pairwise (Estrin) so
   // that the dependency chain stays short.
@@ -34,7 +37,7 @@ inline void sin_cos(double x, double* sine, double* cosine) {
             r8 * (2.08757232129817482790e-09 - 1.13596475577881948265e-11 * r2));
   const double s = r + r * sin_tail;
   const double c = (1 - 0.5 * r2) + cos_tail;
-  switch (quarter_turns & 3) {
+  switch (static_cast<int>(quarter_turns) & 3) {
     case 0:
       *sine = s;
       *cosine = c;
