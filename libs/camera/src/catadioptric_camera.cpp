@@ -56,6 +56,19 @@ Node interpolate(const Node& a, const Node& b, double f) {
 
 }  // namespace
 
+// The Newton solve's state; at convergence, what the implicit function theorem needs at the
+// solution.
+struct CatadioptricCamera::NewtonState {
+  double s = 0, phi = 0;  // phi relative to the base azimuth
+  int iterations = 0;
+  MeridianPoint meridian;
+  MeridianShapeJacobian J_shape;
+  double cos_phi = 1, sin_phi = 0;  // of the absolute azimuth
+  double u_local[3] = {0, 0, 0}, v_local[3] = {0, 0, 0};  // unit, in the local frame
+  double du = 0, dv = 0;
+  double A00 = 0, A01 = 0, A10 = 0, A11 = 0;  // dF/d(s, phi)
+};
+
 CatadioptricCamera::CatadioptricCamera(std::unique_ptr<InnerCamera> inner,
                                        std::unique_ptr<MirrorProfile> mirror,
                                        const MirrorPose& mirror_pose, int image_width,
@@ -248,43 +261,25 @@ void CatadioptricCamera::initial_guess(const Eigen::Vector3d& X_M, double cos_az
   *azimuth_offset = node.dphi_dtangential * tangential;
 }
 
-bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
-                                 Eigen::Matrix<double, 2, 3>* J_X, double* J_params,
-                                 Reflection* reflection) const {
-  // The camera's own centre sees only itself.
-  if (!X.allFinite() || (!inner_->is_orthographic() && X.norm() < 1e-12)) return false;
-  const Eigen::Vector3d& t = pose_.translation();
-  const Eigen::Vector3d X_M = R_.transpose() * (X - t);
-  const bool central = !inner_->is_orthographic();
-  const bool want_jacobians = J_X || J_params;
-
-  // The azimuth is carried as an offset phi from X's own, whose cosine and sine need no
-  // trigonometry (on the axis any azimuth will do).
-  const double rho_X = std::sqrt(X_M.x() * X_M.x() + X_M.y() * X_M.y());
-  const double cos_base = rho_X > 0 ? X_M.x() / rho_X : 1.0;
-  const double sin_base = rho_X > 0 ? X_M.y() / rho_X : 0.0;
-  double s, phi;
-  initial_guess(X_M, cos_base, sin_base, &s, &phi);
-  const double s_scale = domain_hi_;
-
+bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, double sin_base,
+                               bool want_shape, NewtonState* state) const {
   // Newton's method on F(s, phi) = (w . dm/ds, w . e_phi), w = unit(camera - m) + unit(X - m),
   // worked in the frame (e_rho, e_phi, z) of the current azimuth: there m = (rho, 0, z), dm/ds =
   // (drho, 0, dz) and d2m/ds2 = (d2rho, 0, d2z), so F and its Jacobian A reduce to a few products.
   // dw/dm (W = -(I - v v^T)/dv - (I - u u^T)/du) enters only through such products.
-  const bool want_shape = J_params && mirror_->num_shape_params() > 0;
-  MeridianShapeJacobian J_shape;
-  MeridianPoint mp;
-  double cos_phi = 1, sin_phi = 0;
-  double u_local[3], v_local[3];
-  double du = 0, dv = 0;
-  double A00 = 0, A01 = 0, A10 = 0, A11 = 0;
+  const bool central = !inner_->is_orthographic();
+  const double s_scale = domain_hi_;
+  NewtonState& n = *state;
+  MeridianPoint& mp = n.meridian;
+  double &cos_phi = n.cos_phi, &sin_phi = n.sin_phi, &s = n.s, &phi = n.phi;
+  double *u_local = n.u_local, *v_local = n.v_local;
+  int& iteration = n.iterations;
   bool converged = false;
-  int iteration = 0;
   int boundary_hits = 0;
-  for (; iteration < kMaxNewtonIterations; ++iteration) {
+  for (iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     // With parameter Jacobians wanted, the shape derivatives come with every evaluation: the last
     // one is at the solution, which saves evaluating the surface again.
-    mirror_->evaluate(s, &mp, want_shape ? &J_shape : nullptr);
+    mirror_->evaluate(s, &mp, want_shape ? &n.J_shape : nullptr);
     double sin_offset, cos_offset;
     sin_cos(phi, &sin_offset, &cos_offset);
     cos_phi = cos_base * cos_offset - sin_base * sin_offset;
@@ -297,7 +292,7 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
     to_local(X_M, v_local);
     v_local[0] -= mp.rho;
     v_local[2] -= mp.z;
-    dv = std::sqrt(v_local[0] * v_local[0] + v_local[1] * v_local[1] + v_local[2] * v_local[2]);
+    const double dv = n.dv = std::sqrt(v_local[0] * v_local[0] + v_local[1] * v_local[1] + v_local[2] * v_local[2]);
     if (!(dv > 1e-12)) return false;
     const double inv_dv = 1 / dv;
     double inv_du = 0;  // no dw/dm term from a fixed viewing direction
@@ -305,24 +300,24 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
       to_local(centre_M_, u_local);
       u_local[0] -= mp.rho;
       u_local[2] -= mp.z;
-      du = std::sqrt(u_local[0] * u_local[0] + u_local[1] * u_local[1] + u_local[2] * u_local[2]);
+      const double du = n.du = std::sqrt(u_local[0] * u_local[0] + u_local[1] * u_local[1] + u_local[2] * u_local[2]);
       if (!(du > 1e-12)) return false;
       inv_du = 1 / du;
-      for (double& x : u_local) x *= inv_du;
+      for (int k = 0; k < 3; ++k) u_local[k] *= inv_du;
     } else {
       to_local(toward_camera_M_, u_local);
     }
-    for (double& x : v_local) x *= inv_dv;
+    for (int k = 0; k < 3; ++k) v_local[k] *= inv_dv;
     const double w0 = u_local[0] + v_local[0], w1 = u_local[1] + v_local[1],
                  w2 = u_local[2] + v_local[2];
     const double F0 = w0 * mp.drho + w2 * mp.dz, F1 = w1;
     const double v_t = v_local[0] * mp.drho + v_local[2] * mp.dz;
     const double u_t = u_local[0] * mp.drho + u_local[2] * mp.dz;
     const double t_t = mp.drho * mp.drho + mp.dz * mp.dz;
-    A00 = -(t_t - v_t * v_t) * inv_dv - (t_t - u_t * u_t) * inv_du + w0 * mp.d2rho + w2 * mp.d2z;
-    A10 = v_t * v_local[1] * inv_dv + u_t * u_local[1] * inv_du;
-    A01 = mp.rho * A10 + mp.drho * F1;
-    A11 = -mp.rho * ((1 - v_local[1] * v_local[1]) * inv_dv +
+    const double A00 = n.A00 = -(t_t - v_t * v_t) * inv_dv - (t_t - u_t * u_t) * inv_du + w0 * mp.d2rho + w2 * mp.d2z;
+    const double A10 = n.A10 = v_t * v_local[1] * inv_dv + u_t * u_local[1] * inv_du;
+    const double A01 = n.A01 = mp.rho * A10 + mp.drho * F1;
+    const double A11 = n.A11 = -mp.rho * ((1 - v_local[1] * v_local[1]) * inv_dv +
                      (1 - u_local[1] * u_local[1]) * inv_du) -
           w0;
     const double det = A00 * A11 - A01 * A10;
@@ -341,7 +336,35 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
       if (++boundary_hits > 2) return false;
     }
   }
-  if (!converged) return false;
+  return converged;
+}
+
+bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
+                                 Eigen::Matrix<double, 2, 3>* J_X, double* J_params,
+                                 Reflection* reflection) const {
+  // The camera's own centre sees only itself.
+  if (!X.allFinite() || (!inner_->is_orthographic() && X.norm() < 1e-12)) return false;
+  const Eigen::Vector3d& t = pose_.translation();
+  const Eigen::Vector3d X_M = R_.transpose() * (X - t);
+  const bool central = !inner_->is_orthographic();
+  const bool want_jacobians = J_X || J_params;
+
+  // The azimuth is carried as an offset phi from X's own, whose cosine and sine need no
+  // trigonometry (on the axis any azimuth will do).
+  const double rho_X = std::sqrt(X_M.x() * X_M.x() + X_M.y() * X_M.y());
+  const double cos_base = rho_X > 0 ? X_M.x() / rho_X : 1.0;
+  const double sin_base = rho_X > 0 ? X_M.y() / rho_X : 0.0;
+  NewtonState state;
+  initial_guess(X_M, cos_base, sin_base, &state.s, &state.phi);
+  if (!solve(X_M, cos_base, sin_base, J_params && mirror_->num_shape_params() > 0, &state))
+    return false;
+  const double s = state.s;
+  const MeridianPoint& mp = state.meridian;
+  const MeridianShapeJacobian& J_shape = state.J_shape;
+  const double cos_phi = state.cos_phi, sin_phi = state.sin_phi, du = state.du, dv = state.dv;
+  const double *u_local = state.u_local, *v_local = state.v_local;
+  const double A00 = state.A00, A01 = state.A01, A10 = state.A10, A11 = state.A11;
+  const int iteration = state.iterations;
   // The same point named with a positive profile parameter; the derivatives below keep the
   // solver's (s, phi), which sp describes.
   const double s_positive = std::abs(s);

@@ -84,6 +84,11 @@ class CatadioptricCamera {
   void initial_guess(const Eigen::Vector3d& X_M, double cos_azimuth, double sin_azimuth,
                      double* s, double* azimuth_offset) const;
   void build_guess_table();
+  // Newton's method on the incidence = reflection equations for X_M, from state's (s, phi), phi
+  // relative to the azimuth whose cosine and sine are given. Returns false without convergence.
+  struct NewtonState;
+  bool solve(const Eigen::Vector3d& X_M, double cos_base, double sin_base, bool want_shape,
+             NewtonState* state) const;
 
   std::unique_ptr<InnerCamera> inner_;
   std::unique_ptr<MirrorProfile> mirror_;
