@@ -13,6 +13,7 @@ namespace {
 constexpr int kMaxNewtonIterations = 30;
 constexpr int kGuessTableSize = 64;
 constexpr int kGuessKeyNodes = 128;
+constexpr size_t kGuessRefineStride = 4;
 constexpr int kUnprojectMarchSteps = 24;
 // Steps below this fraction of the solve domain (and radians in azimuth) mean convergence: far
 // below 1e-9 px for any realistic focal length, since Newton converges quadratically.
@@ -46,12 +47,16 @@ struct SurfacePoint {
 // a + f (b - a), field by field.
 template <typename Node>
 Node interpolate(const Node& a, const Node& b, double f) {
-  return {a.key + f * (b.key - a.key),
-          a.s + f * (b.s - a.s),
-          a.rho + f * (b.rho - a.rho),
-          a.z + f * (b.z - a.z),
-          a.ds_dradial + f * (b.ds_dradial - a.ds_dradial),
-          a.dphi_dtangential + f * (b.dphi_dtangential - a.dphi_dtangential)};
+  const auto mix = [f](double x, double y) { return x + f * (y - x); };
+  return {mix(a.key, b.key),
+          mix(a.s, b.s),
+          mix(a.rho, b.rho),
+          mix(a.z, b.z),
+          mix(a.ds_cos, b.ds_cos),
+          mix(a.ds_cos2, b.ds_cos2),
+          mix(a.ds_sin2, b.ds_sin2),
+          mix(a.dphi_sin, b.dphi_sin),
+          mix(a.dphi_sincos, b.dphi_sincos)};
 }
 
 }  // namespace
@@ -169,6 +174,11 @@ void CatadioptricCamera::refresh() {
 void CatadioptricCamera::build_guess_table() {
   const bool central = !inner_->is_orthographic();
   guess_.resize(kGuessTableSize);
+  std::vector<Eigen::Vector3d> outgoing(kGuessTableSize);
+  // The camera's sideways offset: its size, and its azimuth.
+  const Eigen::Vector3d& offset = central ? centre_M_ : toward_camera_M_;
+  const double offset_size = std::hypot(offset.x(), offset.y());
+  guess_offset_inverse_ = offset_size > 0 ? 1 / offset_size : 0.0;
   for (int i = 0; i < kGuessTableSize; ++i) {
     // The aligned, far-point reflection at (s, azimuth 0), where frame M is the local frame.
     const double s = domain_hi_ * (i + 0.5) / kGuessTableSize;
@@ -194,8 +204,17 @@ void CatadioptricCamera::build_guess_table() {
       dF0_dradial = (sp.dm_ds.x() - u_t * u.x()) / du;
       dF1_dtangential /= du;
     }
-    guess_[i] = {out.x() / (1 - out.z()), s, sp.meridian.rho, sp.meridian.z,
-                 A00 != 0 ? -dF0_dradial / A00 : 0.0, A11 != 0 ? -dF1_dtangential / A11 : 0.0};
+    // To first order in the offset's size: the sin^2 and sin cos terms are second order.
+    guess_[i] = {out.x() / (1 - out.z()),
+                 s,
+                 sp.meridian.rho,
+                 sp.meridian.z,
+                 A00 != 0 ? -dF0_dradial / A00 * offset_size : 0.0,
+                 0,
+                 0,
+                 A11 != 0 ? -dF1_dtangential / A11 * offset_size : 0.0,
+                 0};
+    outgoing[i] = out;
   }
 
   // Keep the nodes up to where the key stops growing, resampled uniformly in the key so that a
@@ -207,7 +226,9 @@ void CatadioptricCamera::build_guess_table() {
     ++growing;
   guess_monotonic_ = growing >= 2 && guess_[growing - 1].s >= mirror_->s_max();
   if (!guess_monotonic_) return;
-  const std::vector<GuessNode> by_s(guess_.begin(), guess_.begin() + growing);
+  guess_.resize(growing);
+  if (offset_size > 0) refine_guess_offsets(outgoing, std::atan2(offset.y(), offset.x()));
+  const std::vector<GuessNode> by_s = guess_;
   guess_key_min_ = by_s.front().key;
   const double key_step = (by_s.back().key - guess_key_min_) / (kGuessKeyNodes - 1);
   guess_key_scale_ = 1 / key_step;
@@ -218,6 +239,79 @@ void CatadioptricCamera::build_guess_table() {
     while (j + 2 < by_s.size() && by_s[j + 1].key <= key) ++j;
     const GuessNode &a = by_s[j], &b = by_s[j + 1];
     guess_[i] = interpolate(a, b, (key - a.key) / (b.key - a.key));
+  }
+}
+
+void CatadioptricCamera::refine_guess_offsets(const std::vector<Eigen::Vector3d>& outgoing,
+                                              double offset_azimuth) {
+  // The offset's effect, beyond first order, from exact far-point solutions with the camera's
+  // offset at psi = 0, pi/2, pi and pi/4 from the point's azimuth, fitted by
+  //   ds = a cos psi + b cos^2 psi + c sin^2 psi,  dphi = d sin psi + e sin psi cos psi.
+  // Solved at every kGuessRefineStride-th node; the nodes between get the difference from their
+  // own first-order correction interpolated, which varies slowly.
+  constexpr double kFarDistance = 1e6;  // metres: parallax far below the solver's tolerance
+  constexpr double kPsi[] = {0, M_PI / 2, M_PI, M_PI / 4};
+  const auto refined = [&](size_t i, GuessNode* refined_node) {
+    GuessNode node = guess_[i];
+    double ds[4], dphi[4];
+    for (int k = 0; k < 4; ++k) {
+      const double psi = kPsi[k], azimuth = offset_azimuth - psi;
+      const double c = std::cos(azimuth), sn = std::sin(azimuth);
+      const double rho_far = node.rho + kFarDistance * outgoing[i].x();
+      const Eigen::Vector3d X_M(rho_far * c, rho_far * sn, node.z + kFarDistance * outgoing[i].z());
+      NewtonState state;
+      state.s = node.s + node.ds_cos * std::cos(psi);
+      state.phi = node.dphi_sin * std::sin(psi);
+      if (!solve(X_M, c, sn, false, &state)) return false;
+      ds[k] = state.s - node.s;
+      dphi[k] = state.phi;
+    }
+    node.ds_cos = (ds[0] - ds[2]) / 2;
+    node.ds_cos2 = (ds[0] + ds[2]) / 2;
+    node.ds_sin2 = ds[1];
+    node.dphi_sin = dphi[1];
+    node.dphi_sincos = 2 * dphi[3] - std::sqrt(2.0) * dphi[1];
+    *refined_node = node;
+    return true;
+  };
+  // Differences refined - first order at the solved nodes (zero where a solve failed).
+  const size_t n = guess_.size();
+  std::vector<size_t> solved_at;
+  std::vector<GuessNode> difference;
+  for (size_t i = 0; i < n;
+       i += std::min<size_t>(kGuessRefineStride, std::max<size_t>(n - 1 - i, 1))) {
+    GuessNode node;
+    const GuessNode& first = guess_[i];
+    GuessNode d{};
+    if (refined(i, &node))
+      d = {0,
+           0,
+           0,
+           0,
+           node.ds_cos - first.ds_cos,
+           node.ds_cos2,
+           node.ds_sin2,
+           node.dphi_sin - first.dphi_sin,
+           node.dphi_sincos};
+    solved_at.push_back(i);
+    difference.push_back(d);
+  }
+  size_t j = 0;
+  for (size_t i = 0; i < n; ++i) {
+    while (j + 2 < solved_at.size() && solved_at[j + 1] <= i) ++j;
+    const double f =
+        solved_at.size() < 2
+            ? 0.0
+            : std::clamp(static_cast<double>(i - solved_at[j]) / (solved_at[j + 1] - solved_at[j]),
+                         0.0, 1.0);
+    const GuessNode d =
+        solved_at.size() < 2 ? difference[0] : interpolate(difference[j], difference[j + 1], f);
+    GuessNode& node = guess_[i];
+    node.ds_cos += d.ds_cos;
+    node.ds_cos2 += d.ds_cos2;
+    node.ds_sin2 += d.ds_sin2;
+    node.dphi_sin += d.dphi_sin;
+    node.dphi_sincos += d.dphi_sincos;
   }
 }
 
@@ -245,20 +339,22 @@ void CatadioptricCamera::initial_guess(const Eigen::Vector3d& X_M, double cos_az
   }
   // Linear interpolation between the nodes around key (the end nodes beyond them).
   const auto look_up = [&](double key) {
-    const double t = std::clamp((key - guess_key_min_) * guess_key_scale_, 0.0,
-                                kGuessKeyNodes - 1.0);
+    const double t =
+        std::clamp((key - guess_key_min_) * guess_key_scale_, 0.0, kGuessKeyNodes - 1.0);
     const int i = std::min(static_cast<int>(t), kGuessKeyNodes - 2);
     return interpolate(guess_[i], guess_[i + 1], t - i);
   };
-  // The camera's sideways offset, in X's meridian plane and across it.
+  // The direction of the camera's sideways offset from X's azimuth: cos psi, sin psi.
   const Eigen::Vector3d& offset = inner_->is_orthographic() ? toward_camera_M_ : centre_M_;
-  const double radial = cos_azimuth * offset.x() + sin_azimuth * offset.y();
-  const double tangential = cos_azimuth * offset.y() - sin_azimuth * offset.x();
+  const double cos_psi =
+      (cos_azimuth * offset.x() + sin_azimuth * offset.y()) * guess_offset_inverse_;
+  const double sin_psi =
+      (cos_azimuth * offset.y() - sin_azimuth * offset.x()) * guess_offset_inverse_;
   // From the middle of the patch, then again from the mirror point found.
   GuessNode node = look_up(key_from(0, patch_z_mid_));
   node = look_up(key_from(node.rho, node.z));
-  *s = node.s + node.ds_dradial * radial;
-  *azimuth_offset = node.dphi_dtangential * tangential;
+  *s = node.s + cos_psi * (node.ds_cos + cos_psi * node.ds_cos2) + sin_psi * sin_psi * node.ds_sin2;
+  *azimuth_offset = sin_psi * (node.dphi_sin + cos_psi * node.dphi_sincos);
 }
 
 bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, double sin_base,
@@ -292,7 +388,8 @@ bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, doub
     to_local(X_M, v_local);
     v_local[0] -= mp.rho;
     v_local[2] -= mp.z;
-    const double dv = n.dv = std::sqrt(v_local[0] * v_local[0] + v_local[1] * v_local[1] + v_local[2] * v_local[2]);
+    const double dv = n.dv =
+        std::sqrt(v_local[0] * v_local[0] + v_local[1] * v_local[1] + v_local[2] * v_local[2]);
     if (!(dv > 1e-12)) return false;
     const double inv_dv = 1 / dv;
     double inv_du = 0;  // no dw/dm term from a fixed viewing direction
@@ -300,7 +397,8 @@ bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, doub
       to_local(centre_M_, u_local);
       u_local[0] -= mp.rho;
       u_local[2] -= mp.z;
-      const double du = n.du = std::sqrt(u_local[0] * u_local[0] + u_local[1] * u_local[1] + u_local[2] * u_local[2]);
+      const double du = n.du =
+          std::sqrt(u_local[0] * u_local[0] + u_local[1] * u_local[1] + u_local[2] * u_local[2]);
       if (!(du > 1e-12)) return false;
       inv_du = 1 / du;
       for (int k = 0; k < 3; ++k) u_local[k] *= inv_du;
@@ -314,12 +412,13 @@ bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, doub
     const double v_t = v_local[0] * mp.drho + v_local[2] * mp.dz;
     const double u_t = u_local[0] * mp.drho + u_local[2] * mp.dz;
     const double t_t = mp.drho * mp.drho + mp.dz * mp.dz;
-    const double A00 = n.A00 = -(t_t - v_t * v_t) * inv_dv - (t_t - u_t * u_t) * inv_du + w0 * mp.d2rho + w2 * mp.d2z;
+    const double A00 = n.A00 =
+        -(t_t - v_t * v_t) * inv_dv - (t_t - u_t * u_t) * inv_du + w0 * mp.d2rho + w2 * mp.d2z;
     const double A10 = n.A10 = v_t * v_local[1] * inv_dv + u_t * u_local[1] * inv_du;
     const double A01 = n.A01 = mp.rho * A10 + mp.drho * F1;
     const double A11 = n.A11 = -mp.rho * ((1 - v_local[1] * v_local[1]) * inv_dv +
-                     (1 - u_local[1] * u_local[1]) * inv_du) -
-          w0;
+                                          (1 - u_local[1] * u_local[1]) * inv_du) -
+                               w0;
     const double det = A00 * A11 - A01 * A10;
     if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
     double step_s = -(A11 * F0 - A01 * F1) / det;
@@ -438,8 +537,8 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   const int po = pose_param_offset();
   const Eigen::Matrix3d* dRs[2] = {&dR_drx_, &dR_dry_};
   for (int j = 0; j < 2; ++j) {
-    const Eigen::Vector2d dF = dF_dXl * to_local(dRs[j]->transpose() * (X - t)) +
-                               dF_dcamera_l * to_local(dcamera_M_[j]);
+    const Eigen::Vector2d dF =
+        dF_dXl * to_local(dRs[j]->transpose() * (X - t)) + dF_dcamera_l * to_local(dcamera_M_[j]);
     Eigen::Map<Eigen::Vector2d>(J_params + 2 * (po + j)) = J_pixel_mC * (*dRs[j] * m_M) + GK * dF;
   }
   Eigen::Map<Eigen::Matrix<double, 2, 3>> J_t(J_params + 2 * (po + 2));

@@ -17,8 +17,8 @@ inline void sin_cos(double x, double* sine, double* cosine) {
     return;
   }
   constexpr double kTwoOverPi = 0.63661977236758134308;
-  constexpr double kHalfPiHigh = 1.5707963267948966192;        // pi/2 rounded to double
-  constexpr double kHalfPiLow = 6.123233995736766036e-17;      // pi/2 - kHalfPiHigh
+  constexpr double kHalfPiHigh = 1.5707963267948966192;    // pi/2 rounded to double
+  constexpr double kHalfPiLow = 6.123233995736766036e-17;  // pi/2 - kHalfPiHigh
   // Round to the nearest quarter turn by adding and removing 1.5 * 2^52, which leaves no bits
   // below the unit: shorter than a round trip through an integer register.
   constexpr double kRoundingShift = 6755399441055744.0;

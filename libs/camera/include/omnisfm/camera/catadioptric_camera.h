@@ -84,6 +84,7 @@ class CatadioptricCamera {
   void initial_guess(const Eigen::Vector3d& X_M, double cos_azimuth, double sin_azimuth,
                      double* s, double* azimuth_offset) const;
   void build_guess_table();
+  void refine_guess_offsets(const std::vector<Eigen::Vector3d>& outgoing, double offset_azimuth);
   // Newton's method on the incidence = reflection equations for X_M, from state's (s, phi), phi
   // relative to the azimuth whose cosine and sine are given. Returns false without convergence.
   struct NewtonState;
@@ -107,17 +108,23 @@ class CatadioptricCamera {
   // The starting guess: the far-point solution of the mirror aligned with a camera on its axis at
   // the actual height, tabulated with key = tan(b / 2), b the outgoing ray's angle from -z
   // (no flat spot at b = 0, unlike cos b). Each node also holds the mirror point, for a second
-  // look-up from it (parallax of near points), and the first-order change of the solution with
-  // the camera's sideways offset from the axis (its centre, or for an orthographic camera its
-  // viewing direction), radially in s and tangentially in azimuth.
+  // look-up from it (parallax of near points), and the change of the solution with the camera's
+  // sideways offset from the axis (its centre, or for an orthographic camera its viewing
+  // direction): to first order by the implicit function theorem, refined by exact far-point
+  // solutions where the camera is misaligned.
   struct GuessNode {
-    double key, s, rho, z, ds_dradial, dphi_dtangential;
+    double key, s, rho, z;
+    // Change of the solution with the offset at angle psi from the point's azimuth (see
+    // refine_guess_offsets): ds = ds_cos cos psi + ds_cos2 cos^2 psi + ds_sin2 sin^2 psi,
+    // dphi = dphi_sin sin psi + dphi_sincos sin psi cos psi.
+    double ds_cos, ds_cos2, ds_sin2, dphi_sin, dphi_sincos;
   };
   // Uniform in the key from guess_key_min_, guess_key_scale_ nodes per unit, while the key grows
   // with s; otherwise (guess_monotonic_ false) uniform in s.
   std::vector<GuessNode> guess_;
   bool guess_monotonic_ = false;
   double guess_key_min_ = 0, guess_key_scale_ = 0;
+  double guess_offset_inverse_ = 0;  // 1 / size of the camera's sideways offset (0 if none)
 };
 
 }  // namespace omnisfm::camera
