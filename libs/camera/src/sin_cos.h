@@ -1,7 +1,7 @@
 #pragma once
 // sin and cos of one angle together, inline: the projection's Newton loop needs both for a few
 // angles per step, and the library's sincos costs several times this. Reduction by quarter turns
-// (pi/2 in two parts, exact enough for the few radians the loop meets), then minimax polynomials
+// (pi/2 in two parts, accurate for the few radians the loop meets), then minimax polynomials
 // on [-pi/4, pi/4]: within two units in the last place (the library: one). Angles beyond
 // kMaxReducedAngle go to the library.
 
@@ -17,8 +17,10 @@ inline void sin_cos(double x, double* sine, double* cosine) {
     return;
   }
   constexpr double kTwoOverPi = 0.63661977236758134308;
-  constexpr double kHalfPiHigh = 1.5707963267948966192;    // pi/2 rounded to double
-  constexpr double kHalfPiLow = 6.123233995736766036e-17;  // pi/2 - kHalfPiHigh
+  // pi/2 in two parts as fdlibm's reduction has it: the first with 33 significant bits, so that
+  // its product with the few quarter turns here is exact.
+  constexpr double kHalfPiHigh = 1.57079632673412561417e+00;
+  constexpr double kHalfPiLow = 6.07710050650619224932e-11;
   // Round to the nearest quarter turn by adding and removing 1.5 * 2^52, which leaves no bits
   // below the unit: shorter than a round trip through an integer register.
   constexpr double kRoundingShift = 6755399441055744.0;
