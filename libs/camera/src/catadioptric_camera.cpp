@@ -5,11 +5,15 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sin_cos.h"
+
 namespace omnisfm::camera {
 namespace {
 
 constexpr int kMaxNewtonIterations = 30;
 constexpr int kGuessTableSize = 64;
+constexpr int kGuessKeyNodes = 128;
+constexpr size_t kGuessRefineStride = 4;
 constexpr int kUnprojectMarchSteps = 24;
 // Steps below this fraction of the solve domain (and radians in azimuth) mean convergence: far
 // below 1e-9 px for any realistic focal length, since Newton converges quadratically.
@@ -22,10 +26,10 @@ struct SurfacePoint {
   MeridianPoint meridian;
   Eigen::Vector3d m, dm_ds, d2m_ds2, e_rho, e_phi;
 
-  SurfacePoint() = default;
-  SurfacePoint(const MirrorProfile& mirror, double s, double phi, MeridianShapeJacobian* J_shape) {
-    mirror.evaluate(s, &meridian, J_shape);
-    const double c = std::cos(phi), sn = std::sin(phi);
+  SurfacePoint(const MirrorProfile& mirror, double s, double phi) {
+    mirror.evaluate(s, &meridian, nullptr);
+    double sn, c;
+    sin_cos(phi, &sn, &c);
     e_rho << c, sn, 0;
     e_phi << -sn, c, 0;
     m << meridian.rho * c, meridian.rho * sn, meridian.z;
@@ -40,11 +44,35 @@ struct SurfacePoint {
   }
 };
 
-Eigen::Matrix3d tangent_projector(const Eigen::Vector3d& unit) {
-  return Eigen::Matrix3d::Identity() - unit * unit.transpose();
+// a + f (b - a), field by field.
+template <typename Node>
+Node interpolate(const Node& a, const Node& b, double f) {
+  const auto mix = [f](double x, double y) { return x + f * (y - x); };
+  return {mix(a.key, b.key),
+          mix(a.s, b.s),
+          mix(a.rho, b.rho),
+          mix(a.z, b.z),
+          mix(a.ds_cos, b.ds_cos),
+          mix(a.ds_cos2, b.ds_cos2),
+          mix(a.ds_sin2, b.ds_sin2),
+          mix(a.dphi_sin, b.dphi_sin),
+          mix(a.dphi_sincos, b.dphi_sincos)};
 }
 
 }  // namespace
+
+// The Newton solve's state; at convergence, what the implicit function theorem needs at the
+// solution.
+struct CatadioptricCamera::NewtonState {
+  double s = 0, phi = 0;  // phi relative to the base azimuth
+  int iterations = 0;
+  MeridianPoint meridian;
+  MeridianShapeJacobian J_shape;
+  double cos_phi = 1, sin_phi = 0;  // of the absolute azimuth
+  double u_local[3] = {0, 0, 0}, v_local[3] = {0, 0, 0};  // unit, in the local frame
+  double du = 0, dv = 0;
+  double A00 = 0, A01 = 0, A10 = 0, A11 = 0;  // dF/d(s, phi)
+};
 
 CatadioptricCamera::CatadioptricCamera(std::unique_ptr<InnerCamera> inner,
                                        std::unique_ptr<MirrorProfile> mirror,
@@ -119,6 +147,10 @@ void CatadioptricCamera::refresh() {
   pose_.rotation_derivatives(&dR_drx_, &dR_dry_);
   centre_M_ = -R_.transpose() * pose_.translation();
   toward_camera_M_ = -R_.row(2).transpose();
+  const Eigen::Matrix3d* dRs[2] = {&dR_drx_, &dR_dry_};
+  for (int j = 0; j < 2; ++j)
+    dcamera_M_[j] = -dRs[j]->transpose() *
+                    (inner_->is_orthographic() ? Eigen::Vector3d::UnitZ() : pose_.translation());
   mirror_->solve_domain(&domain_lo_, &domain_hi_);
 
   // Bounding region of the valid patch, for unprojection.
@@ -136,50 +168,274 @@ void CatadioptricCamera::refresh() {
     if (i == kPatchSamples / 2) patch_z_mid_ = p.z;
   }
 
-  // The aligned, far-point solution: where a ray leaves the mirror, as a function of s, for a
-  // camera on the axis at the height of the actual one.
-  guess_angle_.resize(kGuessTableSize);
-  guess_s_.resize(kGuessTableSize);
-  for (int i = 0; i < kGuessTableSize; ++i) {
-    const double s = domain_hi_ * (i + 0.5) / kGuessTableSize;
-    const SurfacePoint sp(*mirror_, s, 0.0, nullptr);
-    const Eigen::Vector3d n = sp.outward_normal();
-    const Eigen::Vector3d u =
-        inner_->is_orthographic()
-            ? Eigen::Vector3d(0, 0, -1)
-            : (Eigen::Vector3d(0, 0, centre_M_.z()) - sp.m).normalized();
-    const Eigen::Vector3d out = 2 * u.dot(n) * n - u;
-    guess_s_[i] = s;
-    guess_angle_[i] = std::atan2(out.x(), out.z());
-  }
-  guess_decreasing_ = true;
-  for (int i = 1; i < kGuessTableSize; ++i)
-    guess_decreasing_ = guess_decreasing_ && guess_angle_[i] < guess_angle_[i - 1];
+  build_guess_table();
 }
 
-double CatadioptricCamera::initial_parameter(const Eigen::Vector3d& X_M) const {
-  const double angle = std::atan2(std::hypot(X_M.x(), X_M.y()), X_M.z() - patch_z_mid_);
-  if (guess_decreasing_) {
-    // Outgoing angles fall as s grows: interpolate between the bracketing entries.
-    const auto it = std::lower_bound(guess_angle_.begin(), guess_angle_.end(), angle,
-                                     [](double a, double b) { return a > b; });
-    if (it == guess_angle_.begin()) return guess_s_.front();
-    if (it == guess_angle_.end()) return guess_s_.back();
-    const size_t i = it - guess_angle_.begin();
-    const double f = (angle - guess_angle_[i - 1]) / (guess_angle_[i] - guess_angle_[i - 1]);
-    return guess_s_[i - 1] + f * (guess_s_[i] - guess_s_[i - 1]);
-  }
-  // Otherwise the nearest tabulated angle.
-  int best = 0;
-  double best_error = INFINITY;
+void CatadioptricCamera::build_guess_table() {
+  const bool central = !inner_->is_orthographic();
+  guess_.resize(kGuessTableSize);
+  std::vector<Eigen::Vector3d> outgoing(kGuessTableSize);
+  // The camera's sideways offset: its size, and its azimuth.
+  const Eigen::Vector3d& offset = central ? centre_M_ : toward_camera_M_;
+  const double offset_size = std::hypot(offset.x(), offset.y());
+  guess_offset_inverse_ = offset_size > 0 ? 1 / offset_size : 0.0;
   for (int i = 0; i < kGuessTableSize; ++i) {
-    const double e = std::abs(guess_angle_[i] - angle);
-    if (e < best_error) {
-      best_error = e;
-      best = i;
+    // The aligned, far-point reflection at (s, azimuth 0), where frame M is the local frame.
+    const double s = domain_hi_ * (i + 0.5) / kGuessTableSize;
+    const SurfacePoint sp(*mirror_, s, 0.0);
+    const Eigen::Vector3d n = sp.outward_normal();
+    Eigen::Vector3d u(0, 0, -1);
+    double du = 0;
+    if (central) {
+      const Eigen::Vector3d to_camera = Eigen::Vector3d(0, 0, centre_M_.z()) - sp.m;
+      du = to_camera.norm();
+      u = to_camera / du;
+    }
+    const Eigen::Vector3d out = 2 * u.dot(n) * n - u;
+    // Implicit function theorem there (dF/d(s, phi) is diagonal, w = u + out): d(s, phi)/dc =
+    // -A^-1 dF/dc for a sideways move c of the camera's centre, or of its viewing direction.
+    const Eigen::Vector3d w = u + out;
+    const double u_t = u.dot(sp.dm_ds);
+    double A00 = w.dot(sp.d2m_ds2), A11 = -w.x();
+    double dF0_dradial = sp.dm_ds.x(), dF1_dtangential = 1;
+    if (central) {
+      A00 -= (sp.dm_ds.squaredNorm() - u_t * u_t) / du;
+      A11 -= sp.meridian.rho / du;
+      dF0_dradial = (sp.dm_ds.x() - u_t * u.x()) / du;
+      dF1_dtangential /= du;
+    }
+    // To first order in the offset's size: the sin^2 and sin cos terms are second order.
+    guess_[i] = {out.x() / (1 - out.z()),
+                 s,
+                 sp.meridian.rho,
+                 sp.meridian.z,
+                 A00 != 0 ? -dF0_dradial / A00 * offset_size : 0.0,
+                 0,
+                 0,
+                 A11 != 0 ? -dF1_dtangential / A11 * offset_size : 0.0,
+                 0};
+    outgoing[i] = out;
+  }
+
+  // Keep the nodes up to where the key stops growing, resampled uniformly in the key so that a
+  // look-up is an index; when that leaves out part of the valid patch, search all the nodes for
+  // the nearest key instead.
+  size_t growing = 1;
+  while (growing < guess_.size() && std::isfinite(guess_[growing].key) &&
+         guess_[growing].key > guess_[growing - 1].key)
+    ++growing;
+  guess_monotonic_ = growing >= 2 && guess_[growing - 1].s >= mirror_->s_max();
+  if (!guess_monotonic_) return;
+  guess_.resize(growing);
+  if (offset_size > 0) refine_guess_offsets(outgoing, std::atan2(offset.y(), offset.x()));
+  const std::vector<GuessNode> by_s = guess_;
+  guess_key_min_ = by_s.front().key;
+  const double key_step = (by_s.back().key - guess_key_min_) / (kGuessKeyNodes - 1);
+  guess_key_scale_ = 1 / key_step;
+  guess_.resize(kGuessKeyNodes);
+  size_t j = 0;
+  for (int i = 0; i < kGuessKeyNodes; ++i) {
+    const double key = guess_key_min_ + key_step * i;
+    while (j + 2 < by_s.size() && by_s[j + 1].key <= key) ++j;
+    const GuessNode &a = by_s[j], &b = by_s[j + 1];
+    guess_[i] = interpolate(a, b, (key - a.key) / (b.key - a.key));
+  }
+}
+
+void CatadioptricCamera::refine_guess_offsets(const std::vector<Eigen::Vector3d>& outgoing,
+                                              double offset_azimuth) {
+  // The offset's effect, beyond first order, from exact far-point solutions with the camera's
+  // offset at psi = 0, pi/2, pi and pi/4 from the point's azimuth, fitted by
+  //   ds = a cos psi + b cos^2 psi + c sin^2 psi,  dphi = d sin psi + e sin psi cos psi.
+  // Solved at every kGuessRefineStride-th node; the nodes between get the difference from their
+  // own first-order correction interpolated, which varies slowly.
+  constexpr double kFarDistance = 1e6;  // metres: parallax far below the solver's tolerance
+  constexpr double kPsi[] = {0, M_PI / 2, M_PI, M_PI / 4};
+  const auto refined = [&](size_t i, GuessNode* refined_node) {
+    GuessNode node = guess_[i];
+    double ds[4], dphi[4];
+    for (int k = 0; k < 4; ++k) {
+      const double psi = kPsi[k], azimuth = offset_azimuth - psi;
+      const double c = std::cos(azimuth), sn = std::sin(azimuth);
+      const double rho_far = node.rho + kFarDistance * outgoing[i].x();
+      const Eigen::Vector3d X_M(rho_far * c, rho_far * sn, node.z + kFarDistance * outgoing[i].z());
+      NewtonState state;
+      state.s = node.s + node.ds_cos * std::cos(psi);
+      state.phi = node.dphi_sin * std::sin(psi);
+      if (!solve(X_M, c, sn, false, &state)) return false;
+      ds[k] = state.s - node.s;
+      dphi[k] = state.phi;
+    }
+    node.ds_cos = (ds[0] - ds[2]) / 2;
+    node.ds_cos2 = (ds[0] + ds[2]) / 2;
+    node.ds_sin2 = ds[1];
+    node.dphi_sin = dphi[1];
+    node.dphi_sincos = 2 * dphi[3] - std::sqrt(2.0) * dphi[1];
+    *refined_node = node;
+    return true;
+  };
+  // Differences refined - first order at the solved nodes (zero where a solve failed).
+  const size_t n = guess_.size();
+  std::vector<size_t> solved_at;
+  std::vector<GuessNode> difference;
+  for (size_t i = 0; i < n;
+       i += std::min<size_t>(kGuessRefineStride, std::max<size_t>(n - 1 - i, 1))) {
+    GuessNode node;
+    const GuessNode& first = guess_[i];
+    GuessNode d{};
+    if (refined(i, &node))
+      d = {0,
+           0,
+           0,
+           0,
+           node.ds_cos - first.ds_cos,
+           node.ds_cos2,
+           node.ds_sin2,
+           node.dphi_sin - first.dphi_sin,
+           node.dphi_sincos};
+    solved_at.push_back(i);
+    difference.push_back(d);
+  }
+  size_t j = 0;
+  for (size_t i = 0; i < n; ++i) {
+    while (j + 2 < solved_at.size() && solved_at[j + 1] <= i) ++j;
+    const double f =
+        solved_at.size() < 2
+            ? 0.0
+            : std::clamp(static_cast<double>(i - solved_at[j]) / (solved_at[j + 1] - solved_at[j]),
+                         0.0, 1.0);
+    const GuessNode d =
+        solved_at.size() < 2 ? difference[0] : interpolate(difference[j], difference[j + 1], f);
+    GuessNode& node = guess_[i];
+    node.ds_cos += d.ds_cos;
+    node.ds_cos2 += d.ds_cos2;
+    node.ds_sin2 += d.ds_sin2;
+    node.dphi_sin += d.dphi_sin;
+    node.dphi_sincos += d.dphi_sincos;
+  }
+}
+
+void CatadioptricCamera::initial_guess(const Eigen::Vector3d& X_M, double cos_azimuth,
+                                       double sin_azimuth, double* s,
+                                       double* azimuth_offset) const {
+  const double rho_X = cos_azimuth * X_M.x() + sin_azimuth * X_M.y();
+  // The key of the direction to X from (rho, z) in X's meridian plane.
+  const auto key_from = [&](double rho, double z) {
+    const double a = rho_X - rho, b = X_M.z() - z;
+    const double denominator = std::sqrt(a * a + b * b) - b;
+    return denominator > 0 ? a / denominator : INFINITY;
+  };
+  if (!guess_monotonic_) {
+    const double key = key_from(0, patch_z_mid_);
+    double best_error = INFINITY;
+    for (const GuessNode& node : guess_) {
+      if (std::abs(node.key - key) < best_error) {
+        best_error = std::abs(node.key - key);
+        *s = node.s;
+      }
+    }
+    *azimuth_offset = 0;
+    return;
+  }
+  // Linear interpolation between the nodes around key (the end nodes beyond them).
+  const auto look_up = [&](double key) {
+    const double t =
+        std::clamp((key - guess_key_min_) * guess_key_scale_, 0.0, kGuessKeyNodes - 1.0);
+    const int i = std::min(static_cast<int>(t), kGuessKeyNodes - 2);
+    return interpolate(guess_[i], guess_[i + 1], t - i);
+  };
+  // The direction of the camera's sideways offset from X's azimuth: cos psi, sin psi.
+  const Eigen::Vector3d& offset = inner_->is_orthographic() ? toward_camera_M_ : centre_M_;
+  const double cos_psi =
+      (cos_azimuth * offset.x() + sin_azimuth * offset.y()) * guess_offset_inverse_;
+  const double sin_psi =
+      (cos_azimuth * offset.y() - sin_azimuth * offset.x()) * guess_offset_inverse_;
+  // From the middle of the patch, then again from the mirror point found.
+  GuessNode node = look_up(key_from(0, patch_z_mid_));
+  node = look_up(key_from(node.rho, node.z));
+  *s = node.s + cos_psi * (node.ds_cos + cos_psi * node.ds_cos2) + sin_psi * sin_psi * node.ds_sin2;
+  *azimuth_offset = sin_psi * (node.dphi_sin + cos_psi * node.dphi_sincos);
+}
+
+bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, double sin_base,
+                               bool want_shape, NewtonState* state) const {
+  // Newton's method on F(s, phi) = (w . dm/ds, w . e_phi), w = unit(camera - m) + unit(X - m),
+  // worked in the frame (e_rho, e_phi, z) of the current azimuth: there m = (rho, 0, z), dm/ds =
+  // (drho, 0, dz) and d2m/ds2 = (d2rho, 0, d2z), so F and its Jacobian A reduce to a few products.
+  // dw/dm (W = -(I - v v^T)/dv - (I - u u^T)/du) enters only through such products.
+  const bool central = !inner_->is_orthographic();
+  const double s_scale = domain_hi_;
+  NewtonState& n = *state;
+  MeridianPoint& mp = n.meridian;
+  double &cos_phi = n.cos_phi, &sin_phi = n.sin_phi, &s = n.s, &phi = n.phi;
+  double *u_local = n.u_local, *v_local = n.v_local;
+  int& iteration = n.iterations;
+  bool converged = false;
+  int boundary_hits = 0;
+  for (iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
+    // With parameter Jacobians wanted, the shape derivatives come with every evaluation: the last
+    // one is at the solution, which saves evaluating the surface again.
+    mirror_->evaluate(s, &mp, want_shape ? &n.J_shape : nullptr);
+    double sin_offset, cos_offset;
+    sin_cos(phi, &sin_offset, &cos_offset);
+    cos_phi = cos_base * cos_offset - sin_base * sin_offset;
+    sin_phi = sin_base * cos_offset + cos_base * sin_offset;
+    const auto to_local = [&](const Eigen::Vector3d& x, double* out) {
+      out[0] = cos_phi * x.x() + sin_phi * x.y();
+      out[1] = cos_phi * x.y() - sin_phi * x.x();
+      out[2] = x.z();
+    };
+    to_local(X_M, v_local);
+    v_local[0] -= mp.rho;
+    v_local[2] -= mp.z;
+    const double dv = n.dv =
+        std::sqrt(v_local[0] * v_local[0] + v_local[1] * v_local[1] + v_local[2] * v_local[2]);
+    if (!(dv > 1e-12)) return false;
+    const double inv_dv = 1 / dv;
+    double inv_du = 0;  // no dw/dm term from a fixed viewing direction
+    if (central) {
+      to_local(centre_M_, u_local);
+      u_local[0] -= mp.rho;
+      u_local[2] -= mp.z;
+      const double du = n.du =
+          std::sqrt(u_local[0] * u_local[0] + u_local[1] * u_local[1] + u_local[2] * u_local[2]);
+      if (!(du > 1e-12)) return false;
+      inv_du = 1 / du;
+      for (int k = 0; k < 3; ++k) u_local[k] *= inv_du;
+    } else {
+      to_local(toward_camera_M_, u_local);
+    }
+    for (int k = 0; k < 3; ++k) v_local[k] *= inv_dv;
+    const double w0 = u_local[0] + v_local[0], w1 = u_local[1] + v_local[1],
+                 w2 = u_local[2] + v_local[2];
+    const double F0 = w0 * mp.drho + w2 * mp.dz, F1 = w1;
+    const double v_t = v_local[0] * mp.drho + v_local[2] * mp.dz;
+    const double u_t = u_local[0] * mp.drho + u_local[2] * mp.dz;
+    const double t_t = mp.drho * mp.drho + mp.dz * mp.dz;
+    const double A00 = n.A00 =
+        -(t_t - v_t * v_t) * inv_dv - (t_t - u_t * u_t) * inv_du + w0 * mp.d2rho + w2 * mp.d2z;
+    const double A10 = n.A10 = v_t * v_local[1] * inv_dv + u_t * u_local[1] * inv_du;
+    const double A01 = n.A01 = mp.rho * A10 + mp.drho * F1;
+    const double A11 = n.A11 = -mp.rho * ((1 - v_local[1] * v_local[1]) * inv_dv +
+                                          (1 - u_local[1] * u_local[1]) * inv_du) -
+                               w0;
+    const double det = A00 * A11 - A01 * A10;
+    if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
+    double step_s = -(A11 * F0 - A01 * F1) / det;
+    double step_phi = -(A00 * F1 - A10 * F0) / det;
+    if (std::abs(step_s) < kStepTolerance * s_scale && std::abs(step_phi) < kStepTolerance) {
+      converged = true;
+      break;
+    }
+    // Damp wild first steps; the solution is near the aligned guess.
+    s += std::clamp(step_s, -0.25 * s_scale, 0.25 * s_scale);
+    phi += std::clamp(step_phi, -0.5, 0.5);
+    if (s < domain_lo_ || s > domain_hi_) {
+      s = std::clamp(s, domain_lo_, domain_hi_);
+      if (++boundary_hits > 2) return false;
     }
   }
-  return guess_s_[best];
+  return converged;
 }
 
 bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
@@ -192,128 +448,104 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   const bool central = !inner_->is_orthographic();
   const bool want_jacobians = J_X || J_params;
 
-  double s = initial_parameter(X_M);
-  double phi = std::atan2(X_M.y(), X_M.x());
-  const double s_scale = domain_hi_;
-
-  // Newton's method on F(s, phi) = (w . dm/ds, w . e_phi), w = unit(camera - m) + unit(X - m).
-  MeridianShapeJacobian J_shape;
-  Eigen::Vector3d u, v, w;
-  double du = 0, dv = 0;
-  Eigen::Matrix2d A;
-  bool converged = false;
-  int iteration = 0;
-  int boundary_hits = 0;
-  SurfacePoint sp;
-  for (; iteration < kMaxNewtonIterations; ++iteration) {
-    // With parameter Jacobians wanted, the shape derivatives come with every evaluation: the last
-    // one is at the solution, which saves evaluating the surface again.
-    const bool want_shape = J_params && mirror_->num_shape_params() > 0;
-    sp = SurfacePoint(*mirror_, s, phi, want_shape ? &J_shape : nullptr);
-    if (central) {
-      const Eigen::Vector3d to_camera = centre_M_ - sp.m;
-      du = to_camera.norm();
-      u = to_camera / du;
-    } else {
-      u = toward_camera_M_;
-    }
-    const Eigen::Vector3d to_point = X_M - sp.m;
-    dv = to_point.norm();
-    if (!(dv > 1e-12) || (central && !(du > 1e-12))) return false;
-    v = to_point / dv;
-    w = u + v;
-
-    // dw/dm: unit vectors toward fixed points turn as m moves. Applied to vectors, not formed.
-    const auto apply_W = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
-      Eigen::Vector3d r = -(x - v * v.dot(x)) / dv;
-      if (central) r -= (x - u * u.dot(x)) / du;
-      return r;
-    };
-    const double rho = sp.meridian.rho, drho = sp.meridian.drho;
-    const Eigen::Vector3d W_ts = apply_W(sp.dm_ds), W_ephi = apply_W(sp.e_phi);
-    const Eigen::Vector2d F(w.dot(sp.dm_ds), w.dot(sp.e_phi));
-    A << sp.dm_ds.dot(W_ts) + w.dot(sp.d2m_ds2), rho * sp.dm_ds.dot(W_ephi) + drho * w.dot(sp.e_phi),
-        sp.e_phi.dot(W_ts), rho * sp.e_phi.dot(W_ephi) - w.dot(sp.e_rho);
-    const double det = A.determinant();
-    if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
-    Eigen::Vector2d step = -(Eigen::Matrix2d() << A(1, 1), -A(0, 1), -A(1, 0), A(0, 0)).finished() *
-                           F / det;
-    if (std::abs(step[0]) < kStepTolerance * s_scale && std::abs(step[1]) < kStepTolerance) {
-      converged = true;
-      break;
-    }
-    // Damp wild first steps; the solution is near the aligned guess.
-    step[0] = std::clamp(step[0], -0.25 * s_scale, 0.25 * s_scale);
-    step[1] = std::clamp(step[1], -0.5, 0.5);
-    s += step[0];
-    phi += step[1];
-    if (s < domain_lo_ || s > domain_hi_) {
-      s = std::clamp(s, domain_lo_, domain_hi_);
-      if (++boundary_hits > 2) return false;
-    }
-  }
-  if (!converged) return false;
+  // The azimuth is carried as an offset phi from X's own, whose cosine and sine need no
+  // trigonometry (on the axis any azimuth will do).
+  const double rho_X = std::sqrt(X_M.x() * X_M.x() + X_M.y() * X_M.y());
+  const double cos_base = rho_X > 0 ? X_M.x() / rho_X : 1.0;
+  const double sin_base = rho_X > 0 ? X_M.y() / rho_X : 0.0;
+  NewtonState state;
+  initial_guess(X_M, cos_base, sin_base, &state.s, &state.phi);
+  if (!solve(X_M, cos_base, sin_base, J_params && mirror_->num_shape_params() > 0, &state))
+    return false;
+  const double s = state.s;
+  const MeridianPoint& mp = state.meridian;
+  const MeridianShapeJacobian& J_shape = state.J_shape;
+  const double cos_phi = state.cos_phi, sin_phi = state.sin_phi, du = state.du, dv = state.dv;
+  const double *u_local = state.u_local, *v_local = state.v_local;
+  const double A00 = state.A00, A01 = state.A01, A10 = state.A10, A11 = state.A11;
+  const int iteration = state.iterations;
   // The same point named with a positive profile parameter; the derivatives below keep the
   // solver's (s, phi), which sp describes.
   const double s_positive = std::abs(s);
-  const double phi_positive = std::remainder(s < 0 ? phi + M_PI : phi, 2 * M_PI);
   if (!mirror_->is_valid_parameter(s_positive)) return false;
 
-  // The reflection must happen on the mirror's front face, seen by both camera and point.
-  const Eigen::Vector3d normal = sp.outward_normal();
-  if (!(u.dot(normal) > kMinGrazingCosine) || !(v.dot(normal) > kMinGrazingCosine)) return false;
+  // The reflection must happen on the mirror's front face, seen by both camera and point: the
+  // outward normal is (dz, 0, -drho) in the local frame.
+  const Eigen::Vector3d u_l(u_local[0], u_local[1], u_local[2]);
+  const Eigen::Vector3d v_l(v_local[0], v_local[1], v_local[2]);
+  const Eigen::Vector3d normal_l = Eigen::Vector3d(mp.dz, 0, -mp.drho).normalized();
+  if (!(u_l.dot(normal_l) > kMinGrazingCosine) || !(v_l.dot(normal_l) > kMinGrazingCosine))
+    return false;
 
-  const Eigen::Vector3d m_C = R_ * sp.m + t;
+  // The local frame in frame C: S = R [e_rho e_phi z].
+  Eigen::Matrix3d S;
+  S << cos_phi * R_.col(0) + sin_phi * R_.col(1), cos_phi * R_.col(1) - sin_phi * R_.col(0),
+      R_.col(2);
+  const Eigen::Vector3d m_C = S * Eigen::Vector3d(mp.rho, 0, mp.z) + t;
   Eigen::Matrix<double, 2, 3> J_pixel_mC;
   if (!inner_->project(m_C, pixel, want_jacobians ? &J_pixel_mC : nullptr, J_params)) return false;
-  if (reflection) *reflection = {s_positive, phi_positive, m_C, iteration};
+  if (reflection)
+    *reflection = {s_positive, std::atan2(s < 0 ? -sin_phi : sin_phi, s < 0 ? -cos_phi : cos_phi),
+                   m_C, iteration};
   if (!want_jacobians) return true;
 
-  // Implicit function theorem: d(s, phi)/dy = -A^-1 dF/dy, so dm/dy = K dF/dy (+ direct terms).
-  Eigen::Matrix<double, 3, 2> B;
-  B << sp.dm_ds, sp.meridian.rho * sp.e_phi;
-  const Eigen::Matrix<double, 3, 2> K = -B * A.inverse();
-  Eigen::Matrix<double, 2, 3> P;
-  P << sp.dm_ds.transpose(), sp.e_phi.transpose();
-  const Eigen::Matrix<double, 2, 3> dF_dXM = P * tangent_projector(v) / dv;
-  const Eigen::Matrix<double, 2, 3> J_pixel_mM = J_pixel_mC * R_;
-
-  if (J_X) *J_X = J_pixel_mM * K * dF_dXM * R_.transpose();
+  // Implicit function theorem, in the local frame: d(s, phi)/dy = -A^-1 dF/dy moves m by
+  // dm/d(s, phi) = [t, rho e_phi], t = (drho, 0, dz); so d pixel / dy = GK dF/dy (+ direct terms)
+  // with G = d pixel / d m_local and GK = -G [t, rho e_phi] A^-1.
+  const Eigen::Matrix<double, 2, 3> G = J_pixel_mC * S;
+  Eigen::Matrix2d G_dm_dsphi;
+  G_dm_dsphi << G.col(0) * mp.drho + G.col(2) * mp.dz, G.col(1) * mp.rho;
+  Eigen::Matrix2d A;
+  A << A00, A01, A10, A11;
+  const Eigen::Matrix2d GK = -G_dm_dsphi * A.inverse();
+  // dF/dX_local = P (I - v v^T) / dv, P = [t, e_phi]^T; the same with u for the camera's centre.
+  const Eigen::Vector3d tangent_l(mp.drho, 0, mp.dz);
+  const auto dF_dtarget = [&](const Eigen::Vector3d& unit, double inverse_distance) {
+    Eigen::Matrix<double, 2, 3> d;
+    d.row(0) = (tangent_l - unit * unit.dot(tangent_l)).transpose() * inverse_distance;
+    d.row(1) = (Eigen::Vector3d::UnitY() - unit * unit.y()).transpose() * inverse_distance;
+    return d;
+  };
+  const Eigen::Matrix<double, 2, 3> dF_dXl = dF_dtarget(v_l, 1 / dv);
+  const Eigen::Matrix<double, 2, 3> dF_dX_C = dF_dXl * S.transpose();
+  if (J_X) *J_X = GK * dF_dX_C;
   if (!J_params) return true;
 
-  Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic>> J(J_params, 2, num_params());
   // The inner camera's columns were written by inner_->project.
-
   const int ns = mirror_->num_shape_params();
-  if (ns > 0) {
-    Eigen::Matrix3d W = -tangent_projector(v) / dv;
-    if (central) W -= tangent_projector(u) / du;
-    for (int j = 0; j < ns; ++j) {
-      const Eigen::Vector3d dm = sp.e_rho * J_shape(0, j) + Eigen::Vector3d::UnitZ() * J_shape(1, j);
-      const Eigen::Vector3d dts =
-          sp.e_rho * J_shape(2, j) + Eigen::Vector3d::UnitZ() * J_shape(3, j);
-      const Eigen::Vector2d dF(sp.dm_ds.dot(W * dm) + w.dot(dts), sp.e_phi.dot(W * dm));
-      J.col(shape_param_offset() + j) = J_pixel_mM * (K * dF + dm);
-    }
+  const double inv_dv = 1 / dv, inv_du = central ? 1 / du : 0.0;
+  const Eigen::Vector3d w_l = u_l + v_l;
+  for (int j = 0; j < ns; ++j) {
+    // The surface point and its tangent move in the meridian plane; dw/dm = W applied to that.
+    const Eigen::Vector3d dm(J_shape(0, j), 0, J_shape(1, j));
+    const Eigen::Vector3d W_dm =
+        -(dm - v_l * v_l.dot(dm)) * inv_dv - (dm - u_l * u_l.dot(dm)) * inv_du;
+    const double w_dtangent = w_l.x() * J_shape(2, j) + w_l.z() * J_shape(3, j);
+    const Eigen::Vector2d dF(tangent_l.dot(W_dm) + w_dtangent, W_dm.y());
+    Eigen::Map<Eigen::Vector2d>(J_params + 2 * (shape_param_offset() + j)) = GK * dF + G * dm;
   }
 
-  // Mirror pose: X_M = R^T (X - t); camera centre c_M = -R^T t; toward-camera u_M = -R^T z.
-  const Eigen::Matrix<double, 2, 3> dF_dcentre =
-      central ? Eigen::Matrix<double, 2, 3>(P * tangent_projector(u) / du)
-              : Eigen::Matrix<double, 2, 3>::Zero();
+  // Mirror pose: X_M = R^T (X - t); the camera's centre -R^T t, or its direction -R^T z.
+  const Eigen::Matrix<double, 2, 3> dF_dcamera_l =
+      central ? dF_dtarget(u_l, inv_du)
+              : (Eigen::Matrix<double, 2, 3>() << tangent_l.transpose(), 0, 1, 0).finished();
+  const auto to_local = [&](const Eigen::Vector3d& x) {
+    return Eigen::Vector3d(cos_phi * x.x() + sin_phi * x.y(), cos_phi * x.y() - sin_phi * x.x(),
+                           x.z());
+  };
+  const Eigen::Vector3d m_M(cos_phi * mp.rho, sin_phi * mp.rho, mp.z);
   const int po = pose_param_offset();
   const Eigen::Matrix3d* dRs[2] = {&dR_drx_, &dR_dry_};
   for (int j = 0; j < 2; ++j) {
-    const Eigen::Matrix3d dRt = dRs[j]->transpose();
-    Eigen::Vector2d dF = dF_dXM * (dRt * (X - t));
-    if (central)
-      dF += dF_dcentre * (-dRt * t);
-    else
-      dF += P * (-dRt.col(2));
-    J.col(po + j) = J_pixel_mC * (*dRs[j] * sp.m + R_ * (K * dF));
+    const Eigen::Vector2d dF =
+        dF_dXl * to_local(dRs[j]->transpose() * (X - t)) + dF_dcamera_l * to_local(dcamera_M_[j]);
+    Eigen::Map<Eigen::Vector2d>(J_params + 2 * (po + j)) = J_pixel_mC * (*dRs[j] * m_M) + GK * dF;
   }
-  const Eigen::Matrix<double, 2, 3> dF_dt = -(dF_dXM + dF_dcentre) * R_.transpose();
-  J.middleCols<3>(po + 2) = J_pixel_mC * (Eigen::Matrix3d::Identity() + R_ * K * dF_dt);
+  Eigen::Map<Eigen::Matrix<double, 2, 3>> J_t(J_params + 2 * (po + 2));
+  if (central)
+    J_t = J_pixel_mC - GK * ((dF_dXl + dF_dcamera_l) * S.transpose());
+  else
+    J_t = J_pixel_mC - GK * dF_dX_C;
   return true;
 }
 
@@ -398,7 +630,7 @@ bool CatadioptricCamera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d
   const Eigen::Vector3d p = o + lambda * d;
   const double s = mirror_->parameter_at(std::hypot(p.x(), p.y()), p.z());
   if (!mirror_->is_valid_parameter(s)) return false;
-  const SurfacePoint sp(*mirror_, s, std::atan2(p.y(), p.x()), nullptr);
+  const SurfacePoint sp(*mirror_, s, std::atan2(p.y(), p.x()));
   const Eigen::Vector3d normal = sp.outward_normal();
   const double incidence = d.dot(normal);
   if (!(incidence < -kMinGrazingCosine)) return false;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sin_cos.h"
+
 namespace omnisfm::camera {
 namespace {
 
@@ -66,12 +68,15 @@ double EquiangularProfile::radius(double theta) const {
 void EquiangularProfile::evaluate(double theta, MeridianPoint* p,
                                   MeridianShapeJacobian* J_shape) const {
   const double k = 0.5 * (1 + alpha_);
-  const double ck = std::cos(k * theta);
-  const double tk = std::sin(k * theta) / ck;
-  const double r = r0_ * std::pow(ck, -1.0 / k);
+  double sk, ck, st, ct;
+  sin_cos(k * theta, &sk, &ck);
+  sin_cos(theta, &st, &ct);
+  const double tk = sk / ck;
+  // cos(k theta)^(-1/k) through its logarithm, which the shape derivative reuses.
+  const double log_ck = std::log(ck);
+  const double r = r0_ * std::exp(log_ck * (-1 / k));
   const double dr = r * tk;                         // dr/dtheta
   const double d2r = r * (tk * tk + k * (1 + tk * tk));
-  const double st = std::sin(theta), ct = std::cos(theta);
 
   p->rho = r * st;
   p->z = r * ct;
@@ -82,7 +87,7 @@ void EquiangularProfile::evaluate(double theta, MeridianPoint* p,
 
   if (J_shape) {
     // alpha enters through k = (1 + alpha)/2; r is proportional to r0.
-    const double dr_dk = r * (std::log(ck) / (k * k) + theta * tk / k);
+    const double dr_dk = r * (log_ck / (k * k) + theta * tk / k);
     const double ddr_dk = dr_dk * tk + r * theta * (1 + tk * tk);
     J_shape->setZero();
     J_shape->col(0) << 0.5 * dr_dk * st, 0.5 * dr_dk * ct, 0.5 * (ddr_dk * st + dr_dk * ct),

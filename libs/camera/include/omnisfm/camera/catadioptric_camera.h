@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "omnisfm/camera/inner_camera.h"
@@ -78,7 +79,17 @@ class CatadioptricCamera {
  private:
   // Rebuilds what is derived from the parameters: rotation, the starting-guess table.
   void refresh();
-  double initial_parameter(const Eigen::Vector3d& X_M) const;
+  // The starting point of the Newton solve for X_M: profile parameter, and azimuth relative to
+  // X_M's own, whose cosine and sine are given.
+  void initial_guess(const Eigen::Vector3d& X_M, double cos_azimuth, double sin_azimuth,
+                     double* s, double* azimuth_offset) const;
+  void build_guess_table();
+  void refine_guess_offsets(const std::vector<Eigen::Vector3d>& outgoing, double offset_azimuth);
+  // Newton's method on the incidence = reflection equations for X_M, from state's (s, phi), phi
+  // relative to the azimuth whose cosine and sine are given. Returns false without convergence.
+  struct NewtonState;
+  bool solve(const Eigen::Vector3d& X_M, double cos_base, double sin_base, bool want_shape,
+             NewtonState* state) const;
 
   std::unique_ptr<InnerCamera> inner_;
   std::unique_ptr<MirrorProfile> mirror_;
@@ -90,12 +101,30 @@ class CatadioptricCamera {
   Eigen::Matrix3d dR_drx_, dR_dry_;
   Eigen::Vector3d centre_M_;            // inner camera centre in frame M (central cameras)
   Eigen::Vector3d toward_camera_M_;     // -z of C in frame M (orthographic cameras)
+  Eigen::Vector3d dcamera_M_[2];        // d centre_M_ (or toward_camera_M_) / d rx, ry
   double domain_lo_ = 0, domain_hi_ = 0;
   double patch_z_mid_ = 0;              // a representative height of the valid patch
   double box_rho_max_ = 0, box_z_min_ = 0, box_z_max_ = 0;  // bounding region of the patch
-  // Aligned, far-point starting guess: outgoing polar angle (decreasing) -> profile parameter.
-  std::vector<double> guess_angle_, guess_s_;
-  bool guess_decreasing_ = false;
+  // The starting guess: the far-point solution of the mirror aligned with a camera on its axis at
+  // the actual height, tabulated with key = tan(b / 2), b the outgoing ray's angle from -z
+  // (no flat spot at b = 0, unlike cos b). Each node also holds the mirror point, for a second
+  // look-up from it (parallax of near points), and the change of the solution with the camera's
+  // sideways offset from the axis (its centre, or for an orthographic camera its viewing
+  // direction): to first order by the implicit function theorem, refined by exact far-point
+  // solutions where the camera is misaligned.
+  struct GuessNode {
+    double key, s, rho, z;
+    // Change of the solution with the offset at angle psi from the point's azimuth (see
+    // refine_guess_offsets): ds = ds_cos cos psi + ds_cos2 cos^2 psi + ds_sin2 sin^2 psi,
+    // dphi = dphi_sin sin psi + dphi_sincos sin psi cos psi.
+    double ds_cos, ds_cos2, ds_sin2, dphi_sin, dphi_sincos;
+  };
+  // Uniform in the key from guess_key_min_, guess_key_scale_ nodes per unit, while the key grows
+  // with s; otherwise (guess_monotonic_ false) uniform in s.
+  std::vector<GuessNode> guess_;
+  bool guess_monotonic_ = false;
+  double guess_key_min_ = 0, guess_key_scale_ = 0;
+  double guess_offset_inverse_ = 0;  // 1 / size of the camera's sideways offset (0 if none)
 };
 
 }  // namespace omnisfm::camera
