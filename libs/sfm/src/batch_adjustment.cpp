@@ -69,15 +69,20 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   if (problem.HasParameterBlock(poses[0].data())) problem.SetParameterBlockConstant(poses[0].data());
 
   ceres::Solver::Options options;
-  options.linear_solver_type = poses.size() <= 300 ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
-  // Eliminate whichever side leaves the smaller reduced system: long tracks make it dense. Poses
-  // never share a residual, nor do points, so either is an independent set.
+  // The reduced system of a Schur solver is dense when tracks are long (every point seen from
+  // most frames), and forming and factoring it costs more than the whole evaluation. Conjugate
+  // gradients on it, with its block diagonal as preconditioner, never form it; a small forcing
+  // term keeps the steps as good as a direct solve's, so Levenberg-Marquardt takes as many.
+  options.linear_solver_type = ceres::ITERATIVE_SCHUR;
+  options.preconditioner_type = ceres::SCHUR_JACOBI;
+  options.eta = 1e-4;
+  // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels). Poses never share a
+  // residual, nor do points, so the points are an independent set.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  const bool eliminate_poses = 6 * poses.size() > 3 * points.size();
-  for (auto& v : poses)
-    if (problem.HasParameterBlock(v.data())) ordering->AddElementToGroup(v.data(), eliminate_poses ? 0 : 1);
   for (auto& [track, p] : points)
-    if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), eliminate_poses ? 1 : 0);
+    if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), 0);
+  for (auto& v : poses)
+    if (problem.HasParameterBlock(v.data())) ordering->AddElementToGroup(v.data(), 1);
   options.linear_solver_ordering = ordering;
   options.max_num_iterations = settings.max_iterations;
   options.num_threads = 2;
