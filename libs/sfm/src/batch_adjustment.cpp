@@ -87,7 +87,10 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   options.max_num_iterations = settings.max_iterations;
   options.num_threads = 2;
   options.logging_type = ceres::SILENT;
-  options.function_tolerance = 1e-10;
+  // Below a relative change of 1e-8 the cost (under 10^4 squared pixels here) moves by less than
+  // 1e-4 squared pixels per iteration: on long drives Levenberg-Marquardt would creep along the weakly
+  // observed scale for hundreds of iterations without changing the estimate.
+  options.function_tolerance = 1e-8;
   options.parameter_tolerance = 1e-10;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
