@@ -1,53 +1,72 @@
 #!/bin/sh
-# The estimators' speed plots from one sfm_bench run written as CSV:
-#   sfm_bench --benchmark_out=sfm_bench.csv --benchmark_out_format=csv
-#   bench/plot_sfm_bench.sh sfm_bench.csv share/omnisfm/figures
-# writes DIR/sfm-filter-time-vs-points.png (the filter's time per frame against the number of
+# The estimators' speed plots from one sfm_bench run written as JSON:
+#   sfm_bench --benchmark_out=sfm_bench.json --benchmark_out_format=json
+#   bench/plot_sfm_bench.sh sfm_bench.json share/omnisfm/figures
+# writes DIR/sfm-filter-time-vs-points.png (the filter's CPU time per frame against the number of
 # points) and DIR/sfm-batch-time-vs-images.png (the batch to convergence against the images).
 set -eu
 if [ $# -ne 2 ] || [ ! -r "$1" ]; then
-  echo "usage: $0 SFM_BENCH_CSV OUT_DIR" >&2
+  echo "usage: $0 SFM_BENCH_JSON OUT_DIR" >&2
   exit 2
 fi
-csv=$1
+json=$1
 out=$2
 mkdir -p "$out"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# Google Benchmark's CSV: name,iterations,real_time,cpu_time,time_unit,...; the header names the
-# counters' columns. Names are quoted and carry the argument after a slash.
-awk -F, -v dir="$work" '
-  NR == 1 || !/^"BM_/ { if ($1 == "name") for (i = 1; i <= NF; ++i) col[$i] = i; next }
-  {
-    name = $1; gsub(/"/, "", name); split(name, part, "/")
-    if (part[1] == "BM_FilterFrame") print part[2], $(col["\"s_per_frame\""]) * 1000 > dir "/filter.dat"
-    if (part[1] == "BM_BatchScaled") print part[2], $3 / 1000, $4 / 1000 > dir "/batch.dat"
-  }' "$csv"
-for f in filter batch; do
-  if [ ! -s "$work/$f.dat" ]; then
-    echo "$csv: no BM_$( [ $f = filter ] && echo FilterFrame || echo BatchScaled) rows" >&2
-    exit 2
-  fi
-done
+python3 - "$json" "$work" <<'EOF'
+import json, sys
+path, work = sys.argv[1], sys.argv[2]
+try:
+    runs = json.load(open(path))["benchmarks"]
+except (OSError, ValueError, KeyError) as e:
+    sys.exit(f"{path}: not a Google Benchmark JSON output ({e})")
+tables = {"filter": [], "filter1": [], "batch": []}
+for r in runs:
+    if r.get("run_type") == "aggregate" and r.get("aggregate_name") != "median":
+        continue
+    family, _, arg = r["name"].partition("/")
+    arg = arg.split("/")[0]
+    scale = {"ms": 1e-3, "us": 1e-6, "ns": 1e-9, "s": 1.0}[r["time_unit"]]
+    if family == "BM_FilterFrame":
+        tables["filter"].append((int(arg), 1e3 * r["s_per_frame"]))
+    elif family == "BM_FilterFrameOneIteration":
+        tables["filter1"].append((int(arg), 1e3 * r["s_per_frame"]))
+    elif family == "BM_BatchScaled":
+        tables["batch"].append((int(arg), scale * r["real_time"], scale * r["cpu_time"]))
+for name in ("filter", "batch"):
+    if not tables[name]:
+        sys.exit(f"{path}: no {'BM_FilterFrame' if name == 'filter' else 'BM_BatchScaled'} results")
+for name, rows in tables.items():
+    with open(f"{work}/{name}.dat", "w") as f:
+        for row in sorted(rows):
+            f.write(" ".join(str(v) for v in row) + "\n")
+EOF
 
+one_iteration=""
+if [ -s "$work/filter1.dat" ]; then
+  one_iteration=", \"$work/filter1.dat\" using 1:2 with linespoints lw 2 pt 5 title \"one iteration (classic EKF)\""
+fi
 gnuplot <<EOF
 set terminal pngcairo size 800,560
 set grid
 set key top left
 set output "$work/filter.png"
-set title "Online filter: time per frame (one core)"
+set title "Online filter: CPU time per frame (one core)"
 set xlabel "points in the state"
 set ylabel "ms per frame"
-plot "$work/filter.dat" using 1:2 with linespoints lw 2 pt 7 title "measured", \
-     3 with lines dt 2 lc rgb "red" title "goal at 112 points"
+set logscale y
+plot "$work/filter.dat" using 1:2 with linespoints lw 2 pt 7 title "iterated update (default)" $one_iteration, \
+     3 with lines dt 2 lc rgb "red" title "goal at 112 points: 3 ms"
+unset logscale y
 set output "$work/batch.png"
 set title "Batch adjustment to convergence (tracks about 30 images long)"
 set xlabel "images (as many points)"
 set ylabel "seconds"
 plot "$work/batch.dat" using 1:2 with linespoints lw 2 pt 7 title "wall", \
      "$work/batch.dat" using 1:3 with linespoints lw 2 pt 5 title "CPU (2 threads)", \
-     60 with lines dt 2 lc rgb "red" title "goal at 2,000 images"
+     60 with lines dt 2 lc rgb "red" title "goal at 2,000 images: 60 s"
 EOF
 mv "$work/filter.png" "$out/sfm-filter-time-vs-points.png"
 mv "$work/batch.png" "$out/sfm-batch-time-vs-images.png"

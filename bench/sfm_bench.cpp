@@ -51,12 +51,15 @@ FilterInput rover_frames(int count) {
   return input;
 }
 
-// Time per frame of the filter once every point is in the state (the frames after the first).
-void BM_FilterFrame(benchmark::State& state) {
+// Time per frame of the filter once every point is in the state (the frames after the first),
+// with the default settings or with `update_iterations` changed.
+void filter_frames(benchmark::State& state, int update_iterations) {
   const FilterInput input = rover_frames(static_cast<int>(state.range(0)));
+  sfm::FilterSettings settings;
+  if (update_iterations > 0) settings.update_iterations = update_iterations;
   for (auto _ : state) {
     state.PauseTiming();
-    sfm::OnlineFilter filter(input.camera, sfm::FilterSettings());
+    sfm::OnlineFilter filter(input.camera, settings);
     filter.process_frame(0, input.frames[0]);
     state.ResumeTiming();
     for (size_t f = 1; f < 21; ++f) filter.process_frame(static_cast<int>(f), input.frames[f]);
@@ -65,7 +68,13 @@ void BM_FilterFrame(benchmark::State& state) {
   state.counters["s_per_frame"] = benchmark::Counter(
       20.0 * state.iterations(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+void BM_FilterFrame(benchmark::State& state) { filter_frames(state, 0); }
 BENCHMARK(BM_FilterFrame)->Arg(30)->Arg(60)->Arg(112)->Arg(200)->Unit(benchmark::kMillisecond);
+
+// The classic EKF: one linearisation per frame instead of the iterated update.
+void BM_FilterFrameOneIteration(benchmark::State& state) { filter_frames(state, 1); }
+BENCHMARK(BM_FilterFrameOneIteration)->Arg(30)->Arg(60)->Arg(112)->Arg(200)
+    ->Unit(benchmark::kMillisecond);
 
 struct BatchInput {
   camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
