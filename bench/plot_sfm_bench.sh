@@ -3,7 +3,7 @@
 #   sfm_bench --benchmark_out=sfm_bench.json --benchmark_out_format=json
 #   bench/plot_sfm_bench.sh sfm_bench.json share/omnisfm/figures
 # writes DIR/sfm-filter-time-vs-points.png (the filter's CPU time per frame against the number of
-# points) and DIR/sfm-batch-time-vs-images.png (the batch to convergence against the images).
+# points) and DIR/sfm-batch-time-vs-images.png (the batch against the number of images).
 set -eu
 if [ $# -ne 2 ] || [ ! -r "$1" ]; then
   echo "usage: $0 SFM_BENCH_JSON OUT_DIR" >&2
@@ -11,17 +11,21 @@ if [ $# -ne 2 ] || [ ! -r "$1" ]; then
 fi
 json=$1
 out=$2
-mkdir -p "$out"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 python3 - "$json" "$work" <<'EOF'
 import json, sys
 path, work = sys.argv[1], sys.argv[2]
+
+def fail(message):
+    print(f"{path}: {message}", file=sys.stderr)
+    sys.exit(2)
+
 try:
     runs = json.load(open(path))["benchmarks"]
 except (OSError, ValueError, KeyError) as e:
-    sys.exit(f"{path}: not a Google Benchmark JSON output ({e})")
+    fail(f"not a Google Benchmark JSON output ({e})")
 tables = {"filter": [], "filter1": [], "batch": []}
 for r in runs:
     if r.get("run_type") == "aggregate" and r.get("aggregate_name") != "median":
@@ -37,7 +41,7 @@ for r in runs:
         tables["batch"].append((int(arg), scale * r["real_time"], scale * r["cpu_time"]))
 for name in ("filter", "batch"):
     if not tables[name]:
-        sys.exit(f"{path}: no {'BM_FilterFrame' if name == 'filter' else 'BM_BatchScaled'} results")
+        fail(f"no {'BM_FilterFrame' if name == 'filter' else 'BM_BatchScaled'} results")
 for name, rows in tables.items():
     with open(f"{work}/{name}.dat", "w") as f:
         for row in sorted(rows):
@@ -61,12 +65,13 @@ plot "$work/filter.dat" using 1:2 with linespoints lw 2 pt 7 title "iterated upd
      3 with lines dt 2 lc rgb "red" title "goal at 112 points: 3 ms"
 unset logscale y
 set output "$work/batch.png"
-set title "Batch adjustment to convergence (tracks about 30 images long)"
+set title "Batch adjustment on long drives (tracks about 30 images long, at most 200 iterations)"
 set xlabel "images (as many points)"
 set ylabel "seconds"
 plot "$work/batch.dat" using 1:2 with linespoints lw 2 pt 7 title "wall", \
      "$work/batch.dat" using 1:3 with linespoints lw 2 pt 5 title "CPU (2 threads)", \
      60 with lines dt 2 lc rgb "red" title "goal at 2,000 images: 60 s"
 EOF
+mkdir -p "$out"
 mv "$work/filter.png" "$out/sfm-filter-time-vs-points.png"
 mv "$work/batch.png" "$out/sfm-batch-time-vs-images.png"
