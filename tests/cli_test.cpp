@@ -17,6 +17,7 @@
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/io/tracks_file.h"
+#include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
 
 namespace {
@@ -397,9 +398,23 @@ TEST_F(CliTest, SfmThenEvalOnASimulatedCrane) {
       "crane/ground_truth.tum --out result");
   ASSERT_EQ(run.status, 0) << run.err;
   for (const char* file : {"online.tum", "batch.tum", "points.vnl", "points.ply", "outliers.vnl",
-                           "report.txt", "motion.png", "path.png"})
+                           "report.txt", "motion.png", "path.png", "residuals.png",
+                           "residuals_per_frame.png"})
     EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
   EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 10u);
+  // The plotted residuals are the batch's: their RMS is the tracks' 0.2 px noise (within 15 %).
+  const VnlogTable residuals = VnlogTable::read((dir_ / "result/residuals.vnl").string());
+  ASSERT_GT(residuals.num_rows(), 1000u);
+  const std::vector<double> du = residuals.numbers("du"), dv = residuals.numbers("dv"),
+                            outlier = residuals.numbers("outlier");
+  double sum_sq = 0;
+  int n = 0;
+  for (size_t i = 0; i < du.size(); ++i) {
+    if (outlier[i] != 0) continue;
+    sum_sq += du[i] * du[i] + dv[i] * dv[i];
+    n += 2;
+  }
+  EXPECT_NEAR(std::sqrt(sum_sq / n), 0.2, 0.03);
   const Outcome figures =
       omnisfm("eval --estimate result/batch.tum --ground-truth crane/ground_truth.tum");
   ASSERT_EQ(figures.status, 0) << figures.err;
@@ -650,6 +665,137 @@ TEST_F(CliTest, TrackRejectsBadImagesAndWritesNothing) {
   }
   const Outcome nowhere = omnisfm("track --images big/images --out no/such/tracks.vnl");
   EXPECT_EQ(nowhere.status, 2) << nowhere.err;
+}
+
+// The rows of a vnlog file's columns, by name.
+std::vector<std::vector<double>> columns_of(const fs::path& file,
+                                            const std::vector<std::string>& names) {
+  const VnlogTable table = VnlogTable::read(file.string());
+  std::vector<std::vector<double>> out;
+  for (const auto& name : names) out.push_back(table.numbers(name));
+  return out;
+}
+
+TEST_F(CliTest, RunReplaysTheOutdoorRoverWithGps) {
+  const Outcome simulated = omnisfm("simulate --scenario rover --out rover --rawlog --gps");
+  ASSERT_EQ(simulated.status, 0) << simulated.err;
+  EXPECT_NE(simulated.err.find("and 75 GPS readings"), std::string::npos) << simulated.err;
+  const Outcome run =
+      omnisfm("run rover/dataset.rawlog --out result --ground-truth rover/ground_truth.tum");
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const char* file : {"online.tum", "batch.tum", "points.vnl", "points.ply", "outliers.vnl",
+                           "report.txt", "scene.3Dscene", "geodetic.vnl"})
+    EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
+  EXPECT_NE(run.out.find("746 odometry, 7451 gyro, 75 GPS readings"), std::string::npos) << run.out;
+  EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 7u);
+  // "batch   translation 0.0005 m mean (0.013% of 3.91 m) ...": the paper's figure is 1.02 %.
+  EXPECT_LT(figure_after(run.out, "batch   translation "), 0.04) << run.out;
+  // The scene is MRPT's gzip-compressed archive (plugin tests load it back in MRPT).
+  const std::string scene = read_all(dir_ / "result/scene.3Dscene");
+  ASSERT_GT(scene.size(), 2u);
+  EXPECT_EQ(static_cast<unsigned char>(scene[0]), 0x1f);
+  EXPECT_EQ(static_cast<unsigned char>(scene[1]), 0x8b);
+
+  // The geodetic trajectory against the truth: within the GPS's 2 cm noise.
+  const auto estimate =
+      columns_of(dir_ / "result/geodetic.vnl", {"timestamp", "latitude", "longitude", "height"});
+  const auto truth = columns_of(dir_ / "rover/ground_truth_geodetic.vnl",
+                                {"timestamp", "latitude", "longitude", "height"});
+  ASSERT_EQ(estimate[0].size(), 150u);
+  ASSERT_EQ(truth[0].size(), 150u);
+  constexpr double kMetresPerDegreeLatitude = 111034;  // at 40.44 degrees north
+  const double metres_per_degree_longitude = 111320 * std::cos(40.4435 * M_PI / 180);
+  double sum = 0, worst = 0;
+  for (size_t f = 0; f < 150; ++f) {
+    EXPECT_DOUBLE_EQ(estimate[0][f], truth[0][f]);
+    const double north = (estimate[1][f] - truth[1][f]) * kMetresPerDegreeLatitude;
+    const double east = (estimate[2][f] - truth[2][f]) * metres_per_degree_longitude;
+    const double horizontal = std::hypot(north, east);
+    sum += horizontal;
+    worst = std::max(worst, horizontal);
+    EXPECT_LT(std::abs(estimate[3][f] - truth[3][f]), 0.1) << f;
+  }
+  EXPECT_LT(sum / 150, 0.02);
+  EXPECT_LT(worst, 0.06);
+}
+
+TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
+  const Outcome simulated = omnisfm("simulate --scenario lab --out lab --rawlog --render");
+  ASSERT_EQ(simulated.status, 0) << simulated.err;
+  write("images.ini", "[run]\nvision = images\n");
+  const Outcome run = omnisfm(
+      "run lab/dataset.rawlog --out result --config images.ini --ground-truth "
+      "lab/ground_truth.tum");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("vision from images"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("frames 41,"), std::string::npos) << run.out;
+  // Measured 0.011 % (similarity) and 0.30 % (rigid: the odometry reads 1.5 % long); the paper's
+  // lab figure is 0.12 %.
+  EXPECT_LT(figure_after(run.out, "batch   translation "), 0.12) << run.out;
+  const size_t rigid = run.out.find("batch/rigid translation ");
+  ASSERT_NE(rigid, std::string::npos) << run.out;
+  const size_t open = run.out.find("m mean (", rigid);
+  EXPECT_LT(std::stod(run.out.substr(open + 8)), 1.02) << run.out;
+
+  // The track verb reads the same rawlog's images, with the model they carry.
+  fs::create_directories(dir_ / "tracked");
+  const Outcome tracked = omnisfm("track --images lab/dataset.rawlog --out tracked/tracks.vnl");
+  ASSERT_EQ(tracked.status, 0) << tracked.err;
+  EXPECT_EQ(VnlogTable::read((dir_ / "tracked/frames.vnl").string()).num_rows(), 41u);
+  const Outcome sfm = omnisfm(
+      "sfm --camera lab/camera.ini --tracks tracked/tracks.vnl --out tracked/sfm "
+      "--ground-truth lab/ground_truth.tum");
+  ASSERT_EQ(sfm.status, 0) << sfm.err;
+  EXPECT_LT(figure_after(sfm.out, "batch   translation "), 0.12) << sfm.out;
+}
+
+TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);
+  const fs::path rawlog = dir_ / "lab/dataset.rawlog";
+  fs::resize_file(rawlog, fs::file_size(rawlog) * 6 / 10);
+  const Outcome run = omnisfm("run lab/dataset.rawlog --out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("warning: "), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("lab/dataset.rawlog: object "), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("truncated"), std::string::npos) << run.err;
+  EXPECT_EQ(read_all(dir_ / "result/report.txt").rfind("rawlog damaged: ", 0), 0u);
+  const size_t frames =
+      omnisfm::io::read_tum_trajectory((dir_ / "result/online.tum").string()).size();
+  EXPECT_GT(frames, 5u);
+  EXPECT_LT(frames, 41u);
+
+  const Outcome strict = omnisfm("run lab/dataset.rawlog --out strict --strict");
+  EXPECT_EQ(strict.status, 2);
+  EXPECT_NE(strict.err.find("truncated"), std::string::npos) << strict.err;
+  EXPECT_FALSE(fs::exists(dir_ / "strict"));
+}
+
+TEST_F(CliTest, RunRejectsBadInputAndWritesNothing) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);
+  const Outcome missing = omnisfm("run no/such.rawlog --out result");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("no/such.rawlog"), std::string::npos) << missing.err;
+
+  write("typo.ini", "[run]\nvision = auto\ngyro_nosie_density = 1e-4\n");
+  const Outcome typo = omnisfm("run lab/dataset.rawlog --out result --config typo.ini");
+  EXPECT_EQ(typo.status, 2);
+  EXPECT_NE(typo.err.find("typo.ini:3:"), std::string::npos) << typo.err;
+
+  write("section.ini", "[smf]\npixel_sigma = 0.3\n");
+  const Outcome section = omnisfm("run lab/dataset.rawlog --out result --config section.ini");
+  EXPECT_EQ(section.status, 2);
+  EXPECT_NE(section.err.find("section.ini:1: unknown section [smf]"), std::string::npos)
+      << section.err;
+
+  write("not.rawlog", "this is not a rawlog at all\n");
+  const Outcome garbage = omnisfm("run not.rawlog --out result");
+  EXPECT_EQ(garbage.status, 2);
+  EXPECT_NE(garbage.err.find("object 0"), std::string::npos) << garbage.err;
+  EXPECT_FALSE(fs::exists(dir_ / "result"));
+
+  const Outcome help = omnisfm("run --help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("damaged object"), std::string::npos) << help.out;
 }
 
 }  // namespace

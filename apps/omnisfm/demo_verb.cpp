@@ -27,6 +27,7 @@
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
 #include "output_folder.h"
+#include "residual_plots.h"
 #include "sfm_outputs.h"
 #include "trajectory_plots.h"
 #include "verbs.h"
@@ -150,10 +151,13 @@ void add_demo_verb(CLI::App& app) {
         report << figures_line("online", online) << figures_line("batch", batch);
         fs::create_directories(dir / "sfm");
         write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());
-        const bool plotted = write_trajectory_plots(
+        const bool residuals_plotted = write_residual_plots(
+            (dir / "sfm").string(), d.camera, tracked.observations, r, true);
+        const bool trajectories_plotted = write_trajectory_plots(
             (dir / "sfm").string(), d.world_from_cam,
             {{"online", world_from_cam(r.online_cam_from_world), online.alignment},
              {"batch", world_from_cam(r.batch.cam_from_world), batch.alignment}});
+        const bool plotted = residuals_plotted && trajectories_plotted;
 
         char line[256];
         std::snprintf(line, sizeof line,
@@ -186,7 +190,7 @@ void add_demo_verb(CLI::App& app) {
               << tracking.str() << "Wrote " << *out
               << "/: per experiment the dataset with its rendered images, the tracks from them "
                  "(track/), and the shape-from-motion results on those tracks (sfm/, with "
-                 "motion.png and path.png).\n";
+                 "motion.png, path.png, residuals.png and residuals_per_frame.png).\n";
   });
 }
 

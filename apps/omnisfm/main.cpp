@@ -21,6 +21,9 @@ int main(int argc, char** argv) {
   omnisfm::app::add_demo_verb(app);
   omnisfm::app::add_export_mrcal_verb(app);
   omnisfm::app::add_track_verb(app);
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+  omnisfm::app::add_run_verb(app);
+#endif
 
   try {
     app.parse(argc, argv);

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
 
@@ -35,6 +36,29 @@ std::string figures_line(const char* name, const eval::TrajectoryErrors& e) {
                 e.distance_travelled_m, e.mean_rotation_error_deg, e.mean_yaw_error_deg,
                 e.rotation_spread_deg, e.alignment.scale);
   return line;
+}
+
+TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
+                                   const std::vector<io::StampedPose>& truth,
+                                   const std::string& truth_file, bool rigid_too) {
+  if (truth.size() != static_cast<size_t>(result.num_frames))
+    throw io::InputError(truth_file, 0,
+                         "has " + std::to_string(truth.size()) + " poses for " +
+                             std::to_string(result.num_frames) + " frames");
+  TruthComparison comparison;
+  for (const auto& p : truth) comparison.truth.push_back(p.world_from_cam);
+  const auto compare = [&](const char* name, const std::vector<Eigen::Isometry3d>& cam_from_world) {
+    const auto estimate = world_from_cam(cam_from_world);
+    const auto similar = eval::trajectory_errors(estimate, comparison.truth, true);
+    comparison.report += figures_line(name, similar);
+    comparison.plotted.push_back({name, estimate, similar.alignment});
+    if (rigid_too)
+      comparison.report += figures_line((std::string(name) + "/rigid").c_str(),
+                                        eval::trajectory_errors(estimate, comparison.truth, false));
+  };
+  compare("online", result.online_cam_from_world);
+  if (batch_ran) compare("batch", result.batch.cam_from_world);
+  return comparison;
 }
 
 void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,

@@ -5,7 +5,9 @@
 #include <vector>
 
 #include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/sfm/pipeline.h"
+#include "trajectory_plots.h"
 
 namespace omnisfm::app {
 
@@ -19,5 +21,17 @@ std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3
 
 // One line of the paper's figures.
 std::string figures_line(const char* name, const eval::TrajectoryErrors& e);
+
+// The result against a ground-truth trajectory (paired frame by frame), after a similarity
+// alignment and, with `rigid_too`, a rigid one (for estimates whose scale is known).
+struct TruthComparison {
+  std::string report;  // one figures_line per estimate
+  std::vector<PlottedTrajectory> plotted;
+  std::vector<Eigen::Isometry3d> truth;
+};
+// Throws io::InputError naming `truth_file` when it has another number of poses than frames.
+TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
+                                   const std::vector<io::StampedPose>& truth,
+                                   const std::string& truth_file, bool rigid_too = false);
 
 }  // namespace omnisfm::app

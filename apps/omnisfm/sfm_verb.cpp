@@ -15,6 +15,7 @@
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sfm/settings_file.h"
 #include "output_folder.h"
+#include "residual_plots.h"
 #include "sfm_outputs.h"
 #include "trajectory_plots.h"
 #include "verb_inputs.h"
@@ -91,32 +92,21 @@ void add_sfm_verb(CLI::App& app) {
              << result.batch.iterations << " iterations, " << result.batch.solve_seconds
              << " s; RMS " << result.batch.initial_rms_px << " -> " << result.batch.final_rms_px
              << " px per coordinate (" << result.batch.message << ")\n";
-    std::vector<PlottedTrajectory> plotted;
-    std::vector<Eigen::Isometry3d> plot_truth;
-    if (truth.size() == static_cast<size_t>(result.num_frames)) {
-      std::vector<Eigen::Isometry3d> truth_poses;
-      for (const auto& p : truth) truth_poses.push_back(p.world_from_cam);
-      const auto online = eval::trajectory_errors(world_from_cam(result.online_cam_from_world),
-                                                  truth_poses, true);
-      report << figures_line("online", online);
-      plotted.push_back({"online", world_from_cam(result.online_cam_from_world), online.alignment});
-      if (settings.run_batch) {
-        const auto batch = eval::trajectory_errors(world_from_cam(result.batch.cam_from_world),
-                                                   truth_poses, true);
-        report << figures_line("batch", batch);
-        plotted.push_back({"batch", world_from_cam(result.batch.cam_from_world), batch.alignment});
-      }
-      plot_truth = truth_poses;
-    } else if (!truth.empty()) {
-      throw io::InputError(o->ground_truth, 0,
-                           "has " + std::to_string(truth.size()) + " poses for " +
-                               std::to_string(result.num_frames) + " frames");
+    TruthComparison comparison;
+    if (!truth.empty()) {
+      comparison = compare_with_truth(result, settings.run_batch, truth, o->ground_truth);
+      report << comparison.report;
     }
 
     write_folder(o->out, [&](const std::string& dir) {
       write_sfm_outputs(dir, result, settings.run_batch, times, report.str());
-      if (!plotted.empty() && !write_trajectory_plots(dir, plot_truth, plotted))
-        std::cerr << "omnisfm: gnuplot failed: no plots drawn\n";
+      const bool residuals_plotted =
+          write_residual_plots(dir, camera, tracks, result, settings.run_batch);
+      const bool trajectories_plotted =
+          comparison.plotted.empty() ||
+          write_trajectory_plots(dir, comparison.truth, comparison.plotted);
+      if (!residuals_plotted || !trajectories_plotted)
+        std::cerr << "omnisfm: gnuplot failed: plots missing\n";
     });
     std::cout << report.str();
   });

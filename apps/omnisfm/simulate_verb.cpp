@@ -21,6 +21,7 @@ void add_simulate_verb(CLI::App& app) {
   auto render = std::make_shared<bool>(false);
   auto samples = std::make_shared<int>(4);
   auto rawlog = std::make_shared<bool>(false);
+  auto gps = std::make_shared<bool>(false);
   CLI::App* verb = app.add_subcommand(
       "simulate",
       "Simulate one of the paper's experiments with ground truth: camera.ini, tracks.vnl, "
@@ -51,10 +52,19 @@ void add_simulate_verb(CLI::App& app) {
   verb->add_flag("--rawlog", *rawlog,
                  "Also write dataset.rawlog for MRPT (load libomnisfm_mrpt.so to read it): "
                  "tracks, the images with --render, wheel odometry that drifts, a biased gyro");
-  verb->callback([options, out, render, samples, rawlog] {
+  verb->add_flag("--gps", *gps,
+                 "With --rawlog and the rover: the outdoor variant, whose rawlog also holds GPS "
+                 "fixes (NMEA GGA, 1 Hz, 2 cm RTK noise about 40.4435 N 79.9455 W); writes "
+                 "ground_truth_enu.tum and ground_truth_geodetic.vnl too");
+  verb->callback([options, out, render, samples, rawlog, gps] {
     if (*rawlog && !can_write_rawlogs())
       throw CLI::ValidationError("--rawlog", "this omnisfm was built without the MRPT plugin "
                                              "(OMNISFM_BUILD_MRPT_PLUGIN=OFF)");
+    if (*gps && !*rawlog)
+      throw CLI::ValidationError("--gps", "GPS fixes go in the rawlog: add --rawlog");
+    if (*gps && options->scenario != "rover")
+      throw CLI::ValidationError("--gps", "only the rover has an outdoor variant; the lab and the "
+                                          "crane are indoors");
     sim::Dataset dataset = [&] {
       try {
         return sim::simulate(*options);
@@ -82,7 +92,7 @@ void add_simulate_verb(CLI::App& app) {
     }
     std::string rawlog_summary;
     const sim::FolderWriter write_rawlog =
-        *rawlog ? simulated_rawlog_writer(dataset, options->seed, *render, &rawlog_summary)
+        *rawlog ? simulated_rawlog_writer(dataset, options->seed, *render, *gps, &rawlog_summary)
                 : nullptr;
     sim::write_dataset(dataset, *out, write_image, write_rawlog);
     std::cerr << "omnisfm: wrote " << *out << ": " << dataset.scenario << ", "

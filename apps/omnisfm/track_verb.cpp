@@ -13,8 +13,56 @@
 #include "omnisfm/track/track_images.h"
 #include "verb_inputs.h"
 #include "verbs.h"
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+#include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
+#endif
 
 namespace omnisfm::app {
+namespace {
+
+bool is_rawlog(const std::string& path) {
+  const std::string name = std::filesystem::path(path).filename().string();
+  for (const std::string ending : {".rawlog", ".rawlog.gz"})
+    if (name.size() > ending.size() && name.compare(name.size() - ending.size(), ending.size(), ending) == 0)
+      return true;
+  return false;
+}
+
+void show_progress(bool terminal, int done, int expected) {
+  if (!terminal || (done % 10 != 0 && done != expected)) return;
+  std::cerr << "\romnisfm: tracked " << done;
+  if (expected > 0) std::cerr << "/" << expected;
+  std::cerr << " frames" << std::flush;
+}
+
+// The images of an MRPT rawlog through the tracker (the plugin reads them): the rawlog's own camera
+// model unless a camera file is given; a damaged rawlog is tracked up to the damaged object.
+track::TrackedSequence track_rawlog(const std::string& path, const std::string& camera_file,
+                                    const track::TrackerSettings& settings, bool terminal) {
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+  mrpt_plugin::ReplayOptions options;
+  options.vision = mrpt_plugin::ReplayVision::kImages;
+  if (!camera_file.empty()) options.camera = load_camera(camera_file);
+  options.tracker = settings;
+  const mrpt_plugin::ReplayInput in = mrpt_plugin::read_replay_input(
+      path, options, [terminal](int done, int all) { show_progress(terminal, done, all); });
+  if (terminal) std::cerr << "\n";
+  if (!in.read.complete())
+    std::cerr << "omnisfm: warning: " << in.read.problem << "; tracked the "
+              << in.frame_times.size() << " images before it\n";
+  track::TrackedSequence sequence;
+  sequence.observations = in.tracks;
+  for (size_t i = 0; i < in.frame_times.size(); ++i)
+    sequence.frames.push_back({static_cast<int>(i), "", in.frame_times[i]});
+  sequence.statistics.frames = static_cast<int>(in.frame_times.size());
+  return sequence;
+#else
+  (void)camera_file, (void)settings, (void)terminal;
+  throw io::InputError(path, 0, "is a rawlog: this omnisfm was built without the MRPT plugin");
+#endif
+}
+
+}  // namespace
 
 void add_track_verb(CLI::App& app) {
   struct Options {
@@ -29,7 +77,9 @@ void add_track_verb(CLI::App& app) {
       "against each track's first appearance); writes tracks.vnl and frames.vnl beside it");
   verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--images", o->images,
-                   "A folder of PNG or JPG images (taken in file-name order), or a video file")
+                   "A folder of PNG or JPG images (taken in file-name order), a video file, or "
+                   "an MRPT rawlog (X.rawlog: its camera images, with the model they carry unless "
+                   "--camera is given; a damaged rawlog is tracked up to the damaged object)")
       ->required();
   verb->add_option("--out", o->out, "The tracks file to write (# frame track u v)")->required();
   verb->add_option("--timestamps", o->timestamps,
@@ -46,6 +96,7 @@ void add_track_verb(CLI::App& app) {
   verb->add_flag("--no-reacquisition", o->no_reacquisition, "Do not look for lost features again");
   verb->callback([o] {
     o->settings.reacquire = !o->no_reacquisition;
+    const bool rawlog = is_rawlog(o->images);
     const camera::CatadioptricCamera camera = load_camera(o->camera);
     const std::filesystem::path out = std::filesystem::absolute(o->out).lexically_normal();
     if (!std::filesystem::is_directory(out.parent_path()) ||
@@ -58,16 +109,17 @@ void add_track_verb(CLI::App& app) {
     const auto timestamps = o->timestamps.empty() ? std::map<std::string, double>()
                                                   : track::read_image_timestamps(o->timestamps);
 
-    track::ImageSequence images(o->images);
     const bool terminal = ::isatty(STDERR_FILENO);
-    track::TrackedSequence result =
-        track::track_images(camera, images, o->settings, [terminal](int done, int expected) {
-          if (!terminal || (done % 10 != 0 && done != expected)) return;
-          std::cerr << "\romnisfm: tracked " << done;
-          if (expected > 0) std::cerr << "/" << expected;
-          std::cerr << " frames" << std::flush;
-        });
-    if (terminal) std::cerr << "\n";
+    track::TrackedSequence result;
+    if (rawlog) {
+      result = track_rawlog(o->images, o->camera, o->settings, terminal);
+    } else {
+      track::ImageSequence images(o->images);
+      result = track::track_images(camera, images, o->settings, [terminal](int done, int expected) {
+        show_progress(terminal, done, expected);
+      });
+      if (terminal) std::cerr << "\n";
+    }
     if (result.frames.size() < 2)
       throw io::InputError(o->images, 0, "holds a single image: there is nothing to track");
     if (!o->timestamps.empty()) track::apply_timestamps(timestamps, o->timestamps, &result.frames);
@@ -76,6 +128,12 @@ void add_track_verb(CLI::App& app) {
     track::write_frames_file((out.parent_path() / "frames.vnl").string(), result.frames);
     io::write_tracks(out.string(), result.observations);
 
+    if (rawlog) {
+      std::printf("frames %zu, observations %zu, from the images of %s\n", result.frames.size(),
+                  result.observations.size(), o->images.c_str());
+      finish_stdout();
+      return;
+    }
     const auto& s = result.statistics;
     std::printf(
         "frames %zu, tracks %d, observations %zu, reacquired %d; ended: %d failed the "

@@ -14,5 +14,7 @@ void add_eval_verb(CLI::App& app);
 void add_calibrate_verb(CLI::App& app);
 void add_export_mrcal_verb(CLI::App& app);
 void add_track_verb(CLI::App& app);
+// Only when omnisfm is built with the MRPT plugin (OMNISFM_WITH_MRPT_PLUGIN).
+void add_run_verb(CLI::App& app);
 
 }  // namespace omnisfm::app

@@ -7,12 +7,11 @@
 #include <chrono>
 #include <cmath>
 
+#include "batch_terms.h"
 #include "projection_cost.h"
 
 namespace omnisfm::sfm {
 namespace {
-
-using PoseVector = Eigen::Matrix<double, 6, 1>;
 
 PoseVector to_vector(const Eigen::Isometry3d& T) {
   PoseVector v;
@@ -38,6 +37,14 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& start_points,
                          const BatchSettings& settings) {
+  return batch_adjust(camera, observations, cam_from_world, start_points, settings, nullptr);
+}
+
+BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
+                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<Eigen::Isometry3d>& cam_from_world,
+                         const std::map<int, Eigen::Vector3d>& start_points,
+                         const BatchSettings& settings, ExtraTerms* extra) {
   const auto started = std::chrono::steady_clock::now();
   FLAGS_minloglevel = std::max(FLAGS_minloglevel, google::GLOG_ERROR);
   BatchResult result;
@@ -47,6 +54,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
 
   ceres::Problem problem;
   int used = 0;
+  std::vector<ceres::ResidualBlockId> projections;
   for (const auto& o : observations) {
     auto point = points.find(o.track);
     if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size())) continue;
@@ -59,14 +67,17 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     }
     ceres::LossFunction* loss =
         settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
-    problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data());
+    projections.push_back(
+        problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data()));
     ++used;
   }
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
     return result;
   }
-  if (problem.HasParameterBlock(poses[0].data())) problem.SetParameterBlockConstant(poses[0].data());
+  const bool gauge_fixed = extra && extra->add(&problem, &poses);
+  if (!gauge_fixed && problem.HasParameterBlock(poses[0].data()))
+    problem.SetParameterBlockConstant(poses[0].data());
 
   ceres::Solver::Options options;
   // The reduced system of a Schur solver is dense when tracks are long (every point seen from
@@ -76,22 +87,33 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   options.linear_solver_type = ceres::ITERATIVE_SCHUR;
   options.preconditioner_type = ceres::SCHUR_JACOBI;
   options.eta = 1e-4;
-  // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels). Poses never share a
-  // residual, nor do points, so the points are an independent set.
+  // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels): they never share a
+  // residual, extra terms included, so they are an independent set.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (auto& [track, p] : points)
     if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), 0);
-  for (auto& v : poses)
-    if (problem.HasParameterBlock(v.data())) ordering->AddElementToGroup(v.data(), 1);
+  std::vector<double*> blocks_in_problem;
+  problem.GetParameterBlocks(&blocks_in_problem);
+  for (double* block : blocks_in_problem)
+    if (!ordering->IsMember(block)) ordering->AddElementToGroup(block, 1);
   options.linear_solver_ordering = ordering;
   options.max_num_iterations = settings.max_iterations;
   options.num_threads = 2;
   options.logging_type = ceres::SILENT;
-  // Below a relative change of 1e-8 the cost (under 10^4 squared pixels here) moves by less than
-  // 1e-4 squared pixels per iteration: on long drives Levenberg-Marquardt would creep along the weakly
-  // observed scale for hundreds of iterations without changing the estimate.
+  // Below a relative change of 1e-8 a cost of 10^4 squared pixels moves by less than 1e-4 per
+  // iteration: on long drives Levenberg-Marquardt would creep along the weakly observed scale for
+  // hundreds of iterations without changing the estimate.
   options.function_tolerance = 1e-8;
   options.parameter_tolerance = 1e-10;
+  // With extra residuals, the pixel figures are the reprojections' share of the cost alone.
+  const auto reprojection_cost = [&] {
+    ceres::Problem::EvaluateOptions reprojections;
+    reprojections.residual_blocks = projections;
+    double cost = 0;
+    problem.Evaluate(reprojections, &cost, nullptr, nullptr, nullptr);
+    return cost;
+  };
+  const double initial_reprojection_cost = extra ? reprojection_cost() : 0;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   result.converged = summary.termination_type == ceres::CONVERGENCE;
@@ -99,6 +121,10 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   result.iterations = static_cast<int>(summary.iterations.size());
   result.initial_rms_px = std::sqrt(summary.initial_cost / used);
   result.final_rms_px = std::sqrt(summary.final_cost / used);
+  if (extra) {
+    result.initial_rms_px = std::sqrt(initial_reprojection_cost / used);
+    result.final_rms_px = std::sqrt(reprojection_cost() / used);
+  }
   result.solve_seconds = summary.total_time_in_seconds;
   for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
   result.points = points;
@@ -117,7 +143,8 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
       if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
     if (covariance.Compute(blocks, &problem)) {
       // Scaled by the residual variance: the pixel noise is estimated, not assumed.
-      const double dof = std::max(1.0, 2.0 * used - problem.NumParameters() + 6);
+      const double held = gauge_fixed ? 0 : 6;
+      const double dof = std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
       const double variance = 2 * summary.final_cost / dof;
       result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
       for (size_t f = 0; f < poses.size(); ++f) {

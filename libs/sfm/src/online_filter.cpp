@@ -63,6 +63,7 @@ Eigen::Vector3d OnlineFilter::world_point(int slot, const Eigen::Vector3d& param
 }
 
 void OnlineFilter::propagate() {
+  if (motion_) return propagate(*motion_);
   P_.topLeftCorner<3, 3>().diagonal().array() += std::pow(settings_.rotation_walk_sigma, 2);
   P_.block<3, 3>(3, 3).diagonal().array() += std::pow(settings_.translation_walk_sigma, 2);
 }

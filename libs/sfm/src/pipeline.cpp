@@ -6,6 +6,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "pipeline_steps.h"
+
 namespace omnisfm::sfm {
 namespace {
 
@@ -14,30 +16,41 @@ constexpr double kMinBaselineRatio = 0.01;
 
 }  // namespace
 
-SfmResult run_sfm(const camera::CatadioptricCamera& camera,
-                  const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
-                  const Progress& progress) {
-  SfmResult result;
-  for (const auto& o : tracks) result.num_frames = std::max(result.num_frames, o.frame + 1);
-  if (result.num_frames < 2) throw std::invalid_argument("the tracks span fewer than 2 frames");
-  std::vector<std::vector<TrackPixel>> by_frame(result.num_frames);
+std::vector<std::vector<TrackPixel>> observations_by_frame(
+    const std::vector<io::TrackObservation>& tracks) {
+  int num_frames = 0;
+  for (const auto& o : tracks) num_frames = std::max(num_frames, o.frame + 1);
+  if (num_frames < 2) throw std::invalid_argument("the tracks span fewer than 2 frames");
+  std::vector<std::vector<TrackPixel>> by_frame(num_frames);
   for (const auto& o : tracks) by_frame[o.frame].push_back({o.track, o.pixel});
   if (by_frame[0].size() < 6)
     throw std::invalid_argument("the first frame has " + std::to_string(by_frame[0].size()) +
                                 " tracks; at least 6 are needed to start");
+  return by_frame;
+}
 
+void run_filter(const camera::CatadioptricCamera& camera,
+                const std::vector<std::vector<TrackPixel>>& by_frame, const FilterSettings& settings,
+                const std::function<MotionPrediction(int)>& predicted_motion,
+                const Progress& progress, SfmResult* result) {
   const auto started = std::chrono::steady_clock::now();
-  OnlineFilter filter(camera, settings.filter);
-  for (int f = 0; f < result.num_frames; ++f) {
-    filter.process_frame(f, by_frame[f]);
-    result.online_cam_from_world.push_back(filter.cam_from_world());
-    if (progress) progress(f + 1, result.num_frames);
+  OnlineFilter filter(camera, settings);
+  const int num_frames = static_cast<int>(by_frame.size());
+  for (int f = 0; f < num_frames; ++f) {
+    if (f > 0 && predicted_motion)
+      filter.process_frame(f, by_frame[f], predicted_motion(f));
+    else
+      filter.process_frame(f, by_frame[f]);
+    result->online_cam_from_world.push_back(filter.cam_from_world());
+    if (progress) progress(f + 1, num_frames);
   }
-  result.online_seconds =
+  result->online_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  result.online_points = filter.points();
-  result.outliers = filter.rejected();
+  result->online_points = filter.points();
+  result->outliers = filter.rejected();
+}
 
+void refuse_degenerate_motion(const SfmResult& result) {
   // Without translation the points' depths are not observable: refuse rather than report a
   // structure made of the initialisation's guesses.
   double baseline = 0, depth = 0;
@@ -55,35 +68,50 @@ SfmResult run_sfm(const camera::CatadioptricCamera& camera,
         "degenerate motion: the camera moves " + std::to_string(baseline) +
         " (filter units) against a median point distance of " + std::to_string(depth) +
         "; with (nearly) pure rotation the structure cannot be recovered");
-  if (!settings.run_batch) return result;
+}
 
+void adjust_on_inliers(const camera::CatadioptricCamera& camera,
+                       const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                       ExtraTerms* extra, SfmResult* result) {
   std::set<int> rejected;
-  for (const auto& r : result.outliers) rejected.insert(r.track);
+  for (const auto& r : result->outliers) rejected.insert(r.track);
   std::vector<io::TrackObservation> inliers;
   for (const auto& o : tracks)
-    if (!rejected.count(o.track) && result.online_points.count(o.track)) inliers.push_back(o);
-  result.batch = batch_adjust(camera, inliers, result.online_cam_from_world, result.online_points,
-                              settings.batch);
-  if (settings.batch_outlier_threshold_px <= 0) return result;
+    if (!rejected.count(o.track) && result->online_points.count(o.track)) inliers.push_back(o);
+  result->batch = batch_adjust(camera, inliers, result->online_cam_from_world,
+                               result->online_points, settings.batch, extra);
+  if (settings.batch_outlier_threshold_px <= 0) return;
 
   // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail.
   std::map<int, int> failing;
   for (const auto& o : inliers) {
-    const auto point = result.batch.points.find(o.track);
+    const auto point = result->batch.points.find(o.track);
     Eigen::Vector2d pixel;
     const bool fits =
-        point != result.batch.points.end() &&
-        camera.project(result.batch.cam_from_world[o.frame] * point->second, &pixel) &&
+        point != result->batch.points.end() &&
+        camera.project(result->batch.cam_from_world[o.frame] * point->second, &pixel) &&
         (pixel - o.pixel).norm() <= settings.batch_outlier_threshold_px;
     if (!fits && !failing.count(o.track)) failing[o.track] = o.frame;
   }
-  if (failing.empty()) return result;
-  for (const auto& [track, frame] : failing) result.outliers.push_back({track, frame});
+  if (failing.empty()) return;
+  for (const auto& [track, frame] : failing) result->outliers.push_back({track, frame});
   std::vector<io::TrackObservation> kept;
   for (const auto& o : inliers)
     if (!failing.count(o.track)) kept.push_back(o);
-  result.batch = batch_adjust(camera, kept, result.batch.cam_from_world, result.batch.points,
-                              settings.batch);
+  result->batch = batch_adjust(camera, kept, result->batch.cam_from_world, result->batch.points,
+                               settings.batch, extra);
+}
+
+SfmResult run_sfm(const camera::CatadioptricCamera& camera,
+                  const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                  const Progress& progress) {
+  SfmResult result;
+  const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
+  result.num_frames = static_cast<int>(by_frame.size());
+
+  run_filter(camera, by_frame, settings.filter, nullptr, progress, &result);
+  refuse_degenerate_motion(result);
+  if (settings.run_batch) adjust_on_inliers(camera, tracks, settings, nullptr, &result);
   return result;
 }
 

@@ -8,16 +8,11 @@
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
+#include "world_from_cam.h"
 #include "omnisfm/sim/track_simulator.h"
 
 namespace omnisfm::sfm {
 namespace {
-
-std::vector<Eigen::Isometry3d> inverted(const std::vector<Eigen::Isometry3d>& poses) {
-  std::vector<Eigen::Isometry3d> out;
-  for (const auto& T : poses) out.push_back(T.inverse());
-  return out;
-}
 
 struct PipelineRun {
   eval::TrajectoryErrors online, batch;

@@ -11,6 +11,8 @@
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/mrpt_plugin/rawlog_reader.h"
 
+#include "eigen_poses.h"
+
 namespace omnisfm::mrpt_plugin {
 namespace {
 
@@ -24,13 +26,6 @@ void for_each_observation(const mrpt::serialization::CSerializable::Ptr& object,
   } else if (auto frame = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {
     for (const auto& member : *frame) visit(member);
   }
-}
-
-Eigen::Isometry3d isometry_of(const mrpt::poses::CPose3D& pose) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = pose.getRotationMatrix().asEigen();
-  T.translation() = Eigen::Vector3d(pose.x(), pose.y(), pose.z());
-  return T;
 }
 
 cv::Mat grey_of(const mrpt::img::CImage& image) {

@@ -10,8 +10,11 @@ omnisfm_add_test(omnisfm_mrpt_tests
     tests/rawlog_input_test.cpp
     tests/simulated_rawlog_test.cpp
     tests/legacy_rawlog_test.cpp
-  DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io mrpt::obs mrpt::img mrpt::io mrpt::poses
-       mrpt::serialization opencv_imgcodecs)
+    tests/replay_input_test.cpp
+    tests/scene_file_test.cpp
+    tests/omni_sfm_estimator_test.cpp
+  DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io omnisfm::sfm mrpt::obs mrpt::img mrpt::io
+       mrpt::poses mrpt::serialization mrpt::opengl opencv_imgcodecs)
 # The camera contract's cameras: every inner camera and mirror the model must store.
 target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests)
 target_compile_definitions(omnisfm_mrpt_tests PRIVATE
@@ -33,7 +36,7 @@ add_test(NAME omnisfm_simulate_rawlog
           --width 256 --height 192 --samples 1)
 set_tests_properties(omnisfm_simulate_rawlog PROPERTIES
   LABELS interop FIXTURES_SETUP mrpt_lab_rawlog
-  PASS_REGULAR_EXPRESSION "dataset.rawlog with 41 images, 41 tracked frames, 401 odometry and 4001 gyro readings")
+  PASS_REGULAR_EXPRESSION "dataset.rawlog with 41 images, 41 tracked frames, 401 odometry, 4001 gyro readings")
 
 # --info parses every object: 1 comment, 41 images, 41 tracked frames, 401 odometry, 4001 gyro.
 add_test(NAME rawlog_edit_info

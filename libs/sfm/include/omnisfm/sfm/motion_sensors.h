@@ -35,6 +35,9 @@ struct GpsSample {
 struct OdometryNoise {
   double position_sigma = 0.01;  // metres per sqrt(metre travelled), per axis
   double heading_sigma = 0.01;   // radians per sqrt(metre travelled)
+  // How well the wheels' scale (MotionSensors::odometry_scale) is known, relative; the batch
+  // estimates the scale within it. 0 holds it fixed.
+  double scale_sigma = 0.02;
 };
 
 struct GyroNoise {
@@ -48,6 +51,9 @@ struct MotionSensors {
   Eigen::Vector3d antenna_in_body{0, 0, 0};
   std::vector<OdometrySample> odometry;  // in time order; empty when there is none
   OdometryNoise odometry_noise;
+  // True distance per distance the odometry reads (a worn tyre reads long): a calibration, e.g.
+  // the odometry_scale an earlier run with GPS estimated.
+  double odometry_scale = 1.0;
   std::vector<GyroSample> gyro;  // in time order; empty when there is none
   GyroNoise gyro_noise;
   std::vector<GpsSample> gps;  // in time order; empty when there is none

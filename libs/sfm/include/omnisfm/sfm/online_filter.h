@@ -5,7 +5,8 @@
 // State: cam_from_world (R, t; the rotation's error is a left perturbation R = exp(dtheta) R, so
 // any attitude works) and one 3D world point per live track. The first frame fixes the gauge:
 // its pose is the identity, known exactly. Propagation keeps the estimate and inflates the pose
-// covariance by a random walk. A new track's point starts on a sphere around the camera along its
+// covariance by a random walk, or, when the vehicle's sensors predict the motion, moves the pose by
+// that prediction and adds its covariance. A new track's point starts on a sphere around the camera along its
 // ray: very uncertain along the ray, certain across it. Points are held in inverse depth about
 // their first ray (two angles across it, one inverse distance along it), where a depth that is
 // barely known stays well approximated by a Gaussian and never crosses behind the camera. The measurement update uses the
@@ -38,6 +39,14 @@ struct FilterSettings {
   int update_iterations = 8;
 };
 
+// The camera's motion since the previous frame as the vehicle's sensors predict it:
+// cam_from_previous_cam, and the 6x6 covariance of its error (rotation as a left perturbation,
+// then translation, as the pose's).
+struct MotionPrediction {
+  Eigen::Isometry3d cam_from_previous_cam = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
 struct TrackPixel {
   int track = 0;
   Eigen::Vector2d pixel{0, 0};
@@ -55,6 +64,10 @@ class OnlineFilter {
   // Processes the next frame's observations. Returns false when no measurement could be used
   // (the pose then stays the propagated prediction).
   bool process_frame(int frame, const std::vector<TrackPixel>& observations);
+  // The same, propagated by the predicted motion instead of the random walk (ignored for the
+  // first frame, which fixes the gauge).
+  bool process_frame(int frame, const std::vector<TrackPixel>& observations,
+                     const MotionPrediction& motion);
 
   Eigen::Isometry3d cam_from_world() const;
   // The 6x6 covariance of the pose error (rotation, then translation).
@@ -80,6 +93,7 @@ class OnlineFilter {
     Eigen::MatrixXd S_factor;       // the innovation covariance's Cholesky factor (lower)
   };
   void propagate();
+  void propagate(const MotionPrediction& motion);
   void remove_slot(int slot);
   // The iterated update from the current (propagated) state.
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
@@ -109,6 +123,7 @@ class OnlineFilter {
   std::map<int, Eigen::Vector3d> ended_points_;
   std::map<int, bool> excluded_;  // rejected tracks, ignored from then on
   std::vector<RejectedTrack> rejected_;
+  const MotionPrediction* motion_ = nullptr;  // for the frame being processed, when given
 };
 
 }  // namespace omnisfm::sfm

@@ -28,6 +28,10 @@ struct SfmResult {
   std::vector<RejectedTrack> outliers;  // the filter's, then the batch's
   double online_seconds = 0;
   BatchResult batch;
+  // With the vehicle's motion sensors (run_fused_sfm, fused_pipeline.h):
+  bool world_is_enu = false;           // the world is the GPS's local ENU frame, else the first camera's
+  double odometry_scale = 1;           // estimated: true distance per distance the odometry read
+  Eigen::Vector3d gyro_bias{0, 0, 0};  // estimated, rad/s about the body's axes
 };
 
 // Called after each frame the filter processes: (frames done, frames in all).

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,30 @@ struct TrackedSequence {
 
 // Called after each frame: (frames done, frames expected; 0 when unknown).
 using TrackingProgress = std::function<void(int, int)>;
+
+// The same, frame by frame, for images that come from elsewhere (a rawlog's observations).
+class SequenceTracker {
+ public:
+  SequenceTracker(const camera::CatadioptricCamera& camera, const TrackerSettings& settings);
+  ~SequenceTracker();
+  SequenceTracker(const SequenceTracker&) = delete;
+  SequenceTracker& operator=(const SequenceTracker&) = delete;
+
+  // Tracks into `frame` (its index must be the number of frames added before) and returns the
+  // tracks seen in it. Throws io::InputError naming `source` when the image is not the camera's
+  // size.
+  std::vector<TrackedPoint> add(const SequenceFrame& frame, const std::string& source);
+  int frames() const { return static_cast<int>(result_.frames.size()); }
+  // The sequence so far, as track_images returns it.
+  TrackedSequence finish() const;
+
+ private:
+  camera::CatadioptricCamera camera_;
+  TrackerSettings settings_;
+  std::unique_ptr<FeatureTracker> tracker_;
+  std::vector<io::TrackObservation> all_;
+  TrackedSequence result_;
+};
 
 // Throws io::InputError when an image is not the camera's size, and what ImageSequence throws.
 TrackedSequence track_images(const camera::CatadioptricCamera& camera, ImageSequence& images,

@@ -1,0 +1,181 @@
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "geodetic_output.h"
+#include "omnisfm/io/camera_file.h"
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/io/tum_trajectory.h"
+#include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
+#include "omnisfm/sfm/fused_pipeline.h"
+#include "omnisfm/mrpt_plugin/scene_file.h"
+#include "output_folder.h"
+#include "residual_plots.h"
+#include "run_settings.h"
+#include "sfm_outputs.h"
+#include "trajectory_plots.h"
+#include "verbs.h"
+
+namespace omnisfm::app {
+namespace {
+
+std::string sensors_line(const mrpt_plugin::ReplayInput& in) {
+  std::ostringstream line;
+  line << "motion sensors: " << in.sensors.odometry.size() << " odometry, "
+       << in.sensors.gyro.size() << " gyro, " << in.sensors.gps.size() << " GPS readings";
+  if (in.gps_origin)
+    line << " (ENU origin " << in.gps_origin->latitude_deg << " " << in.gps_origin->longitude_deg
+         << " " << in.gps_origin->height_m << ")";
+  if (in.out_of_order > 0) line << "; " << in.out_of_order << " dropped, out of time order";
+  line << "\n"
+       << "fusion: " << (in.sensors.empty() ? "none: vision alone" : "the sensors with vision")
+       << "\n";
+  return line.str();
+}
+
+mrpt_plugin::SceneContents scene_of(const sfm::SfmResult& result, bool batch_ran) {
+  mrpt_plugin::SceneContents scene;
+  scene.online_world_from_cam = world_from_cam(result.online_cam_from_world);
+  if (batch_ran) {
+    scene.world_from_cam = world_from_cam(result.batch.cam_from_world);
+    scene.points = result.batch.points;
+    scene.point_covariances = result.batch.point_covariances;
+  } else {
+    scene.world_from_cam = scene.online_world_from_cam;
+    scene.online_world_from_cam.clear();
+    scene.points = result.online_points;
+  }
+  return scene;
+}
+
+}  // namespace
+
+void add_run_verb(CLI::App& app) {
+  struct Options {
+    std::string rawlog, out, config, camera, ground_truth;
+    bool strict = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* verb = app.add_subcommand(
+      "run",
+      "Replay an MRPT rawlog with fusion: the camera's "
+      "tracked features or its images through the tracker, wheel odometry, a gyro and GPS "
+      "fixes; writes what the sfm verb writes plus scene.3Dscene (for SceneViewer3D) and, with "
+      "GPS, geodetic.vnl. A truncated or corrupt rawlog is replayed up to the damaged object: a "
+      "warning names the object's index and what is wrong, and report.txt repeats it "
+      "(--strict: exit 2 instead, writing nothing)");
+  verb->add_option("rawlog", o->rawlog, "The rawlog (either format, gzip-compressed or not)")
+      ->required();
+  verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
+  verb->add_option("--config", o->config,
+                   "Settings: an INI file with [sfm] (as the sfm verb) and [run] sections");
+  verb->add_option("--camera", o->camera,
+                   "Camera file; needed for stock CObservationImage, and replaces the models "
+                   "the rawlog carries");
+  verb->add_option("--ground-truth", o->ground_truth,
+                   "A TUM trajectory of the truth, one pose per frame: adds the error figures "
+                   "(after a similarity and a rigid alignment) and plots");
+  verb->add_flag("--strict", o->strict, "A damaged rawlog is an error (exit 2), not a warning");
+  verb->callback([o] {
+    RunSettings settings = read_run_settings(o->config);
+    if (!o->camera.empty()) settings.replay.camera = io::read_camera_file(o->camera);
+    std::vector<io::StampedPose> truth;
+    if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
+
+    const bool terminal = ::isatty(STDERR_FILENO);
+    mrpt_plugin::ReplayInput in =
+        mrpt_plugin::read_replay_input(o->rawlog, settings.replay, [terminal](int done, int all) {
+          if (terminal && (done % 10 == 0 || done == all))
+            std::cerr << "\romnisfm: tracked " << done << "/" << all << " images" << std::flush;
+        });
+    if (terminal && in.frames_with_images > 0) std::cerr << "\n";
+    if (!in.read.complete()) {
+      if (o->strict) throw io::InputError(o->rawlog, 0, in.read.problem);
+      std::cerr << "omnisfm: warning: " << in.read.problem << "; replaying the "
+                << in.frame_times.size() << " frames before it\n";
+    }
+    if (in.frame_times.size() < 2)
+      throw io::InputError(o->rawlog, 0,
+                           "holds " + std::to_string(in.frame_times.size()) +
+                               " camera frames (tracked features or images) before its end: "
+                               "nothing to replay" +
+                               (in.read.complete() ? "" : " (" + in.read.problem + ")"));
+    if (!in.camera)
+      throw io::InputError(o->rawlog, 0,
+                           "carries no camera model (stock CObservationImage): give --camera");
+    in.sensors.odometry_noise = settings.odometry_noise;
+    in.sensors.gyro_noise = settings.gyro_noise;
+
+    sfm::SfmResult result;
+    try {
+      result = sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings.sfm,
+                                  [terminal](int done, int all) {
+                                    if (terminal && (done % 10 == 0 || done == all))
+                                      std::cerr << "\romnisfm: filter " << done << "/" << all
+                                                << " frames" << std::flush;
+                                  });
+    } catch (const std::invalid_argument& e) {
+      throw io::InputError(o->rawlog, 0, e.what());
+    }
+    if (terminal) std::cerr << "\n";
+    const bool batch_ran = settings.sfm.run_batch;
+    if (batch_ran && !result.batch.converged && result.batch.cam_from_world.empty())
+      throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
+
+    std::ostringstream report;
+    if (!in.read.complete()) report << "rawlog damaged: " << in.read.problem << "\n";
+    report << "rawlog " << o->rawlog << ": " << in.read.objects << " objects; vision from "
+           << in.vision << "\n"
+           << "frames " << result.num_frames << ", observations " << in.tracks.size()
+           << ", outlier tracks " << result.outliers.size() << "\n"
+           << sensors_line(in);
+    if (batch_ran)
+      report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "
+             << result.batch.iterations << " iterations; RMS " << result.batch.final_rms_px
+             << " px per coordinate\n";
+
+    const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(
+        batch_ran ? result.batch.cam_from_world : result.online_cam_from_world);
+    std::optional<GpsFit> gps_fit;
+    if (in.gps_origin) {
+      try {
+        gps_fit =
+            fit_trajectory_to_gps(trajectory, in.frame_times, in.sensors, result.world_is_enu);
+        if (result.world_is_enu)
+          report << "GPS: the estimate is in ENU; " << gps_fit->fixes << " fixes, RMS "
+                 << gps_fit->rms_m << " m against it\n";
+        else
+          report << "GPS: the trajectory placed on " << gps_fit->fixes << " fixes, RMS "
+                 << gps_fit->rms_m << " m, scale " << gps_fit->enu_from_world.scale << "\n";
+      } catch (const std::invalid_argument& e) {
+        report << "GPS: no geodetic trajectory: " << e.what() << "\n";
+      }
+    }
+    TruthComparison comparison;
+    if (!truth.empty()) {
+      comparison = compare_with_truth(result, batch_ran, truth, o->ground_truth, true);
+      report << comparison.report;
+    }
+
+    write_folder(o->out, [&](const std::string& dir) {
+      write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
+      mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
+      if (gps_fit)
+        write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times, *gps_fit,
+                                  mrpt_plugin::LocalEnuFrame(*in.gps_origin));
+      const bool residuals_plotted =
+          write_residual_plots(dir, *in.camera, in.tracks, result, batch_ran);
+      const bool trajectories_plotted =
+          comparison.plotted.empty() ||
+          write_trajectory_plots(dir, comparison.truth, comparison.plotted);
+      if (!residuals_plotted || !trajectories_plotted)
+        std::cerr << "omnisfm: gnuplot failed: plots missing\n";
+    });
+    std::cout << report.str();
+  });
+}
+
+}  // namespace omnisfm::app

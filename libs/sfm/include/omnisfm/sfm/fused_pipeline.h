@@ -1,0 +1,36 @@
+#pragma once
+// The pipeline with the vehicle's own motion sensors: the online filter propagated by the
+// odometry and the gyro (motion_prediction.h) instead of the random walk, then the batch with the
+// odometry's planar increments, the gyro's relative rotations (and its bias, one constant per
+// run) and the GPS antenna positions as residuals beside the reprojections (motion_residuals.h).
+//
+// The world frame of every pose and point in the result:
+//   - with GPS fixes: the GPS's local east-north-up frame (result.world_is_enu). The filter runs
+//     in the first camera's frame; its estimate is then moved into ENU by the similarity (rigid,
+//     with odometry) that best fits its antenna positions to the fixes, and the batch holds no
+//     pose: the fixes fix the gauge. They must span at least 3 non-collinear positions (the
+//     rotation about a straight path is not observable otherwise).
+//   - otherwise: the first camera's frame, its pose the identity, as run_sfm's. With odometry the
+//     scale is metric (the odometry's, times its estimated scale: see MotionSensors::
+//     odometry_scale); with a gyro alone it is only as good as the noncentral camera makes it.
+// The odometry's scale and the gyro's bias estimated by the batch come back in
+// result.odometry_scale and result.gyro_bias (the scale is held at MotionSensors::odometry_scale
+// when there is no batch or scale_sigma is 0).
+
+#include <vector>
+
+#include "omnisfm/sfm/motion_sensors.h"
+#include "omnisfm/sfm/pipeline.h"
+
+namespace omnisfm::sfm {
+
+// frame_timestamps: one per frame (at least as many as the tracks span), increasing, on the
+// sensors' clock. With empty sensors this is run_sfm. Throws as run_sfm does, and
+// std::invalid_argument for missing or non-increasing timestamps and for GPS fixes too few or
+// all on a line within the frames' time span.
+SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
+                        const std::vector<io::TrackObservation>& tracks,
+                        const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
+                        const SfmSettings& settings, const Progress& progress = nullptr);
+
+}  // namespace omnisfm::sfm

@@ -1,0 +1,42 @@
+#pragma once
+// The online filter's propagation from the vehicle's sensors: the motion between two frames that
+// the odometry and the gyro measured (frame_motion.h), with its covariance, as the camera's
+// motion the filter takes (MotionPrediction).
+//
+// The rotation comes from the gyro when there is one (its noise, plus the bias prior over the
+// interval: the filter does not estimate the bias), else from the odometry's yaw; the translation
+// from the odometry (planar: x, y in the earlier body frame). Whatever no sensor measures (the
+// translation with a gyro alone, roll and pitch with odometry alone, the height) keeps the
+// filter's random walk.
+
+#include <Eigen/Geometry>
+
+#include "omnisfm/sfm/frame_motion.h"
+#include "omnisfm/sfm/motion_sensors.h"
+#include "omnisfm/sfm/online_filter.h"
+
+namespace omnisfm::sfm {
+
+// previous_body_from_body with the covariance of its error: rotation as a right perturbation
+// (R = R_mean Exp(e_r)), then translation (p = p_mean + e_p).
+struct BodyMotion {
+  Eigen::Isometry3d previous_body_from_body = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
+BodyMotion predict_body_motion(const FrameMotion& motion, const GyroNoise& gyro_noise,
+                               const FilterSettings& settings);
+
+// The same motion seen by the camera mounted at body_from_cam, in the filter's terms.
+MotionPrediction predict_camera_motion(const BodyMotion& body, const Eigen::Isometry3d& body_from_cam);
+
+// What the filter takes for the frame interval `motion`: the body's motion with the odometry's
+// distances times sensors.odometry_scale, seen by the camera at sensors.body_from_cam.
+MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSensors& sensors,
+                                       const FilterSettings& settings);
+
+// The same between two frame times, for a filter fed live (the readings up to t1 must be in).
+MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, double t1,
+                                       const FilterSettings& settings);
+
+}  // namespace omnisfm::sfm

@@ -1,0 +1,33 @@
+#pragma once
+// Residuals a batch problem can carry beyond the reprojections (the vehicle's motion sensors), and
+// the batch adjustment that takes them.
+
+#include <ceres/ceres.h>
+
+#include <vector>
+
+#include "omnisfm/sfm/batch_adjustment.h"
+
+namespace omnisfm::sfm {
+
+// cam_from_world as (angle-axis, translation): the batch's pose parameter block.
+using PoseVector = Eigen::Matrix<double, 6, 1>;
+
+class ExtraTerms {
+ public:
+  virtual ~ExtraTerms() = default;
+  // Adds the residuals on the poses (one per frame) and on parameter blocks of its own, which
+  // must outlive the solve. Returns true when they fix the gauge themselves (absolute positions),
+  // so that no pose is held fixed.
+  virtual bool add(ceres::Problem* problem, std::vector<PoseVector>* poses) = 0;
+};
+
+// As the public batch_adjust, with `extra` (when not null) added to the problem. Points are then
+// always the eliminated group, as the extra residuals tie poses together.
+BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
+                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<Eigen::Isometry3d>& cam_from_world,
+                         const std::map<int, Eigen::Vector3d>& points, const BatchSettings& settings,
+                         ExtraTerms* extra);
+
+}  // namespace omnisfm::sfm

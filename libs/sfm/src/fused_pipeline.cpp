@@ -1,0 +1,215 @@
+#include "omnisfm/sfm/fused_pipeline.h"
+
+#include <ceres/normal_prior.h>
+
+#include <Eigen/SVD>
+#include <cmath>
+#include <stdexcept>
+
+#include "omnisfm/sfm/frame_motion.h"
+#include "omnisfm/sfm/motion_prediction.h"
+#include "omnisfm/sfm/motion_residuals.h"
+#include "pipeline_steps.h"
+#include "so3.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+// A GPS fix placed between two frames: alpha of the way from frame k to frame k + 1.
+struct FixPlacement {
+  const GpsSample* fix;
+  int k;
+  double alpha;
+};
+
+std::vector<FixPlacement> place_fixes(const std::vector<GpsSample>& gps,
+                                      const std::vector<double>& times) {
+  std::vector<FixPlacement> placed;
+  for (const auto& fix : gps) {
+    if (fix.timestamp < times.front() || fix.timestamp > times.back()) continue;
+    const auto after = std::upper_bound(times.begin(), times.end(), fix.timestamp);
+    const int k = std::min(static_cast<int>(after - times.begin()) - 1,
+                           static_cast<int>(times.size()) - 2);
+    placed.push_back({&fix, k, (fix.timestamp - times[k]) / (times[k + 1] - times[k])});
+  }
+  return placed;
+}
+
+Eigen::Vector3d antenna_in_cam(const MotionSensors& sensors) {
+  return sensors.body_from_cam.inverse() * sensors.antenna_in_body;
+}
+
+// The residuals of the vehicle's sensors for the batch; its own blocks are the odometry's scale
+// and the gyro's bias, which it re-integrates the gyro about each time it enters a problem.
+class MotionTerms : public ExtraTerms {
+ public:
+  MotionTerms(const MotionSensors& sensors, const std::vector<double>& times,
+              const Eigen::Vector3d& gyro_bias)
+      : sensors_(sensors), times_(times), scale_(sensors.odometry_scale), bias_(gyro_bias) {}
+
+  bool add(ceres::Problem* problem, std::vector<PoseVector>* poses) override {
+    const std::vector<FrameMotion> motions = frame_motions(sensors_, times_, bias_);
+    bool odometry = false, gyro = false;
+    for (size_t k = 0; k < motions.size(); ++k) {
+      double* from = (*poses)[k].data();
+      double* to = (*poses)[k + 1].data();
+      if (motions[k].odometry.valid) {
+        problem->AddResidualBlock(make_odometry_cost(motions[k].odometry, sensors_.body_from_cam),
+                                  nullptr, from, to, &scale_);
+        odometry = true;
+      }
+      if (motions[k].gyro.valid) {
+        problem->AddResidualBlock(make_gyro_cost(motions[k].gyro, sensors_.body_from_cam), nullptr,
+                                  from, to, bias_.data());
+        gyro = true;
+      }
+    }
+    if (odometry) {
+      const double sigma = sensors_.odometry_noise.scale_sigma * sensors_.odometry_scale;
+      if (sigma > 0)
+        problem->AddResidualBlock(
+            new ceres::NormalPrior(ceres::Matrix::Constant(1, 1, 1 / sigma),
+                                   ceres::Vector::Constant(1, sensors_.odometry_scale)),
+            nullptr, &scale_);
+      else
+        problem->SetParameterBlockConstant(&scale_);
+    }
+    if (gyro) {
+      const double sigma = sensors_.gyro_noise.bias_sigma;
+      if (sigma > 0)
+        problem->AddResidualBlock(
+            new ceres::NormalPrior(ceres::Matrix::Identity(3, 3) / sigma, ceres::Vector::Zero(3)),
+            nullptr, bias_.data());
+      else
+        problem->SetParameterBlockConstant(bias_.data());
+    }
+    const Eigen::Vector3d antenna = antenna_in_cam(sensors_);
+    int fixes = 0;
+    for (const auto& p : place_fixes(sensors_.gps, times_)) {
+      const Eigen::Matrix3d covariance =
+          Eigen::Vector3d(std::pow(p.fix->horizontal_sigma, 2), std::pow(p.fix->horizontal_sigma, 2),
+                          std::pow(p.fix->vertical_sigma, 2))
+              .asDiagonal();
+      problem->AddResidualBlock(make_gps_cost(p.fix->enu, covariance, p.alpha, antenna), nullptr,
+                                (*poses)[p.k].data(), (*poses)[p.k + 1].data());
+      ++fixes;
+    }
+    return fixes > 0;
+  }
+
+  double scale() const { return scale_; }
+  const Eigen::Vector3d& bias() const { return bias_; }
+
+ private:
+  const MotionSensors& sensors_;
+  const std::vector<double>& times_;
+  double scale_;
+  Eigen::Vector3d bias_;
+};
+
+// The constant gyro bias that best explains the filter's rotations between frames, by linear
+// least squares on the gyro residual about zero bias: a starting point for the batch.
+Eigen::Vector3d bias_from_filter(const std::vector<FrameMotion>& motions,
+                                 const std::vector<Eigen::Isometry3d>& cam_from_world,
+                                 const Eigen::Isometry3d& body_from_cam) {
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d R_bc = body_from_cam.linear();
+  for (size_t k = 0; k < motions.size(); ++k) {
+    const GyroIncrement& g = motions[k].gyro;
+    if (!g.valid) continue;
+    // r(b) = Log((dR Exp(J b))^T Q) ~= r(0) - J b for the small rotations between frames.
+    const Eigen::Matrix3d Q = R_bc * cam_from_world[k].linear() *
+                              cam_from_world[k + 1].linear().transpose() * R_bc.transpose();
+    const Eigen::Vector3d r0 = so3::log(g.rotation.transpose() * Q);
+    normal += g.J_rotation_bias.transpose() * g.J_rotation_bias;
+    rhs += g.J_rotation_bias.transpose() * r0;
+  }
+  if (normal.determinant() <= 0) return Eigen::Vector3d::Zero();
+  return normal.ldlt().solve(rhs);
+}
+
+// Moves the filter's estimate into the GPS's ENU frame: the similarity (rigid when the scale is
+// metric already) that best maps its antenna positions at the fixes' times onto the fixes.
+void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times,
+                   bool metric, SfmResult* result) {
+  const std::vector<FixPlacement> placed = place_fixes(sensors.gps, times);
+  const Eigen::Vector3d antenna = antenna_in_cam(sensors);
+  Eigen::Matrix3Xd from(3, placed.size()), to(3, placed.size());
+  for (size_t i = 0; i < placed.size(); ++i) {
+    const auto position = [&](int k) {
+      const Eigen::Isometry3d& T = result->online_cam_from_world[k];
+      return Eigen::Vector3d(T.linear().transpose() * (antenna - T.translation()));
+    };
+    from.col(i) = (1 - placed[i].alpha) * position(placed[i].k) + placed[i].alpha * position(placed[i].k + 1);
+    to.col(i) = placed[i].fix->enu;
+  }
+  if (placed.size() < 3)
+    throw std::invalid_argument("GPS: " + std::to_string(placed.size()) +
+                                " fixes within the frames' time span; at least 3 are needed");
+  const Eigen::Matrix3Xd centred = to.colwise() - to.rowwise().mean();
+  const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
+  const double sigma = sensors.gps.front().horizontal_sigma;
+  if (!(spread[1] > 3 * sigma * std::sqrt(static_cast<double>(placed.size()))))
+    throw std::invalid_argument(
+        "GPS: the fixes lie on a line (within their noise); the heading about it cannot be fixed");
+  const Eigen::Matrix4d S = Eigen::umeyama(from, to, !metric);
+  const double scale = S.topLeftCorner<3, 3>().col(0).norm();
+  const Eigen::Matrix3d R = S.topLeftCorner<3, 3>() / scale;
+  const Eigen::Vector3d t = S.topRightCorner<3, 1>();
+  for (auto& T : result->online_cam_from_world) {
+    const Eigen::Vector3d centre = scale * R * (T.inverse().translation()) + t;
+    T.linear() = T.linear() * R.transpose();
+    T.translation() = -T.linear() * centre;
+  }
+  for (auto& [track, X] : result->online_points) X = scale * R * X + t;
+  result->world_is_enu = true;
+}
+
+void check_timestamps(const std::vector<double>& times, int num_frames) {
+  if (static_cast<int>(times.size()) < num_frames)
+    throw std::invalid_argument("the tracks span " + std::to_string(num_frames) +
+                                " frames but only " + std::to_string(times.size()) +
+                                " frame timestamps are given");
+  for (int f = 0; f < num_frames; ++f) {
+    if (!std::isfinite(times[f]))
+      throw std::invalid_argument("frame " + std::to_string(f) + ": timestamp is not a number");
+    if (f > 0 && !(times[f] > times[f - 1]))
+      throw std::invalid_argument("frame " + std::to_string(f) +
+                                  ": timestamp does not increase over the previous frame's");
+  }
+}
+
+}  // namespace
+
+SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
+                        const std::vector<io::TrackObservation>& tracks,
+                        const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
+                        const SfmSettings& settings, const Progress& progress) {
+  if (sensors.empty()) return run_sfm(camera, tracks, settings, progress);
+  SfmResult result;
+  const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
+  result.num_frames = static_cast<int>(by_frame.size());
+  check_timestamps(frame_timestamps, result.num_frames);
+  const std::vector<double> times(frame_timestamps.begin(),
+                                  frame_timestamps.begin() + result.num_frames);
+  const std::vector<FrameMotion> motions = frame_motions(sensors, times, Eigen::Vector3d::Zero());
+
+  run_filter(camera, by_frame, settings.filter,
+             [&](int f) { return predict_camera_motion(motions[f - 1], sensors, settings.filter); },
+             progress, &result);
+  result.odometry_scale = sensors.odometry_scale;
+
+  refuse_degenerate_motion(result);
+  if (!sensors.gps.empty()) move_into_enu(sensors, times, !sensors.odometry.empty(), &result);
+  if (!settings.run_batch) return result;
+
+  MotionTerms terms(sensors, times,
+                    bias_from_filter(motions, result.online_cam_from_world, sensors.body_from_cam));
+  adjust_on_inliers(camera, tracks, settings, &terms, &result);
+  result.odometry_scale = terms.scale();
+  result.gyro_bias = terms.bias();
+  return result;
+}
+
+}  // namespace omnisfm::sfm

@@ -1,0 +1,39 @@
+// The filter's propagation by the vehicle's predicted motion (odometry, gyro), in place of the
+// random walk.
+
+#include "omnisfm/sfm/online_filter.h"
+#include "so3.h"
+
+namespace omnisfm::sfm {
+
+bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations,
+                                 const MotionPrediction& motion) {
+  motion_ = &motion;
+  const bool updated = process_frame(frame, observations);
+  motion_ = nullptr;
+  return updated;
+}
+
+// With M = cam_from_previous_cam: R' = R_M R, t' = R_M t + t_M. For the left-perturbed pose error
+// (dtheta, dt) and M's error (dm, dt_M):
+//   dtheta' = R_M dtheta + dm,   dt' = R_M dt - [R_M t]x dm + dt_M.
+// The points, in the world frame, do not move: only their cross-covariance with the pose turns.
+void OnlineFilter::propagate(const MotionPrediction& motion) {
+  const Eigen::Matrix3d R_M = motion.cam_from_previous_cam.linear();
+  const Eigen::Vector3d t_M = motion.cam_from_previous_cam.translation();
+  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Identity();
+  G.block<3, 3>(3, 0) = -so3::skew(R_M * t_);
+  R_ = R_M * R_;
+  t_ = R_M * t_ + t_M;
+
+  Eigen::Matrix<double, 6, 6> F = Eigen::Matrix<double, 6, 6>::Zero();
+  F.topLeftCorner<3, 3>() = R_M;
+  F.bottomRightCorner<3, 3>() = R_M;
+  const Eigen::MatrixXd top = F * P_.topRows<6>();
+  P_.topRows<6>() = top;
+  const Eigen::MatrixXd left = P_.leftCols<6>() * F.transpose();
+  P_.leftCols<6>() = left;
+  P_.topLeftCorner<6, 6>() += G * motion.covariance * G.transpose();
+}
+
+}  // namespace omnisfm::sfm

@@ -1,0 +1,33 @@
+#pragma once
+// The steps of the shape-from-motion pipeline that the vision-only and the fused pipelines share.
+
+#include <functional>
+#include <vector>
+
+#include "batch_terms.h"
+#include "omnisfm/sfm/pipeline.h"
+
+namespace omnisfm::sfm {
+
+// Each frame's observations (frames 0 .. last observed). Throws std::invalid_argument as run_sfm
+// documents.
+std::vector<std::vector<TrackPixel>> observations_by_frame(
+    const std::vector<io::TrackObservation>& tracks);
+
+// The filter over every frame, into result's online estimate and outliers; predicted_motion, when
+// set, gives the motion into frame f (f >= 1) in place of the random walk.
+void run_filter(const camera::CatadioptricCamera& camera,
+                const std::vector<std::vector<TrackPixel>>& by_frame, const FilterSettings& settings,
+                const std::function<MotionPrediction(int)>& predicted_motion,
+                const Progress& progress, SfmResult* result);
+
+// Throws std::runtime_error when the filter's camera barely translates against the scene's depth.
+void refuse_degenerate_motion(const SfmResult& result);
+
+// The batch started from the filter on its inliers, then the batch-level outlier rejection and
+// the batch again; fills result->batch and adds to result->outliers.
+void adjust_on_inliers(const camera::CatadioptricCamera& camera,
+                       const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                       ExtraTerms* extra, SfmResult* result);
+
+}  // namespace omnisfm::sfm

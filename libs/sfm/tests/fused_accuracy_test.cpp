@@ -1,0 +1,164 @@
+// The pipeline fused with the simulated vehicle's odometry, gyro and GPS, against ground truth.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "omnisfm/eval/simulated_sensors.h"
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/sfm/fused_pipeline.h"
+#include "omnisfm/sim/scenario.h"
+#include "world_from_cam.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+struct Scenario {
+  sim::Dataset dataset;
+  sim::DeadReckoningOptions options;
+  sim::DeadReckoning dead_reckoning;
+  sim::GpsTrack gps;
+};
+
+Scenario simulate(const std::string& name, std::uint64_t seed) {
+  sim::SimulationOptions options;
+  options.scenario = name;
+  options.seed = seed;
+  Scenario s{sim::simulate(options), {}, {}, {}};
+  s.options.seed = seed;
+  s.dead_reckoning = sim::simulate_dead_reckoning(s.dataset, s.options);
+  sim::GpsOptions gps;
+  gps.seed = seed;
+  s.gps = sim::simulate_gps(s.dataset, gps);
+  return s;
+}
+
+SfmSettings fast_settings() {
+  SfmSettings settings;
+  settings.batch.covariances = false;
+  return settings;
+}
+
+double scale_error(const eval::TrajectoryErrors& similarity) {
+  return std::abs(1 / similarity.alignment.scale - 1);
+}
+
+// The simulated odometry reads distances 1.5 % long. Uncalibrated, the fused estimate's scale is
+// the odometry's, pulled a little toward the truth by the noncentral camera; the shape is the
+// camera's, so that even a rigid alignment leaves little error.
+TEST(FusedAccuracy, RoverWithOdometryAndGyro) {
+  const Scenario s = simulate("rover", 1);
+  const MotionSensors sensors = eval::motion_sensors(&s.dead_reckoning, s.options, nullptr);
+  const SfmResult r =
+      run_fused_sfm(s.dataset.camera, s.dataset.observations, s.dataset.timestamps, sensors, fast_settings());
+  ASSERT_TRUE(r.batch.converged) << r.batch.message;
+  EXPECT_FALSE(r.world_is_enu);
+  const auto rigid = eval::trajectory_errors(inverted(r.batch.cam_from_world), s.dataset.world_from_cam, false);
+  const auto similarity = eval::trajectory_errors(inverted(r.batch.cam_from_world), s.dataset.world_from_cam, true);
+  std::printf("rover fused: scale error %.3f %%, rigid %.3f %%, yaw %.4f deg, odometry scale %.4f\n",
+              100 * scale_error(similarity), rigid.translation_error_percent, rigid.mean_yaw_error_deg,
+              r.odometry_scale);
+  EXPECT_LT(scale_error(similarity), 0.012) << "no worse than 1.2 % (the odometry's error: 1.5 %)";
+  EXPECT_LT(rigid.translation_error_percent, 1.02);
+  EXPECT_LT(rigid.mean_yaw_error_deg, 0.48);
+  EXPECT_LT(r.batch.final_rms_px, 0.25);
+  // The bias drifts (a random walk) about its starting value; the estimate is a constant.
+  EXPECT_LT((r.gyro_bias - s.dead_reckoning.gyro_bias_at_start).cwiseAbs().maxCoeff(), 5e-4);
+}
+
+// With GPS the estimate is in ENU, far within the fixes' noise (2 cm); the run also calibrates the
+// odometry's scale, which a later run of the same vehicle without GPS can take.
+TEST(FusedAccuracy, RoverWithGpsThenCalibratedOdometry) {
+  const Scenario s = simulate("rover", 1);
+  const MotionSensors sensors = eval::motion_sensors(&s.dead_reckoning, s.options, &s.gps);
+  const SfmResult r =
+      run_fused_sfm(s.dataset.camera, s.dataset.observations, s.dataset.timestamps, sensors, fast_settings());
+  ASSERT_TRUE(r.batch.converged) << r.batch.message;
+  ASSERT_TRUE(r.world_is_enu);
+  double mean_error = 0, online_error = 0;
+  for (size_t f = 0; f < s.dataset.world_from_cam.size(); ++f) {
+    const Eigen::Vector3d truth = (s.gps.enu_from_world * s.dataset.world_from_cam[f]).translation();
+    mean_error += (r.batch.cam_from_world[f].inverse().translation() - truth).norm();
+    online_error += (r.online_cam_from_world[f].inverse().translation() - truth).norm();
+  }
+  mean_error /= s.dataset.world_from_cam.size();
+  online_error /= s.dataset.world_from_cam.size();
+  std::printf("rover with GPS: mean position error in ENU %.4f m (online %.4f m), odometry scale %.5f\n",
+              mean_error, online_error, r.odometry_scale);
+  EXPECT_LT(mean_error, s.gps.horizontal_sigma);
+  EXPECT_LT(online_error, 5 * s.gps.horizontal_sigma);
+  const double true_scale = 1 / (1 + s.options.odometry_scale_error);
+  EXPECT_NEAR(r.odometry_scale, true_scale, 0.003);
+
+  // Another drive of the same vehicle (same worn tyre), without GPS.
+  const Scenario later = simulate("rover", 2);
+  MotionSensors calibrated = eval::motion_sensors(&later.dead_reckoning, later.options, nullptr);
+  calibrated.odometry_scale = r.odometry_scale;
+  calibrated.odometry_noise.scale_sigma = 0.003;
+  const SfmResult c = run_fused_sfm(later.dataset.camera, later.dataset.observations,
+                                    later.dataset.timestamps, calibrated, fast_settings());
+  ASSERT_TRUE(c.batch.converged) << c.batch.message;
+  const auto rigid = eval::trajectory_errors(inverted(c.batch.cam_from_world), later.dataset.world_from_cam, false);
+  const auto similarity = eval::trajectory_errors(inverted(c.batch.cam_from_world), later.dataset.world_from_cam, true);
+  std::printf("rover, calibrated odometry: scale error %.3f %%, rigid %.3f %%\n",
+              100 * scale_error(similarity), rigid.translation_error_percent);
+  EXPECT_LT(scale_error(similarity), 0.01);
+  EXPECT_LT(rigid.translation_error_percent, 1.02);
+}
+
+// The crane's motion is not planar: no odometry, the gyro alone. It estimates the bias and
+// keeps the camera's accuracy; the scale stays the camera's own.
+TEST(FusedAccuracy, CraneWithGyroOnly) {
+  const Scenario s = simulate("crane", 1);
+  ASSERT_TRUE(s.dead_reckoning.odometry.empty());
+  const MotionSensors sensors = eval::motion_sensors(&s.dead_reckoning, s.options, nullptr);
+  const SfmResult r =
+      run_fused_sfm(s.dataset.camera, s.dataset.observations, s.dataset.timestamps, sensors, fast_settings());
+  ASSERT_TRUE(r.batch.converged) << r.batch.message;
+  const auto similarity = eval::trajectory_errors(inverted(r.batch.cam_from_world), s.dataset.world_from_cam, true);
+  std::printf("crane with gyro: %.3f %%, %.3f deg\n", similarity.translation_error_percent,
+              similarity.mean_rotation_error_deg);
+  EXPECT_LT(similarity.translation_error_percent, 0.79);
+  EXPECT_LT(similarity.mean_rotation_error_deg, 1.61);
+  EXPECT_LT((r.gyro_bias - s.dead_reckoning.gyro_bias_at_start).cwiseAbs().maxCoeff(), 3e-4);
+}
+
+TEST(FusedPipeline, WithoutSensorsIsTheVisionPipeline) {
+  sim::SimulationOptions options;
+  options.scenario = "lab";
+  const sim::Dataset d = sim::simulate(options);
+  // The filter only: the batch's threaded sums differ from run to run in their last bits.
+  SfmSettings settings = fast_settings();
+  settings.run_batch = false;
+  const SfmResult fused = run_fused_sfm(d.camera, d.observations, d.timestamps, MotionSensors(), settings);
+  const SfmResult vision = run_sfm(d.camera, d.observations, settings);
+  ASSERT_EQ(fused.online_cam_from_world.size(), vision.online_cam_from_world.size());
+  for (size_t f = 0; f < fused.online_cam_from_world.size(); ++f)
+    EXPECT_EQ(fused.online_cam_from_world[f].matrix(), vision.online_cam_from_world[f].matrix());
+  EXPECT_EQ(fused.outliers.size(), vision.outliers.size());
+  EXPECT_FALSE(fused.world_is_enu);
+}
+
+TEST(FusedPipeline, RefusesBadTimestampsAndCollinearFixes) {
+  sim::SimulationOptions options;
+  options.scenario = "lab";
+  const sim::Dataset d = sim::simulate(options);
+  MotionSensors sensors;
+  for (int i = 0; i < 10; ++i) sensors.gps.push_back({i * 2.0, Eigen::Vector3d(0.3 * i, 0, 0)});
+  std::vector<double> short_times(d.timestamps.begin(), d.timestamps.end() - 1);
+  EXPECT_THROW(run_fused_sfm(d.camera, d.observations, short_times, sensors, fast_settings()),
+               std::invalid_argument);
+  std::vector<double> repeated = d.timestamps;
+  repeated[5] = repeated[4];
+  EXPECT_THROW(run_fused_sfm(d.camera, d.observations, repeated, sensors, fast_settings()),
+               std::invalid_argument);
+  try {
+    run_fused_sfm(d.camera, d.observations, d.timestamps, sensors, fast_settings());
+    FAIL() << "fixes on a line were accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("on a line"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm

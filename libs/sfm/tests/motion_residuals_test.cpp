@@ -1,0 +1,204 @@
+// The motion residuals' and the filter's motion prediction's analytic Jacobians against central
+// differences, and the gyro integration's bias Jacobian against re-integration.
+
+#include "omnisfm/sfm/motion_residuals.h"
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+
+#include "omnisfm/sfm/motion_prediction.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+// A camera on a vehicle, turned and offset as real mounts are.
+Eigen::Isometry3d body_from_cam() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(3.0, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()))
+                   .toRotationMatrix();
+  T.translation() << 0.3, -0.1, 0.8;
+  return T;
+}
+
+Eigen::Matrix<double, 6, 1> random_pose(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0, 1);
+  Eigen::Matrix<double, 6, 1> p;
+  for (int i = 0; i < 6; ++i) p[i] = n(rng);
+  return p;
+}
+
+// Every block's analytic Jacobian against central differences, to `tolerance` of its largest
+// entry (relative) or absolutely below 1.
+void expect_jacobians_match(const ceres::CostFunction& cost, std::vector<std::vector<double>> blocks,
+                            double tolerance) {
+  const int m = cost.num_residuals();
+  const auto& sizes = cost.parameter_block_sizes();
+  std::vector<const double*> pointers;
+  for (auto& b : blocks) pointers.push_back(b.data());
+  std::vector<std::vector<double>> analytic(blocks.size());
+  std::vector<double*> jacobian_pointers;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    analytic[b].resize(m * sizes[b]);
+    jacobian_pointers.push_back(analytic[b].data());
+  }
+  std::vector<double> r(m), plus(m), minus(m);
+  ASSERT_TRUE(cost.Evaluate(pointers.data(), r.data(), jacobian_pointers.data()));
+  const double h = 1e-6;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    double scale = 1;
+    for (double v : analytic[b]) scale = std::max(scale, std::abs(v));
+    for (int j = 0; j < sizes[b]; ++j) {
+      const double saved = blocks[b][j];
+      blocks[b][j] = saved + h;
+      ASSERT_TRUE(cost.Evaluate(pointers.data(), plus.data(), nullptr));
+      blocks[b][j] = saved - h;
+      ASSERT_TRUE(cost.Evaluate(pointers.data(), minus.data(), nullptr));
+      blocks[b][j] = saved;
+      for (int i = 0; i < m; ++i)
+        EXPECT_NEAR(analytic[b][i * sizes[b] + j], (plus[i] - minus[i]) / (2 * h), tolerance * scale)
+            << "block " << b << " residual " << i << " parameter " << j;
+    }
+  }
+}
+
+std::vector<double> as_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+// A pose near another: the vehicle's motion between two frames.
+Eigen::Matrix<double, 6, 1> nearby(const Eigen::Matrix<double, 6, 1>& p, std::mt19937_64& rng) {
+  return p + 0.1 * random_pose(rng);
+}
+
+TEST(MotionResiduals, OdometryJacobians) {
+  std::mt19937_64 rng(1);
+  OdometryIncrement increment;
+  increment.delta << 0.12, -0.03, 0.2;
+  increment.covariance = Eigen::Vector3d(1e-4, 2e-4, 3e-4).asDiagonal();
+  increment.covariance(0, 1) = increment.covariance(1, 0) = 5e-5;
+  std::unique_ptr<ceres::CostFunction> cost(make_odometry_cost(increment, body_from_cam()));
+  for (int trial = 0; trial < 5; ++trial) {
+    const auto a = random_pose(rng);
+    expect_jacobians_match(*cost, {as_vector(a), as_vector(nearby(a, rng)), {1.02}}, 1e-6);
+  }
+}
+
+TEST(MotionResiduals, GyroJacobians) {
+  std::mt19937_64 rng(2);
+  GyroIncrement increment;
+  increment.valid = true;
+  increment.dt = 0.5;
+  increment.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  increment.bias_lin << 1e-3, -2e-3, 3e-3;
+  increment.J_rotation_bias = -0.5 * Eigen::Matrix3d::Identity();
+  increment.J_rotation_bias(0, 1) = 0.05;
+  increment.covariance = 2e-8 * Eigen::Matrix3d::Identity();
+  std::unique_ptr<ceres::CostFunction> cost(make_gyro_cost(increment, body_from_cam()));
+  for (int trial = 0; trial < 5; ++trial) {
+    const auto a = random_pose(rng);
+    expect_jacobians_match(*cost, {as_vector(a), as_vector(nearby(a, rng)), {0.02, -0.01, 0.005}},
+                           1e-6);
+  }
+}
+
+TEST(MotionResiduals, GpsJacobians) {
+  std::mt19937_64 rng(3);
+  const Eigen::Matrix3d covariance = Eigen::Vector3d(4e-4, 4e-4, 1.6e-3).asDiagonal();
+  for (double alpha : {0.0, 0.3, 1.0}) {
+    std::unique_ptr<ceres::CostFunction> cost(
+        make_gps_cost(Eigen::Vector3d(1, 2, 3), covariance, alpha, Eigen::Vector3d(0.1, 0.2, -0.3)));
+    const auto a = random_pose(rng);
+    expect_jacobians_match(*cost, {as_vector(a), as_vector(nearby(a, rng))}, 1e-6);
+  }
+}
+
+// The camera motion's covariance comes from J_camera_body, the first-order map of the body
+// motion's error (right-perturbed rotation, translation) to the camera motion's (left-perturbed
+// rotation, translation). Recovered here column by column from central differences.
+TEST(MotionPrediction, CameraCovarianceFollowsTheBodyMotion) {
+  BodyMotion body;
+  body.previous_body_from_body.linear() =
+      Eigen::AngleAxisd(0.2, Eigen::Vector3d(0.1, 0.2, 1).normalized()).toRotationMatrix();
+  body.previous_body_from_body.translation() << 0.2, 0.05, 0.01;
+  const Eigen::Isometry3d mount = body_from_cam();
+  const MotionPrediction mean = predict_camera_motion(body, mount);
+  Eigen::Matrix<double, 6, 6> J;
+  const double h = 1e-6;
+  for (int j = 0; j < 6; ++j) {
+    Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
+    Eigen::Matrix<double, 6, 1> difference = Eigen::Matrix<double, 6, 1>::Zero();
+    for (double sign : {1.0, -1.0}) {
+      e[j] = sign * h;
+      BodyMotion moved = body;
+      moved.previous_body_from_body.linear() =
+          body.previous_body_from_body.linear() *
+          Eigen::AngleAxisd(e.head<3>().norm(), e.head<3>().normalized()).toRotationMatrix();
+      moved.previous_body_from_body.translation() += e.tail<3>();
+      const Eigen::Isometry3d M = predict_camera_motion(moved, mount).cam_from_previous_cam;
+      const Eigen::AngleAxisd left(M.linear() * mean.cam_from_previous_cam.linear().transpose());
+      Eigen::Matrix<double, 6, 1> error;
+      error << left.angle() * left.axis(), M.translation() - mean.cam_from_previous_cam.translation();
+      difference = sign > 0 ? error : Eigen::Matrix<double, 6, 1>(difference - error);
+    }
+    J.col(j) = difference / (2 * h);
+  }
+  Eigen::Matrix<double, 6, 6> body_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  body_covariance.diagonal() << 1, 2, 3, 4, 5, 6;
+  body_covariance(0, 4) = body_covariance(4, 0) = 0.5;
+  body.covariance = body_covariance;
+  const Eigen::Matrix<double, 6, 6> expected = J * body_covariance * J.transpose();
+  EXPECT_LT((predict_camera_motion(body, mount).covariance - expected).cwiseAbs().maxCoeff(),
+            1e-6 * expected.cwiseAbs().maxCoeff());
+}
+
+std::vector<GyroSample> turning_gyro() {
+  std::vector<GyroSample> gyro;
+  for (int i = 0; i <= 200; ++i) {
+    const double t = 0.01 * i;
+    gyro.push_back({t, Eigen::Vector3d(0.3 * std::sin(t), 0.2, 0.5 * std::cos(3 * t))});
+  }
+  return gyro;
+}
+
+TEST(FrameMotion, GyroBiasJacobian) {
+  const auto gyro = turning_gyro();
+  const GyroNoise noise;
+  const Eigen::Vector3d bias(0.01, -0.02, 0.005);
+  const GyroIncrement at = integrate_gyro(gyro, noise, 0.333, 1.5, bias);
+  ASSERT_TRUE(at.valid);
+  const double h = 1e-6;
+  for (int j = 0; j < 3; ++j) {
+    const Eigen::Vector3d d = h * Eigen::Vector3d::Unit(j);
+    const Eigen::Matrix3d plus = integrate_gyro(gyro, noise, 0.333, 1.5, bias + d).rotation;
+    const Eigen::Matrix3d minus = integrate_gyro(gyro, noise, 0.333, 1.5, bias - d).rotation;
+    const Eigen::AngleAxisd change(minus.transpose() * plus);
+    const Eigen::Vector3d column = change.angle() * change.axis() / (2 * h);
+    EXPECT_LT((column - at.J_rotation_bias.col(j)).norm(), 1e-6) << "column " << j;
+  }
+  // White rate noise over 1.167 s: about noise_density^2 * dt per axis.
+  EXPECT_NEAR(at.covariance.trace() / 3, noise.noise_density * noise.noise_density * 1.167, 1e-10);
+}
+
+TEST(FrameMotion, OdometryIsInterpolatedAtFrameTimes) {
+  std::vector<OdometrySample> odometry;
+  // Driving a circle of radius 2 m at 0.5 rad/s, read at 10 Hz.
+  for (int i = 0; i <= 30; ++i) {
+    const double t = 0.1 * i, yaw = 0.5 * t;
+    odometry.push_back({t, Eigen::Vector3d(2 * std::sin(yaw), 2 - 2 * std::cos(yaw), yaw)});
+  }
+  OdometryNoise noise;
+  const OdometryIncrement increment = odometry_increment(odometry, noise, 0.5, 2.5);
+  ASSERT_TRUE(increment.valid);
+  const double turn = 0.5 * 2.0;  // yaw change over the 2 s
+  // The chord of the arc, seen from its start; within the error of interpolating inside 0.1 s.
+  EXPECT_NEAR(increment.delta.z(), turn, 1e-12);
+  EXPECT_NEAR(increment.delta.x(), 2 * std::sin(turn), 1e-3);
+  EXPECT_NEAR(increment.delta.y(), 2 - 2 * std::cos(turn), 1e-3);
+  EXPECT_NEAR(increment.covariance(0, 0), 1e-4 * increment.distance, 1e-12);
+  EXPECT_FALSE(odometry_increment(odometry, noise, 2.9, 3.2).valid) << "beyond the readings";
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm

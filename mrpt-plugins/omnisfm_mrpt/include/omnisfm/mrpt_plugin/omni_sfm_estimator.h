@@ -1,0 +1,105 @@
+#pragma once
+// omnisfm's online estimator with the interface of MRPT's SLAM front ends (CMetricMapBuilder's
+// processActionObservation and getCurrentPoseEstimation), so that an MRPT application feeds it
+// what a rawlog or a live sensor loop delivers and reads the robot's pose with its covariance.
+//
+// It wraps the tracker (libs/track) and the online filter (sfm::OnlineFilter): an omnisfm
+// CObservationTrackedFeatures goes to the filter directly; an image (CObservationOmniImage, or a
+// stock CObservationImage when the options give the camera) goes through the tracker first.
+// Odometry, gyro and GPS observations and CActionRobotMovement2D actions are collected as
+// sfm::MotionSensors (motion_sensor_collector.h) for the estimators that fuse them.
+//
+// Frames: the map frame is the robot's frame at the first camera frame (x forward, y left, z up,
+// MRPT's convention), so the pose starts at the origin. The robot's pose is
+//   map_from_robot = body_from_cam * cam0_from_cam * cam_from_body,
+// body_from_cam the camera's pose on the robot from the first camera observation. Its covariance
+// is the filter's pose covariance carried through that map to MRPT's (x, y, z, yaw, pitch, roll)
+// to first order, with the Jacobian by central differences.
+//
+// MRPT headers: the including target must link MRPT (mrpt::obs, mrpt::poses) itself.
+
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
+#include "omnisfm/sfm/online_filter.h"
+#include "omnisfm/track/tracker_settings.h"
+
+namespace omnisfm::track {
+class SequenceTracker;
+}
+
+namespace omnisfm::mrpt_plugin {
+
+struct OmniSfmEstimatorOptions {
+  sfm::FilterSettings filter;
+  track::TrackerSettings tracker;
+  // The camera; without one, the model the first omnisfm observation carries.
+  std::optional<camera::CatadioptricCamera> camera;
+  std::string camera_label;  // the camera's (or its tracks') sensor label; empty: any
+  MotionSensorLabels sensor_labels;
+  std::optional<GeodeticPoint> gps_origin;
+};
+
+class OmniSfmEstimator {
+ public:
+  explicit OmniSfmEstimator(const OmniSfmEstimatorOptions& options = {});
+  ~OmniSfmEstimator();
+  OmniSfmEstimator(const OmniSfmEstimator&) = delete;
+  OmniSfmEstimator& operator=(const OmniSfmEstimator&) = delete;
+
+  // A sensory-frame rawlog's step: the actions (odometry) first, then the observations.
+  void processActionObservation(mrpt::obs::CActionCollection& action,
+                                mrpt::obs::CSensoryFrame& observations);
+  // One observation, as an observation-format rawlog or a live sensor gives it. Throws
+  // std::invalid_argument for an image or tracks when no camera is known (a stock
+  // CObservationImage without options.camera).
+  void processObservation(const mrpt::obs::CObservation::Ptr& observation);
+
+  // The robot's pose in the map frame with its covariance (MRPT's CPose3DPDFGaussian, whose
+  // covariance is over x, y, z, yaw, pitch, roll); the origin, exactly, before the first frame.
+  mrpt::poses::CPose3DPDFGaussian::Ptr getCurrentPoseEstimation() const;
+  void getCurrentPoseEstimation(mrpt::poses::CPose3DPDFGaussian& out) const;
+
+  int framesProcessed() const { return frames_; }
+  // The points of the tracks so far, in the map frame.
+  std::map<int, Eigen::Vector3d> points() const;
+  // The dead reckoning and GPS collected so far.
+  const sfm::MotionSensors& motionSensors() const { return collector_.sensors(); }
+  // The estimator's world (the first camera's frame) in the map frame.
+  const Eigen::Isometry3d& mapFromWorld() const { return body_from_cam_; }
+
+ private:
+  void start(const camera::CatadioptricCamera& camera, const mrpt::poses::CPose3D& camera_pose);
+  // The filter propagated by the odometry and gyro collected since the previous frame (when there
+  // are any), then updated by the frame's pixels.
+  void process_frame(const std::vector<sfm::TrackPixel>& pixels, double timestamp);
+  bool is_camera(const mrpt::obs::CObservation& observation) const;
+
+  OmniSfmEstimatorOptions options_;
+  MotionSensorCollector collector_;
+  std::unique_ptr<sfm::OnlineFilter> filter_;
+  std::unique_ptr<track::SequenceTracker> tracker_;
+  Eigen::Isometry3d body_from_cam_ = Eigen::Isometry3d::Identity();
+  int frames_ = 0;
+  double previous_frame_time_ = 0;
+};
+
+// MRPT's pose (x, y, z, yaw, pitch, roll) of map_from_robot, and its covariance, from the
+// filter's cam_from_world and its 6x6 covariance (rotation error as a left perturbation, then
+// translation), with the robot at body_from_cam of the camera and the world the map moved by
+// map_from_world.
+mrpt::poses::CPose3DPDFGaussian robot_pose_of(const Eigen::Isometry3d& cam_from_world,
+                                              const Eigen::Matrix<double, 6, 6>& covariance,
+                                              const Eigen::Isometry3d& body_from_cam,
+                                              const Eigen::Isometry3d& map_from_world);
+
+}  // namespace omnisfm::mrpt_plugin
