@@ -1,10 +1,12 @@
-// Speed of the estimators: the online filter per frame at several numbers of points, and the
-// batch adjustment on the simulated rover, with analytic Jacobians and, as the peer, Ceres'
-// numeric differentiation of the same model.
+// Speed of the estimators: the online filter per frame at several numbers of points, the batch
+// adjustment on the simulated rover and on long sequences (up to 2,000 images), with analytic
+// Jacobians and, as the peer, Ceres' numeric differentiation of the same model.
 
 #include <benchmark/benchmark.h>
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+
+#include <sys/resource.h>
 
 #include <map>
 
@@ -49,12 +51,15 @@ FilterInput rover_frames(int count) {
   return input;
 }
 
-// Time per frame of the filter once every point is in the state (the frames after the first).
-void BM_FilterFrame(benchmark::State& state) {
+// Time per frame of the filter once every point is in the state (the frames after the first),
+// with the default settings or with `update_iterations` changed.
+void filter_frames(benchmark::State& state, int update_iterations) {
   const FilterInput input = rover_frames(static_cast<int>(state.range(0)));
+  sfm::FilterSettings settings;
+  if (update_iterations > 0) settings.update_iterations = update_iterations;
   for (auto _ : state) {
     state.PauseTiming();
-    sfm::OnlineFilter filter(input.camera, sfm::FilterSettings());
+    sfm::OnlineFilter filter(input.camera, settings);
     filter.process_frame(0, input.frames[0]);
     state.ResumeTiming();
     for (size_t f = 1; f < 21; ++f) filter.process_frame(static_cast<int>(f), input.frames[f]);
@@ -63,7 +68,13 @@ void BM_FilterFrame(benchmark::State& state) {
   state.counters["s_per_frame"] = benchmark::Counter(
       20.0 * state.iterations(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+void BM_FilterFrame(benchmark::State& state) { filter_frames(state, 0); }
 BENCHMARK(BM_FilterFrame)->Arg(30)->Arg(60)->Arg(112)->Arg(200)->Unit(benchmark::kMillisecond);
+
+// The classic EKF: one linearisation per frame instead of the iterated update.
+void BM_FilterFrameOneIteration(benchmark::State& state) { filter_frames(state, 1); }
+BENCHMARK(BM_FilterFrameOneIteration)->Arg(30)->Arg(60)->Arg(112)->Arg(200)
+    ->Unit(benchmark::kMillisecond);
 
 struct BatchInput {
   camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
@@ -100,6 +111,91 @@ void BM_BatchRover(benchmark::State& state) {
   state.counters["lm_iterations"] = iterations;
 }
 BENCHMARK(BM_BatchRover)->Unit(benchmark::kMillisecond);
+
+// A long drive for the batch's scaling: `images` frames of the rover's rig 3 cm apart along an S
+// that repeats every 300 frames, one ground point per frame a little to the side of the path,
+// seen from the frames within 15 of its own that image it (tracks about 30 images long). The
+// start is the truth with centimetre errors, as a filter would give; pixel noise 0.2 px.
+struct ScaledProblem {
+  camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  std::vector<io::TrackObservation> observations;
+  std::vector<Eigen::Isometry3d> start_cam_from_world;
+  std::map<int, Eigen::Vector3d> start_points;
+};
+
+ScaledProblem scaled_problem(int images) {
+  ScaledProblem problem;
+  sim::Dataset d{"drive", problem.camera, {}, {}, {}, {}, {}, {}, {}, {}};
+  Eigen::Vector3d position(0, 0, 0.6);
+  for (int i = 0; i < images; ++i) {
+    const double heading = 0.7 * std::sin(2 * M_PI * i / 300.0);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T.translation() = position;
+    d.world_from_cam.push_back(T);
+    position += 0.03 * Eigen::Vector3d(std::cos(heading), std::sin(heading), 0);
+  }
+  std::mt19937_64 rng(11);
+  for (int track = 0; track < images; ++track) {
+    // A ground point beside the path, drawn again until nearly all of its 30 frames see it: a
+    // track that is not seen for long leaves its depth free, which no real tracker would keep.
+    const int first = std::max(0, track - 15), end = std::min(images, track + 15);
+    Eigen::Vector3d point;
+    std::vector<io::TrackObservation> seen;
+    do {
+      const Eigen::Isometry3d& T = d.world_from_cam[track];
+      const double side = sim::uniform(rng, 0.8, 2.0) * (sim::uniform(rng, 0, 1) < 0.5 ? -1 : 1);
+      point = T * Eigen::Vector3d(sim::uniform(rng, -0.5, 0.5), side, 0);
+      point.z() = 0;
+      seen.clear();
+      for (int f = first; f < end; ++f) {
+        Eigen::Vector2d pixel;
+        if (!sim::true_pixel(d, f, point, &pixel, 3.0)) continue;
+        pixel += 0.2 * Eigen::Vector2d(sim::standard_normal(rng), sim::standard_normal(rng));
+        seen.push_back({f, track, pixel});
+      }
+    } while (5 * static_cast<int>(seen.size()) < 4 * (end - first));
+    problem.observations.insert(problem.observations.end(), seen.begin(), seen.end());
+    problem.start_points[track] =
+        point + 0.03 * Eigen::Vector3d(sim::standard_normal(rng), sim::standard_normal(rng),
+                                       sim::standard_normal(rng));
+  }
+  for (int f = 0; f < images; ++f) {
+    Eigen::Isometry3d T = d.world_from_cam[f].inverse();
+    if (f > 0) {
+      const Eigen::Vector3d w = 0.005 * Eigen::Vector3d(sim::standard_normal(rng),
+                                                        sim::standard_normal(rng),
+                                                        sim::standard_normal(rng));
+      T.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * T.linear();
+      T.translation() += 0.01 * Eigen::Vector3d(sim::standard_normal(rng),
+                                                sim::standard_normal(rng),
+                                                sim::standard_normal(rng));
+    }
+    problem.start_cam_from_world.push_back(T);
+  }
+  return problem;
+}
+
+// The batch to convergence on a long drive of state.range(0) images; the process's peak
+// resident memory so far is reported with it.
+void BM_BatchScaled(benchmark::State& state) {
+  const ScaledProblem problem = scaled_problem(static_cast<int>(state.range(0)));
+  sfm::BatchSettings settings;
+  settings.covariances = false;
+  sfm::BatchResult result;
+  for (auto _ : state)
+    result = sfm::batch_adjust(problem.camera, problem.observations,
+                               problem.start_cam_from_world, problem.start_points, settings);
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["lm_iterations"] = result.iterations;
+  state.counters["observations"] = static_cast<double>(problem.observations.size());
+  state.counters["converged"] = result.converged;
+  state.counters["final_rms_px"] = result.final_rms_px;
+  state.counters["peak_rss_MB"] = usage.ru_maxrss / 1024.0;
+}
+BENCHMARK(BM_BatchScaled)->Arg(250)->Arg(500)->Arg(1000)->Arg(2000)->Iterations(1)
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The peer: the same residual, differentiated numerically by Ceres.
 struct NumericProjection {

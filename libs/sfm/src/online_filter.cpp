@@ -129,84 +129,95 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   points_.segment<3>(3 * slot) = params;
 }
 
-void OnlineFilter::update(const std::vector<Measurement>& meas, Eigen::Matrix3d* R,
-                          Eigen::Vector3d* t, Eigen::VectorXd* X, Eigen::MatrixXd* P,
-                          std::vector<double>* residuals) const {
+void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) const {
   const int m = static_cast<int>(meas.size());
   const int n = static_cast<int>(P_.rows());
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
-  *R = R_;
-  *t = t_;
-  *X = points_;
-  std::vector<Eigen::Matrix<double, 2, 6>> H_pose(m);
+  c->R = R_;
+  c->t = t_;
+  c->points = points_;
+  c->residuals.assign(m, INFINITY);
+  Eigen::VectorXd& X = c->points;
+  // H is sparse: each measurement's two rows touch the pose and its own point only. The pose
+  // columns of all rows are kept together, for one product with P's pose columns.
+  Eigen::Matrix<double, Eigen::Dynamic, 6> H_pose(2 * m, 6);
   std::vector<Eigen::Matrix<double, 2, 3>> H_point(m);
   Eigen::VectorXd innovation(2 * m);
-  Eigen::MatrixXd PHt(n, 2 * m);
-  Eigen::LLT<Eigen::MatrixXd> llt;
-  residuals->assign(m, INFINITY);
+  Eigen::MatrixXd& PHt = c->PHt;
+  Eigen::MatrixXd& S = c->S_factor;
+  PHt.resize(n, 2 * m);
+  S.resize(2 * m, 2 * m);
 
   for (int iteration = 0; iteration < std::max(1, settings_.update_iterations); ++iteration) {
     // Linearise at the current iterate; the correction is taken from the prediction.
-    const Eigen::Vector3d rotation_offset = log_so3(R_ * R->transpose());
+    const Eigen::Vector3d rotation_offset = log_so3(R_ * c->R.transpose());
     for (int k = 0; k < m; ++k) {
       const int s = meas[k].slot;
       Eigen::Matrix3d J_world_params;
-      const Eigen::Vector3d params = X->segment<3>(3 * s);
-      const Eigen::Vector3d RX = *R * world_point(s, params, &J_world_params);
+      const Eigen::Vector3d params = X.segment<3>(3 * s);
+      const Eigen::Vector3d RX = c->R * world_point(s, params, &J_world_params);
       Eigen::Vector2d pixel;
       Eigen::Matrix<double, 2, 3> J_X;
-      if (!(params.z() > 0) || !camera_.project(RX + *t, &pixel, &J_X)) {
+      if (!(params.z() > 0) || !camera_.project(RX + c->t, &pixel, &J_X)) {
         // Off the mirror at this iterate: keep the previous linearisation for this one.
-        if (iteration == 0) return;
+        if (iteration == 0) {
+          c->PHt.resize(0, 0);
+          return;
+        }
         continue;
       }
-      H_pose[k] << -J_X * skew(RX), J_X;
-      H_point[k] = J_X * *R * J_world_params;
-      const Eigen::Vector3d point_offset = points_.segment<3>(3 * s) - X->segment<3>(3 * s);
+      H_pose.middleRows<2>(2 * k) << -J_X * skew(RX), J_X;
+      H_point[k] = J_X * c->R * J_world_params;
+      const Eigen::Vector3d point_offset = points_.segment<3>(3 * s) - X.segment<3>(3 * s);
       innovation.segment<2>(2 * k) = meas[k].pixel - pixel -
-                                     H_pose[k].leftCols<3>() * rotation_offset -
-                                     H_pose[k].rightCols<3>() * (t_ - *t) -
+                                     H_pose.middleRows<2>(2 * k).leftCols<3>() * rotation_offset -
+                                     H_pose.middleRows<2>(2 * k).rightCols<3>() * (t_ - c->t) -
                                      H_point[k] * point_offset;
     }
-    for (int k = 0; k < m; ++k) {
-      const int c = 6 + 3 * meas[k].slot;
-      PHt.middleCols<2>(2 * k) = P_.leftCols<6>() * H_pose[k].transpose() +
-                                 P_.middleCols<3>(c) * H_point[k].transpose();
-    }
-    Eigen::MatrixXd S(2 * m, 2 * m);
-    for (int k = 0; k < m; ++k) {
-      const int c = 6 + 3 * meas[k].slot;
-      S.middleRows<2>(2 * k) =
-          H_pose[k] * PHt.topRows<6>() + H_point[k] * PHt.middleRows<3>(c);
-    }
+    // P H^T and S = H P H^T + R from the blocks of H.
+    PHt.noalias() = P_.leftCols<6>() * H_pose.transpose();
+    for (int k = 0; k < m; ++k)
+      PHt.middleCols<2>(2 * k).noalias() +=
+          P_.middleCols<3>(6 + 3 * meas[k].slot) * H_point[k].transpose();
+    S.noalias() = H_pose * PHt.topRows<6>();
+    for (int k = 0; k < m; ++k)
+      S.middleRows<2>(2 * k).noalias() += H_point[k] * PHt.middleRows<3>(6 + 3 * meas[k].slot);
     S.diagonal().array() += variance;
-    llt.compute(S);
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(S);  // in place: S keeps the factor
     const Eigen::VectorXd correction = PHt * llt.solve(innovation);
-    const Eigen::Vector3d previous_t = *t;
-    *R = exp_so3(correction.head<3>()) * R_;
-    *t = t_ + correction.segment<3>(3);
-    const Eigen::VectorXd previous_X = *X;
-    *X = points_ + correction.tail(n - 6);
+    const Eigen::Vector3d previous_t = c->t;
+    c->R = exp_so3(correction.head<3>()) * R_;
+    c->t = t_ + correction.segment<3>(3);
+    const Eigen::VectorXd previous_X = X;
+    X = points_ + correction.tail(n - 6);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
-    for (int k = 2; k < X->size(); k += 3) (*X)[k] = std::max((*X)[k], kMinInverseDepth);
+    for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
     // Converged when the iterate stops moving (a tenth of a millimetre).
-    if (iteration > 0 && (*t - previous_t).norm() < 1e-4 &&
-        (n == 6 || (*X - previous_X).cwiseAbs().maxCoeff() < 1e-4))
+    if (iteration > 0 && (c->t - previous_t).norm() < 1e-4 &&
+        (n == 6 || (X - previous_X).cwiseAbs().maxCoeff() < 1e-4))
       break;
   }
-  // P = P - PHt S^-1 PHt^T, as a symmetric rank-2m downdate.
-  const Eigen::MatrixXd W = llt.matrixL().solve(PHt.transpose());
-  *P = P_;
-  P->selfadjointView<Eigen::Lower>().rankUpdate(W.transpose(), -1.0);
-  const Eigen::MatrixXd symmetric = P->selfadjointView<Eigen::Lower>();
-  *P = symmetric;
 
   for (int k = 0; k < m; ++k) {
-    const Eigen::Vector3d params = X->segment<3>(3 * meas[k].slot);
+    const Eigen::Vector3d params = X.segment<3>(3 * meas[k].slot);
     Eigen::Vector2d pixel;
-    if (params.z() > 0 && camera_.project(*R * world_point(meas[k].slot, params) + *t, &pixel))
-      (*residuals)[k] = (pixel - meas[k].pixel).norm();
+    if (params.z() > 0 && camera_.project(c->R * world_point(meas[k].slot, params) + c->t, &pixel))
+      c->residuals[k] = (pixel - meas[k].pixel).norm();
   }
+}
+
+void OnlineFilter::accept(Candidate* c) {
+  R_ = c->R;
+  t_ = c->t;
+  points_.swap(c->points);
+  // P = P - PHt S^-1 PHt^T as a symmetric rank-2m downdate of the lower triangle, W = L^-1 PHt^T,
+  // then mirrored.
+  Eigen::MatrixXd W = c->PHt.transpose();
+  c->S_factor.triangularView<Eigen::Lower>().solveInPlace(W);
+  P_.selfadjointView<Eigen::Lower>().rankUpdate(W.transpose(), -1.0);
+  const Eigen::Index n = P_.rows();
+  for (Eigen::Index col = 1; col < n; ++col)
+    for (Eigen::Index row = 0; row < col; ++row) P_(row, col) = P_(col, row);
 }
 
 bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations) {
@@ -268,25 +279,18 @@ bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& obser
   }
 
   bool updated = false;
+  Candidate candidate;
   while (!measurements.empty()) {
-    Eigen::Matrix3d R;
-    Eigen::Vector3d t;
-    Eigen::VectorXd X;
-    Eigen::MatrixXd P;
-    std::vector<double> residuals;
-    update(measurements, &R, &t, &X, &P, &residuals);
-    const auto worst = std::max_element(residuals.begin(), residuals.end());
-
-    if (*worst > settings_.outlier_threshold_px) {
+    update(measurements, &candidate);
+    const auto worst = std::max_element(candidate.residuals.begin(), candidate.residuals.end());
+    if (!(*worst <= settings_.outlier_threshold_px)) {
       // The paper's rejection: drop the worst track, redo the update from the prediction.
-      rejected_slots.insert(measurements[worst - residuals.begin()].slot);
-      measurements.erase(measurements.begin() + (worst - residuals.begin()));
+      const auto index = worst - candidate.residuals.begin();
+      rejected_slots.insert(measurements[index].slot);
+      measurements.erase(measurements.begin() + index);
       continue;
     }
-    R_ = R;
-    t_ = t;
-    points_ = X;
-    P_ = P;
+    accept(&candidate);
     updated = true;
     break;
   }

@@ -82,12 +82,22 @@ class OnlineFilter {
     int slot;
     Eigen::Vector2d pixel;
   };
+  // An update not yet accepted: the new mean, its residuals, and what the covariance downdate
+  // needs, so that an update the outlier test refuses costs no covariance work.
+  struct Candidate {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    Eigen::VectorXd points;
+    std::vector<double> residuals;  // per measurement, after the update
+    Eigen::MatrixXd PHt;            // P H^T at the last linearisation
+    Eigen::MatrixXd S_factor;       // the innovation covariance's Cholesky factor (lower)
+  };
   void propagate();
   void propagate(const MotionPrediction& motion);
   void remove_slot(int slot);
-  // The iterated update from the current (propagated) state; residuals after it, per measurement.
-  void update(const std::vector<Measurement>& measurements, Eigen::Matrix3d* R, Eigen::Vector3d* t,
-              Eigen::VectorXd* points, Eigen::MatrixXd* P, std::vector<double>* residuals) const;
+  // The iterated update from the current (propagated) state.
+  void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
+  void accept(Candidate* candidate);
   void add_point(int track, const Eigen::Vector2d& pixel);
   // The world point of a slot's parameters, and its derivative with respect to them.
   Eigen::Vector3d world_point(int slot, const Eigen::Vector3d& params,
