@@ -118,14 +118,14 @@ void FeatureTracker::follow_live_tracks() {
   // max_forward_backward_px: a few hundredths of a pixel is enough.
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03);
   std::vector<uchar> forward_ok, backward_ok;
-  std::vector<float> errors;
-  cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid_, previous, predicted, forward_ok, errors,
+  // No error output: OpenCV then skips computing each point's patch difference.
+  cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid_, previous, predicted, forward_ok, cv::noArray(),
                            window, settings_.pyramid_levels - 1, criteria,
                            cv::OPTFLOW_USE_INITIAL_FLOW);
   // Back from where the step ends, starting where it began: a consistent step returns there
   // within a level or two of the pyramid.
   back = previous;
-  cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok, errors,
+  cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok, cv::noArray(),
                            window, std::min(1, settings_.pyramid_levels - 1), criteria,
                            cv::OPTFLOW_USE_INITIAL_FLOW);
 
