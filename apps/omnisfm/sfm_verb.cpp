@@ -52,7 +52,9 @@ void add_sfm_verb(CLI::App& app) {
   CLI::App* verb = app.add_subcommand(
       "sfm",
       "Shape-from-motion from tracks: the online filter then the batch adjustment; writes "
-      "online.tum, batch.tum, points.vnl, points.ply, outliers.vnl and report.txt");
+      "online.tum, batch.tum, points.vnl, points.ply, outliers.vnl, report.txt and the residual "
+      "plots (residuals.png, residuals_per_frame.png); with --ground-truth also the paper's "
+      "figures and trajectory plots (motion.png, path.png)");
   verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--tracks", o->tracks, "tracks.vnl (# frame track u v)")->required();
   verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
