@@ -742,6 +742,11 @@ TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
   const Outcome tracked = omnisfm("track --images lab/dataset.rawlog --out tracked/tracks.vnl");
   ASSERT_EQ(tracked.status, 0) << tracked.err;
   EXPECT_EQ(VnlogTable::read((dir_ / "tracked/frames.vnl").string()).num_rows(), 41u);
+  const Outcome timed = omnisfm(
+      "track --images lab/dataset.rawlog --out tracked/again.vnl --timestamps lab/frames.vnl");
+  EXPECT_EQ(timed.status, 2);
+  EXPECT_NE(timed.err.find("carry their own times"), std::string::npos) << timed.err;
+  EXPECT_FALSE(fs::exists(dir_ / "tracked/again.vnl"));
   const Outcome sfm = omnisfm(
       "sfm --camera lab/camera.ini --tracks tracked/tracks.vnl --out tracked/sfm "
       "--ground-truth lab/ground_truth.tum");

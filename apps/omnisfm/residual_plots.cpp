@@ -2,32 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
+#include "omnisfm/io/gnuplot.h"
+#include "omnisfm/io/percentile.h"
 #include "omnisfm/io/vnlog.h"
 
 namespace omnisfm::app {
 namespace {
-
-double percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
-
-// 1, 2 or 5 times a power of ten, at most x.
-double round_down_125(double x) {
-  const double decade = std::pow(10.0, std::floor(std::log10(x)));
-  for (double m : {5.0, 2.0, 1.0})
-    if (m * decade <= x) return m * decade;
-  return decade;
-}
 
 // Per frame: the inliers' RMS (per coordinate) and largest residual, and how many outlier
 // observations it has.
@@ -96,10 +82,10 @@ std::string per_frame_script(bool with_outliers) {
   return gp + "\n";
 }
 
-bool run_gnuplot(const std::string& dir, const std::string& script, const std::string& text) {
+// Writes `script` into `dir` and draws it.
+bool draw(const std::string& dir, const std::string& script, const std::string& text) {
   std::ofstream(dir + "/" + script) << text;
-  const std::string command = "cd '" + dir + "' && gnuplot '" + script + "' > /dev/null 2>&1";
-  return std::system(command.c_str()) == 0;
+  return io::run_gnuplot(dir, script);
 }
 
 }  // namespace
@@ -120,10 +106,10 @@ bool write_residual_plots(const std::string& dir, int image_width, int image_hei
   if (!out.flush()) throw std::runtime_error(dir + "/residuals.vnl: write failed");
   write_per_frame(dir + "/residuals_per_frame.vnl", residuals);
   // The 99th-percentile inlier residual drawn as 4 % of the image width.
-  const double typical = std::max(percentile(inlier_norms, 0.99), 1e-3);
-  const double scale = std::max(1.0, round_down_125(0.04 * image_width / typical));
-  const bool vectors = run_gnuplot(dir, "residuals.gp", vectors_script(image_width, image_height, scale, any_outlier));
-  const bool per_frame = run_gnuplot(dir, "residuals_per_frame.gp", per_frame_script(any_outlier));
+  const double typical = std::max(io::percentile(inlier_norms, 0.99), 1e-3);
+  const double scale = std::max(1.0, io::round_down_125(0.04 * image_width / typical));
+  const bool vectors = draw(dir, "residuals.gp", vectors_script(image_width, image_height, scale, any_outlier));
+  const bool per_frame = draw(dir, "residuals_per_frame.gp", per_frame_script(any_outlier));
   return vectors && per_frame;
 }
 

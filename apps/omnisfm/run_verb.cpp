@@ -13,10 +13,8 @@
 #include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/mrpt_plugin/scene_file.h"
 #include "output_folder.h"
-#include "residual_plots.h"
 #include "run_settings.h"
 #include "sfm_outputs.h"
-#include "trajectory_plots.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -166,13 +164,7 @@ void add_run_verb(CLI::App& app) {
       if (gps_fit)
         write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times, *gps_fit,
                                   mrpt_plugin::LocalEnuFrame(*in.gps_origin));
-      const bool residuals_plotted =
-          write_residual_plots(dir, *in.camera, in.tracks, result, batch_ran);
-      const bool trajectories_plotted =
-          comparison.plotted.empty() ||
-          write_trajectory_plots(dir, comparison.truth, comparison.plotted);
-      if (!residuals_plotted || !trajectories_plotted)
-        std::cerr << "omnisfm: gnuplot failed: plots missing\n";
+      write_sfm_plots(dir, *in.camera, in.tracks, result, batch_ran, comparison);
     });
     std::cout << report.str();
   });

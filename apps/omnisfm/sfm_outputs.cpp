@@ -2,11 +2,13 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <stdexcept>
 
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
+#include "residual_plots.h"
 
 namespace omnisfm::app {
 namespace {
@@ -84,6 +86,18 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
   outliers.flush();
   summary.flush();
   if (!table || !ply || !outliers || !summary) throw std::runtime_error(dir + ": write failed");
+}
+
+void write_sfm_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
+                     const std::vector<io::TrackObservation>& tracks,
+                     const sfm::SfmResult& result, bool batch_ran,
+                     const TruthComparison& comparison) {
+  const bool residuals_plotted = write_residual_plots(dir, camera, tracks, result, batch_ran);
+  const bool trajectories_plotted =
+      comparison.plotted.empty() ||
+      write_trajectory_plots(dir, comparison.truth, comparison.plotted);
+  if (!residuals_plotted || !trajectories_plotted)
+    std::cerr << "omnisfm: gnuplot failed: plots missing\n";
 }
 
 }  // namespace omnisfm::app

@@ -34,4 +34,11 @@ TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
                                    const std::vector<io::StampedPose>& truth,
                                    const std::string& truth_file, bool rigid_too = false);
 
+// The residual plots of `result` on `tracks`, and the trajectory plots of `comparison` when it
+// has any, into `dir`; says on stderr when gnuplot could not draw them.
+void write_sfm_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
+                     const std::vector<io::TrackObservation>& tracks,
+                     const sfm::SfmResult& result, bool batch_ran,
+                     const TruthComparison& comparison);
+
 }  // namespace omnisfm::app

@@ -15,9 +15,7 @@
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sfm/settings_file.h"
 #include "output_folder.h"
-#include "residual_plots.h"
 #include "sfm_outputs.h"
-#include "trajectory_plots.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -102,13 +100,7 @@ void add_sfm_verb(CLI::App& app) {
 
     write_folder(o->out, [&](const std::string& dir) {
       write_sfm_outputs(dir, result, settings.run_batch, times, report.str());
-      const bool residuals_plotted =
-          write_residual_plots(dir, camera, tracks, result, settings.run_batch);
-      const bool trajectories_plotted =
-          comparison.plotted.empty() ||
-          write_trajectory_plots(dir, comparison.truth, comparison.plotted);
-      if (!residuals_plotted || !trajectories_plotted)
-        std::cerr << "omnisfm: gnuplot failed: plots missing\n";
+      write_sfm_plots(dir, camera, tracks, result, settings.run_batch, comparison);
     });
     std::cout << report.str();
   });

@@ -97,7 +97,9 @@ void add_track_verb(CLI::App& app) {
   verb->callback([o] {
     o->settings.reacquire = !o->no_reacquisition;
     const bool rawlog = is_rawlog(o->images);
-    const camera::CatadioptricCamera camera = load_camera(o->camera);
+    if (rawlog && !o->timestamps.empty())
+      throw io::InputError(o->timestamps, 0,
+                           "a rawlog's images carry their own times: leave out --timestamps");
     const std::filesystem::path out = std::filesystem::absolute(o->out).lexically_normal();
     if (!std::filesystem::is_directory(out.parent_path()) ||
         ::access(out.parent_path().c_str(), W_OK) != 0)
@@ -114,6 +116,7 @@ void add_track_verb(CLI::App& app) {
     if (rawlog) {
       result = track_rawlog(o->images, o->camera, o->settings, terminal);
     } else {
+      const camera::CatadioptricCamera camera = load_camera(o->camera);
       track::ImageSequence images(o->images);
       result = track::track_images(camera, images, o->settings, [terminal](int done, int expected) {
         show_progress(terminal, done, expected);

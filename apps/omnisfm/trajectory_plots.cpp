@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
+
+#include "omnisfm/io/gnuplot.h"
 
 namespace omnisfm::app {
 namespace {
@@ -90,9 +91,7 @@ bool write_trajectory_plots(const std::string& dir, const std::vector<Eigen::Iso
            << " with points pt 7 ps 0.5 title '" << estimates[e].name << "'";
     path << "\n";
   }
-  const std::string command =
-      "cd '" + dir + "' && gnuplot motion.gp > /dev/null 2>&1 && gnuplot path.gp > /dev/null 2>&1";
-  return std::system(command.c_str()) == 0;
+  return io::run_gnuplot(dir, "motion.gp") && io::run_gnuplot(dir, "path.gp");
 }
 
 }  // namespace omnisfm::app

@@ -11,6 +11,8 @@
 #include <stdexcept>
 
 #include "omnisfm/io/atomic_write.h"
+#include "omnisfm/io/gnuplot.h"
+#include "omnisfm/io/percentile.h"
 #include "omnisfm/io/vnlog.h"
 
 namespace omnisfm::calib {
@@ -46,39 +48,14 @@ int point_id(const CalibrationView& view, int index) {
   return view.point_ids.empty() ? index : view.point_ids[index];
 }
 
-// 1, 2 or 5 times a power of ten, at most `value`.
-double round_down_125(double value) {
-  const double decade = std::pow(10.0, std::floor(std::log10(value)));
-  for (double step : {5.0, 2.0, 1.0}) {
-    if (step * decade <= value) return step * decade;
-  }
-  return decade;
-}
-
 // The scale that draws the largest inlier residual about 6 % of the image width long.
 double vector_scale(const CalibrationOutcome& outcome) {
   const double worst = std::max(outcome.report->final.worst_px, 1e-3);
-  return std::max(1.0, round_down_125(0.06 * outcome.camera->image_width() / worst));
-}
-
-double percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return NAN;
-  const std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
+  return std::max(1.0, io::round_down_125(0.06 * outcome.camera->image_width() / worst));
 }
 
 void write_text(const fs::path& path, const std::string& text) {
   io::write_text_atomically(path.string(), [&](std::ostream& out) { out << text; });
-}
-
-// Runs gnuplot on a script in `folder`; false when it cannot.
-bool run_gnuplot(const fs::path& folder, const std::string& script) {
-  const std::string command = "cd '" + folder.string() + "' && gnuplot '" + script +
-                              "' > /dev/null 2> '" + script + ".log'";
-  if (std::system(command.c_str()) != 0) return false;
-  fs::remove(folder / (script + ".log"));
-  return true;
 }
 
 std::string residuals_script(const CalibrationOutcome& outcome, double scale) {
@@ -113,7 +90,7 @@ std::string histogram_script(const CalibrationOutcome& outcome) {
   const CalibrationReport& r = outcome.report->final;
   const int inliers = r.num_observations - r.num_outliers;
   const double sigma = std::max(r.rms_px, 1e-6);
-  const double bin = std::max(1e-4, round_down_125(sigma / 4));
+  const double bin = std::max(1e-4, io::round_down_125(sigma / 4));
   const double limit = 4.5 * sigma;
   std::ostringstream gp;
   gp << "# Histogram of the inliers' residual coordinates, with the normal curve of their RMS.\n"
@@ -287,8 +264,8 @@ std::string report_text(const CalibrationOutcome& outcome) {
     out << "  " << what << ", over " << sigmas.size() << " pixels of a " << map.step_px
         << "-pixel grid that see the mirror:\n";
     if (!sigmas.empty()) {
-      out << "    median " << fixed(percentile(sigmas, 0.5), 3) << " px, 90th percentile "
-          << fixed(percentile(sigmas, 0.9), 3) << " px, largest "
+      out << "    median " << fixed(io::percentile(sigmas, 0.5), 3) << " px, 90th percentile "
+          << fixed(io::percentile(sigmas, 0.9), 3) << " px, largest "
           << fixed(*std::max_element(sigmas.begin(), sigmas.end()), 3) << " px\n";
     }
   };
@@ -351,7 +328,7 @@ std::string write_calibration_report(const std::string& folder, const Calibratio
   std::string failed;
   for (const auto& [name, text] : scripts) {
     write_text(dir / name, text);
-    if (!run_gnuplot(dir, name)) failed += (failed.empty() ? "" : ", ") + name;
+    if (!io::run_gnuplot(dir.string(), name)) failed += (failed.empty() ? "" : ", ") + name;
   }
   return failed.empty() ? "" : "gnuplot could not draw " + failed + " (see its .log beside it)";
 }

@@ -1,8 +1,6 @@
 #include "omnisfm/camera/mrcal_camera.h"
 
-extern "C" {
-#include <mrcal/mrcal.h>
-}
+#include "omnisfm/camera/mrcal_lensmodel.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -14,17 +12,13 @@ struct MrcalCamera::Lensmodel {
   mrcal_lensmodel_t model;
 };
 
-namespace {
-
-mrcal_lensmodel_t parse_lensmodel(const std::string& name) {
+mrcal_lensmodel_t mrcal_lensmodel_named(const std::string& name) {
   mrcal_lensmodel_t model;
   if (!mrcal_lensmodel_from_name(&model, name.c_str()) ||
       !mrcal_lensmodel_type_is_valid(model.type))
     throw std::invalid_argument("mrcal: unknown lens model '" + name + "'");
   return model;
 }
-
-}  // namespace
 
 MrcalCamera MrcalCamera::from_file(const std::string& path) {
   mrcal_cameramodel_t* model = mrcal_read_cameramodel_file(path.c_str());
@@ -48,7 +42,7 @@ MrcalCamera MrcalCamera::from_file(const std::string& path) {
 
 MrcalCamera::MrcalCamera(const std::string& lensmodel, const Eigen::VectorXd& intrinsics,
                          int image_width, int image_height)
-    : lensmodel_(std::make_unique<Lensmodel>(Lensmodel{parse_lensmodel(lensmodel)})),
+    : lensmodel_(std::make_unique<Lensmodel>(Lensmodel{mrcal_lensmodel_named(lensmodel)})),
       lensmodel_name_(lensmodel),
       width_(image_width),
       height_(image_height) {

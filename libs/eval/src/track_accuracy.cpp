@@ -6,19 +6,13 @@
 #include <map>
 #include <set>
 
+#include "omnisfm/io/percentile.h"
 #include "omnisfm/sim/track_simulator.h"
 
 namespace omnisfm::eval {
 namespace {
 
 constexpr double kFarthestSurfaceM = 1e4;
-
-double percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
 
 }  // namespace
 
@@ -89,8 +83,8 @@ TrackAccuracy track_accuracy(const sim::Dataset& dataset,
   a.mistracked_tracks = static_cast<int>(mistracked.size());
   a.mistracked.assign(mistracked.begin(), mistracked.end());
   a.observations = static_cast<int>(followed.size());
-  a.median_px = percentile(followed, 0.5);
-  a.p95_px = percentile(followed, 0.95);
+  a.median_px = io::percentile(followed, 0.5);
+  a.p95_px = io::percentile(followed, 0.95);
   a.max_px = followed.empty() ? 0 : *std::max_element(followed.begin(), followed.end());
   return a;
 }

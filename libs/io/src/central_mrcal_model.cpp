@@ -15,6 +15,7 @@ extern "C" {
 #include <set>
 #include <stdexcept>
 
+#include "omnisfm/camera/mrcal_lensmodel.h"
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/number_text.h"
 
@@ -31,14 +32,6 @@ constexpr double kWidestAngleDeg = 170;
 // pixels the correction moves (about f du). Weak enough to leave the fit unchanged where samples
 // pin the spline down, strong enough to keep control points that few samples reach in place.
 constexpr double kRegularization = 1e-4;
-
-mrcal_lensmodel_t parse_lensmodel(const std::string& name) {
-  mrcal_lensmodel_t model;
-  if (!mrcal_lensmodel_from_name(&model, name.c_str()) ||
-      !mrcal_lensmodel_type_is_valid(model.type))
-    throw std::invalid_argument("mrcal: unknown lens model '" + name + "'");
-  return model;
-}
 
 bool project_in_model_frame(const mrcal_lensmodel_t& lensmodel, const Eigen::VectorXd& intrinsics,
                             const Eigen::Vector3d& p, Eigen::Vector2d* pixel) {
@@ -215,13 +208,13 @@ std::vector<PixelRay> valid_pixel_rays(const camera::CatadioptricCamera& camera,
 }
 
 bool CentralMrcalModel::project(const Eigen::Vector3d& X_C, Eigen::Vector2d* pixel) const {
-  return project_in_model_frame(parse_lensmodel(lensmodel), intrinsics,
+  return project_in_model_frame(camera::mrcal_lensmodel_named(lensmodel), intrinsics,
                                 R_model_from_C * X_C + t_model_from_C, pixel);
 }
 
 bool CentralMrcalModel::project_direction(const Eigen::Vector3d& direction_C,
                                           Eigen::Vector2d* pixel) const {
-  return project_in_model_frame(parse_lensmodel(lensmodel), intrinsics,
+  return project_in_model_frame(camera::mrcal_lensmodel_named(lensmodel), intrinsics,
                                 R_model_from_C * direction_C, pixel);
 }
 
@@ -268,7 +261,7 @@ CentralMrcalModel fit_central_mrcal_model(const camera::CatadioptricCamera& came
   const int fov_x_deg = static_cast<int>(std::ceil(2 * widest_angle_deg)) + kFovMarginDeg;
   model.lensmodel = "LENSMODEL_SPLINED_STEREOGRAPHIC_order=3_Nx=" + std::to_string(knots) +
                     "_Ny=" + std::to_string(knots) + "_fov_x_deg=" + std::to_string(fov_x_deg);
-  const mrcal_lensmodel_t lensmodel = parse_lensmodel(model.lensmodel);
+  const mrcal_lensmodel_t lensmodel = camera::mrcal_lensmodel_named(model.lensmodel);
   const int num_intrinsics = mrcal_lensmodel_num_params(&lensmodel);
 
   // Start from the plain stereographic model, the spline flat.
@@ -350,7 +343,7 @@ ReprojectionError reprojection_error(const CentralMrcalModel& model,
 
 void write_cameramodel(const std::string& path, const CentralMrcalModel& model,
                        const std::vector<std::string>& notes) {
-  const mrcal_lensmodel_t lensmodel = parse_lensmodel(model.lensmodel);
+  const mrcal_lensmodel_t lensmodel = camera::mrcal_lensmodel_named(model.lensmodel);
   const int num_intrinsics = mrcal_lensmodel_num_params(&lensmodel);
   if (model.intrinsics.size() != num_intrinsics || !model.intrinsics.allFinite())
     throw std::runtime_error(path + ": " + model.lensmodel + " needs " +
