@@ -30,6 +30,26 @@ Eigen::Isometry3d to_pose(const PoseVector& v) {
   return T;
 }
 
+// The share of frame pairs that observe a common point: the fill of the reduced camera system.
+double reduced_system_fill(const std::vector<io::TrackObservation>& observations, int frames) {
+  std::map<int, std::vector<int>> frames_of_track;
+  std::vector<std::vector<int>> tracks_of_frame(frames);
+  for (const auto& o : observations) {
+    frames_of_track[o.track].push_back(o.frame);
+    tracks_of_frame[o.frame].push_back(o.track);
+  }
+  std::vector<int> counted_for(frames, -1);
+  double pairs = 0;
+  for (int f = 0; f < frames; ++f)
+    for (int track : tracks_of_frame[f])
+      for (int g : frames_of_track[track])
+        if (g <= f && counted_for[g] != f) {
+          counted_for[g] = f;
+          ++pairs;
+        }
+  return frames > 0 ? pairs / (0.5 * frames * (frames + 1.0)) : 0;
+}
+
 }  // namespace
 
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
@@ -55,6 +75,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   ceres::Problem problem;
   int used = 0;
   std::vector<ceres::ResidualBlockId> projections;
+  std::vector<io::TrackObservation> used_observations;
   for (const auto& o : observations) {
     auto point = points.find(o.track);
     if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size())) continue;
@@ -69,6 +90,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
         settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
     projections.push_back(
         problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data()));
+    used_observations.push_back(o);
     ++used;
   }
   if (used == 0 || poses.empty()) {
@@ -80,13 +102,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     problem.SetParameterBlockConstant(poses[0].data());
 
   ceres::Solver::Options options;
-  // The reduced system of a Schur solver is dense when tracks are long (every point seen from
-  // most frames), and forming and factoring it costs more than the whole evaluation. Conjugate
-  // gradients on it, with its block diagonal as preconditioner, never form it; a small forcing
-  // term keeps the steps as good as a direct solve's, so Levenberg-Marquardt takes as many.
-  options.linear_solver_type = ceres::ITERATIVE_SCHUR;
-  options.preconditioner_type = ceres::SCHUR_JACOBI;
-  options.eta = 1e-4;
   // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels): they never share a
   // residual, extra terms included, so they are an independent set.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
@@ -97,13 +112,35 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   for (double* block : blocks_in_problem)
     if (!ordering->IsMember(block)) ordering->AddElementToGroup(block, 1);
   options.linear_solver_ordering = ordering;
+  const double fill = reduced_system_fill(used_observations, static_cast<int>(poses.size()));
+  if (fill > 0.25) {
+    // When most frames share points (short sequences, long tracks) the reduced camera system is
+    // dense, and forming and factoring it costs more than the whole evaluation. Conjugate
+    // gradients on it, with its block diagonal as preconditioner, never form it; a small forcing
+    // term keeps the steps as good as a direct solve's, so Levenberg-Marquardt takes as many.
+    options.linear_solver_type = ceres::ITERATIVE_SCHUR;
+    options.preconditioner_type = ceres::SCHUR_JACOBI;
+    options.eta = 1e-6;
+  } else {
+    // Long sequences: frames share points with their neighbours only, the reduced system is
+    // banded and a sparse Cholesky solves it exactly, where conjugate gradients would need
+    // thousands of iterations along the drive's slow deformations.
+    options.linear_solver_type = ceres::SPARSE_SCHUR;
+  }
+  // The start (the filter's estimate) is close: begin near Gauss-Newton. Ceres' default radius
+  // damps the weakly observed scale so hard that it takes a dozen iterations to release it.
+  options.initial_trust_region_radius = 1e7;
   options.max_num_iterations = settings.max_iterations;
   options.num_threads = 2;
   options.logging_type = ceres::SILENT;
-  // Below a relative change of 1e-8 a cost of 10^4 squared pixels moves by less than 1e-4 per
-  // iteration: on long drives Levenberg-Marquardt would creep along the weakly observed scale for
-  // hundreds of iterations without changing the estimate.
-  options.function_tolerance = 1e-8;
+  // Converged when a step lowers chi-square by less than 0.01, i.e. moves the estimate by less
+  // than a tenth of its standard deviation (the pixel variance taken from the cost). A fixed
+  // relative tolerance instead lets Levenberg-Marquardt creep for hundreds of iterations along a
+  // long drive's slow, curved deformations without changing anything that can be measured.
+  // Degrees of freedom: residuals less free parameters (NumParameters counts a held first pose).
+  const double held = gauge_fixed ? 0 : 6;
+  const double dof = std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
+  options.function_tolerance = std::max(1e-10, 0.01 / dof);
   options.parameter_tolerance = 1e-10;
   // With extra residuals, the pixel figures are the reprojections' share of the cost alone.
   const auto reprojection_cost = [&] {
@@ -143,8 +180,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
       if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
     if (covariance.Compute(blocks, &problem)) {
       // Scaled by the residual variance: the pixel noise is estimated, not assumed.
-      const double held = gauge_fixed ? 0 : 6;
-      const double dof = std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
       const double variance = 2 * summary.final_cost / dof;
       result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
       for (size_t f = 0; f < poses.size(); ++f) {
