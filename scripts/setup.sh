@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake ccache pkg-config
-  libeigen3-dev libceres-dev libopengv-dev libgeographiclib-dev
+  libeigen3-dev libceres-dev libopengv-dev libgeographiclib-dev libopenblas-dev
   libopencv-dev libopencv-contrib-dev
   libmrpt-dev mrpt-apps
   libmrcal-dev mrcal python3-mrcal mrgingham

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <set>
 
+#include "dense_covariance.h"
+
 namespace omnisfm::sfm {
 namespace {
 
@@ -147,6 +149,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   Eigen::MatrixXd& S = c->S_factor;
   PHt.resize(n, 2 * m);
   S.resize(2 * m, 2 * m);
+  Eigen::VectorXd predicted(2 * m), previous_predicted(2 * m);
+  const double settled_px = 0.03 * settings_.pixel_sigma;
 
   for (int iteration = 0; iteration < std::max(1, settings_.update_iterations); ++iteration) {
     // Linearise at the current iterate; the correction is taken from the prediction.
@@ -166,6 +170,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
         }
         continue;
       }
+      predicted.segment<2>(2 * k) = pixel;
       H_pose.middleRows<2>(2 * k) << -J_X * skew(RX), J_X;
       H_point[k] = J_X * c->R * J_world_params;
       const Eigen::Vector3d point_offset = points_.segment<3>(3 * s) - X.segment<3>(3 * s);
@@ -174,6 +179,11 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
                                      H_pose.middleRows<2>(2 * k).rightCols<3>() * (t_ - c->t) -
                                      H_point[k] * point_offset;
     }
+    // Settled when the iterate's predicted pixels moved by less than 3 % of the pixel noise:
+    // linearising there again would change nothing measurable. P H^T and S stay the previous
+    // iteration's, which that iterate came from.
+    if (iteration > 0 && (predicted - previous_predicted).cwiseAbs().maxCoeff() < settled_px) break;
+    previous_predicted = predicted;
     // P H^T and S = H P H^T + R from the blocks of H.
     PHt.noalias() = P_.leftCols<6>() * H_pose.transpose();
     for (int k = 0; k < m; ++k)
@@ -183,19 +193,18 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     for (int k = 0; k < m; ++k)
       S.middleRows<2>(2 * k).noalias() += H_point[k] * PHt.middleRows<3>(6 + 3 * meas[k].slot);
     S.diagonal().array() += variance;
-    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(S);  // in place: S keeps the factor
-    const Eigen::VectorXd correction = PHt * llt.solve(innovation);
-    const Eigen::Vector3d previous_t = c->t;
+    if (!cholesky_lower_in_place(&S)) {
+      c->PHt.resize(0, 0);
+      return;
+    }
+    Eigen::VectorXd weighted = S.triangularView<Eigen::Lower>().solve(innovation);
+    S.triangularView<Eigen::Lower>().adjoint().solveInPlace(weighted);
+    const Eigen::VectorXd correction = PHt * weighted;
     c->R = exp_so3(correction.head<3>()) * R_;
     c->t = t_ + correction.segment<3>(3);
-    const Eigen::VectorXd previous_X = X;
     X = points_ + correction.tail(n - 6);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
     for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
-    // Converged when the iterate stops moving (a tenth of a millimetre).
-    if (iteration > 0 && (c->t - previous_t).norm() < 1e-4 &&
-        (n == 6 || (X - previous_X).cwiseAbs().maxCoeff() < 1e-4))
-      break;
   }
 
   for (int k = 0; k < m; ++k) {
@@ -210,14 +219,7 @@ void OnlineFilter::accept(Candidate* c) {
   R_ = c->R;
   t_ = c->t;
   points_.swap(c->points);
-  // P = P - PHt S^-1 PHt^T as a symmetric rank-2m downdate of the lower triangle, W = L^-1 PHt^T,
-  // then mirrored.
-  Eigen::MatrixXd W = c->PHt.transpose();
-  c->S_factor.triangularView<Eigen::Lower>().solveInPlace(W);
-  P_.selfadjointView<Eigen::Lower>().rankUpdate(W.transpose(), -1.0);
-  const Eigen::Index n = P_.rows();
-  for (Eigen::Index col = 1; col < n; ++col)
-    for (Eigen::Index row = 0; row < col; ++row) P_(row, col) = P_(col, row);
+  downdate_covariance(&P_, c->PHt, c->S_factor);
 }
 
 bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations) {

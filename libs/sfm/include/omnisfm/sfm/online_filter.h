@@ -34,8 +34,9 @@ struct FilterSettings {
   // Mahalanobis distance of its predicted covariance: a track that slides to a nearby feature
   // jumps by a few pixels, which the update alone can absorb. 0 turns the gate off.
   double innovation_gate_chi2 = 0.0;
-  // 1: the classic EKF; more: the iterated EKF, which stops early once the iterate settles. New
-  // points' depths make the first updates strongly nonlinear.
+  // 1: the classic EKF; more: the iterated EKF, at most this many times, stopping once an
+  // iterate's predicted pixels move by less than 3 % of pixel_sigma. New points' depths make
+  // the first updates strongly nonlinear.
   int update_iterations = 8;
 };
 
