@@ -5,11 +5,31 @@ void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* inf
 void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
             const int* n, const double* alpha, const double* a, const int* lda, double* b,
             const int* ldb);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
+            const double* beta, double* c, const int* ldc);
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
             const double* a, const int* lda, const double* beta, double* c, const int* ldc);
 }
 
 namespace omnisfm::sfm {
+
+void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A, bool transpose_A,
+              const Eigen::Ref<const Eigen::MatrixXd>& B, bool transpose_B,
+              Eigen::Ref<Eigen::MatrixXd> C) {
+  const int m = static_cast<int>(C.rows()), n = static_cast<int>(C.cols());
+  const int k = static_cast<int>(transpose_A ? A.rows() : A.cols());
+  if (m == 0 || n == 0) return;
+  if (k == 0) {
+    C.setZero();
+    return;
+  }
+  const int lda = static_cast<int>(A.outerStride()), ldb = static_cast<int>(B.outerStride());
+  const int ldc = static_cast<int>(C.outerStride());
+  const double one = 1, zero = 0;
+  dgemm_(transpose_A ? "T" : "N", transpose_B ? "T" : "N", &m, &n, &k, &one, A.data(), &lda,
+         B.data(), &ldb, &zero, C.data(), &ldc);
+}
 
 bool cholesky_lower_in_place(Eigen::MatrixXd* S) {
   const int n = static_cast<int>(S->rows());
@@ -19,15 +39,16 @@ bool cholesky_lower_in_place(Eigen::MatrixXd* S) {
   return info == 0;
 }
 
-void downdate_covariance(Eigen::MatrixXd* P, const Eigen::MatrixXd& PHt, const Eigen::MatrixXd& L) {
+void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::MatrixXd& L) {
   const int n = static_cast<int>(P->rows());
   const int m = static_cast<int>(L.rows());
   if (m == 0 || n == 0) return;
-  // W = L^-1 PHt^T, then P -= W^T W on the lower triangle (a symmetric rank-m update), mirrored.
-  Eigen::MatrixXd W = PHt.transpose();
+  // W = PHt L^-T, then P -= W W^T on the lower triangle (a symmetric rank-m update), mirrored.
+  // Solving from the right on the tall PHt runs about twice as fast as from the left on its
+  // transpose.
   const double one = 1, minus_one = -1;
-  dtrsm_("L", "L", "N", "N", &m, &n, &one, L.data(), &m, W.data(), &m);
-  dsyrk_("L", "T", &n, &m, &minus_one, W.data(), &m, &one, P->data(), &n);
+  dtrsm_("R", "L", "T", "N", &n, &m, &one, L.data(), &m, PHt->data(), &n);
+  dsyrk_("L", "N", &n, &m, &minus_one, PHt->data(), &n, &one, P->data(), &n);
   for (int col = 1; col < n; ++col)
     for (int row = 0; row < col; ++row) (*P)(row, col) = (*P)(col, row);
 }

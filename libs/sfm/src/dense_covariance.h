@@ -1,6 +1,6 @@
 #pragma once
 // The filter's dense linear algebra through LAPACK and BLAS: the innovation covariance's
-// Cholesky factor and the covariance downdate. With a tuned BLAS (OpenBLAS picks its kernels for
+// Cholesky factor, the covariance downdate and the products with the pose's Jacobian columns. With a tuned BLAS (OpenBLAS picks its kernels for
 // the CPU it runs on) these run several times faster than Eigen's portable SSE2 code, and they
 // are most of a frame's work.
 
@@ -8,11 +8,17 @@
 
 namespace omnisfm::sfm {
 
+// C := op(A) op(B), op transposing when asked.
+void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A, bool transpose_A,
+              const Eigen::Ref<const Eigen::MatrixXd>& B, bool transpose_B,
+              Eigen::Ref<Eigen::MatrixXd> C);
+
 // S := its lower Cholesky factor (the strict upper triangle is left as it was). False when S is
 // not positive definite.
 bool cholesky_lower_in_place(Eigen::MatrixXd* S);
 
-// P := P - PHt S^-1 PHt^T, with L the lower Cholesky factor of S; P stays symmetric.
-void downdate_covariance(Eigen::MatrixXd* P, const Eigen::MatrixXd& PHt, const Eigen::MatrixXd& L);
+// P := P - PHt S^-1 PHt^T, with L the lower Cholesky factor of S; P stays symmetric. PHt is
+// overwritten (with PHt L^-T).
+void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::MatrixXd& L);
 
 }  // namespace omnisfm::sfm

@@ -185,11 +185,11 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     if (iteration > 0 && (predicted - previous_predicted).cwiseAbs().maxCoeff() < settled_px) break;
     previous_predicted = predicted;
     // P H^T and S = H P H^T + R from the blocks of H.
-    PHt.noalias() = P_.leftCols<6>() * H_pose.transpose();
+    multiply(P_.leftCols<6>(), false, H_pose, true, PHt);
     for (int k = 0; k < m; ++k)
       PHt.middleCols<2>(2 * k).noalias() +=
           P_.middleCols<3>(6 + 3 * meas[k].slot) * H_point[k].transpose();
-    S.noalias() = H_pose * PHt.topRows<6>();
+    multiply(H_pose, false, PHt.topRows<6>(), false, S);
     for (int k = 0; k < m; ++k)
       S.middleRows<2>(2 * k).noalias() += H_point[k] * PHt.middleRows<3>(6 + 3 * meas[k].slot);
     S.diagonal().array() += variance;
@@ -219,7 +219,7 @@ void OnlineFilter::accept(Candidate* c) {
   R_ = c->R;
   t_ = c->t;
   points_.swap(c->points);
-  downdate_covariance(&P_, c->PHt, c->S_factor);
+  downdate_covariance(&P_, &c->PHt, c->S_factor);
 }
 
 bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations) {
