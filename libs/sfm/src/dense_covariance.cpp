@@ -1,5 +1,9 @@
 #include "dense_covariance.h"
 
+#include <dlfcn.h>
+
+#include <cstdlib>
+
 extern "C" {
 void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
 void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
@@ -13,10 +17,29 @@ void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, con
 }
 
 namespace omnisfm::sfm {
+namespace {
+
+// OpenBLAS's threads spin while they wait: for matrices of a few hundred rows they gain little,
+// and when the other cores are busy (Ceres' threads, another process) a frame takes several
+// times longer. One thread, unless the user chose otherwise; other BLAS libraries are left as
+// they are.
+void use_one_blas_thread() {
+  static const bool done = [] {
+    if (std::getenv("OPENBLAS_NUM_THREADS") || std::getenv("OMP_NUM_THREADS")) return false;
+    using SetThreads = void (*)(int);
+    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+      set(1);
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace
 
 void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A, bool transpose_A,
               const Eigen::Ref<const Eigen::MatrixXd>& B, bool transpose_B,
               Eigen::Ref<Eigen::MatrixXd> C) {
+  use_one_blas_thread();
   const int m = static_cast<int>(C.rows()), n = static_cast<int>(C.cols());
   const int k = static_cast<int>(transpose_A ? A.rows() : A.cols());
   if (m == 0 || n == 0) return;
@@ -32,6 +55,7 @@ void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A, bool transpose_A,
 }
 
 bool cholesky_lower_in_place(Eigen::MatrixXd* S) {
+  use_one_blas_thread();
   const int n = static_cast<int>(S->rows());
   if (n == 0) return true;
   int info = 0;
@@ -40,6 +64,7 @@ bool cholesky_lower_in_place(Eigen::MatrixXd* S) {
 }
 
 void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::MatrixXd& L) {
+  use_one_blas_thread();
   const int n = static_cast<int>(P->rows());
   const int m = static_cast<int>(L.rows());
   if (m == 0 || n == 0) return;
