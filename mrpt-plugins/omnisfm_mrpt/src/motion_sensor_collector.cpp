@@ -5,6 +5,7 @@
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "omnisfm/mrpt_plugin/gps_fix_quality.h"
@@ -26,7 +27,25 @@ bool in_time_order(const std::vector<T>& samples, double timestamp) {
   return samples.empty() || timestamp >= samples.back().timestamp;
 }
 
+// Erases the samples before the last one at or before `timestamp`.
+template <typename T>
+void keep_from_last_at_or_before(std::vector<T>* samples, double timestamp) {
+  const auto after = std::upper_bound(
+      samples->begin(), samples->end(), timestamp,
+      [](double time, const T& sample) { return time < sample.timestamp; });
+  if (after - samples->begin() > 1) samples->erase(samples->begin(), after - 1);
+}
+
 }  // namespace
+
+void MotionSensorCollector::forget_before(double timestamp) {
+  keep_from_last_at_or_before(&sensors_.odometry, timestamp);
+  keep_from_last_at_or_before(&sensors_.gyro, timestamp);
+  auto& gps = sensors_.gps;
+  gps.erase(gps.begin(), std::find_if(gps.begin(), gps.end(), [&](const sfm::GpsSample& fix) {
+              return fix.timestamp >= timestamp;
+            }));
+}
 
 MotionSensorCollector::MotionSensorCollector(const MotionSensorLabels& labels,
                                              const std::optional<GeodeticPoint>& gps_origin)

@@ -93,6 +93,7 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
   else
     filter_->process_frame(frames_, pixels);
   previous_frame_time_ = timestamp;
+  collector_.forget_before(timestamp);  // an endless run keeps no sensor history
   ++frames_;
 }
 

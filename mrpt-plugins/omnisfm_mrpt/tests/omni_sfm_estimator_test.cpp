@@ -10,8 +10,10 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
+#include <algorithm>
 #include <random>
 
+#include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/mrpt_plugin/rawlog_reader.h"
 #include "omnisfm/mrpt_plugin/simulated_rawlog.h"
@@ -52,16 +54,19 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
   const RoverRawlog& rover = rover_rawlog();
   OmniSfmEstimator estimator;
   EXPECT_EQ(estimator.getCurrentPoseEstimation()->mean.norm(), 0) << "the origin before frame 0";
+  // Every reading, kept here: the estimator drops those it has used.
+  MotionSensorCollector all_readings({}, std::nullopt);
   std::vector<double> frame_times;
   for (const auto& observation : rover.observations) {
     if (estimator.framesProcessed() == kFrames) break;
     estimator.processObservation(observation);
+    all_readings.add(*observation);
     if (std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation))
       frame_times.push_back(mrpt::Clock::toDouble(observation->timestamp));
   }
   ASSERT_EQ(estimator.framesProcessed(), kFrames);
-  EXPECT_GT(estimator.motionSensors().gyro.size(), 0u);
-  EXPECT_GT(estimator.motionSensors().odometry.size(), 0u);
+  EXPECT_GT(all_readings.sensors().gyro.size(), 0u);
+  EXPECT_GT(all_readings.sensors().odometry.size(), 0u);
 
   // The filter on the same tracks, directly, propagated by the same odometry and gyro.
   const sfm::FilterSettings settings;
@@ -74,7 +79,7 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
       filter.process_frame(f, pixels);
     else
       filter.process_frame(f, pixels,
-                           sfm::predict_camera_motion(estimator.motionSensors(),
+                           sfm::predict_camera_motion(all_readings.sensors(),
                                                       frame_times[f - 1], frame_times[f], settings));
   }
   const Eigen::Isometry3d B = sim::body_from_cam(rover.dataset);
@@ -162,6 +167,7 @@ TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
   const RoverRawlog& rover = rover_rawlog();
   constexpr int kFewFrames = 12;
   OmniSfmEstimator by_observation, by_frame;
+  MotionSensorCollector composed_readings({}, std::nullopt);  // the actions, kept
   // Sensory frames as a sensory-frame rawlog holds them: the odometry since the last frame as
   // one CActionRobotMovement2D, then the frame's observations.
   std::optional<mrpt::poses::CPose2D> last_odometry;
@@ -186,6 +192,8 @@ TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
     }
     frame.insert(observation);
     if (std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation)) {
+      for (std::size_t i = 0; i < actions.size(); ++i) composed_readings.add(*actions.get(i));
+      for (const auto& o : frame) composed_readings.add(*o);
       by_frame.processActionObservation(actions, frame);
       actions.clear();
       frame.clear();
@@ -198,7 +206,7 @@ TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
             1e-12);
 
   // The composed increments are the odometry readings (the first one is the origin).
-  const auto& composed = by_frame.motionSensors().odometry;
+  const auto& composed = composed_readings.sensors().odometry;
   ASSERT_GE(composed.size(), 2u);
   ASSERT_LE(composed.size(), odometry_seen.size());
   for (std::size_t i = 0; i < composed.size(); ++i) {
@@ -207,6 +215,39 @@ TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
     EXPECT_NEAR(composed[i].pose.y(), relative.y(), 1e-9) << i;
     EXPECT_NEAR(composed[i].pose.z(), relative.phi(), 1e-9) << i;
   }
+}
+
+TEST(OmniSfmEstimator, KeepsNoSensorHistory) {
+  // The whole rover run: the estimator holds only the readings from the last frame on, however
+  // long the run.
+  const RoverRawlog& rover = rover_rawlog();
+  OmniSfmEstimator estimator;
+  MotionSensorCollector all_readings({}, std::nullopt);
+  std::vector<double> frame_times;
+  std::size_t most_gyro = 0, most_odometry = 0;
+  for (const auto& observation : rover.observations) {
+    estimator.processObservation(observation);
+    all_readings.add(*observation);
+    if (std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation))
+      frame_times.push_back(mrpt::Clock::toDouble(observation->timestamp));
+    most_gyro = std::max(most_gyro, estimator.motionSensors().gyro.size());
+    most_odometry = std::max(most_odometry, estimator.motionSensors().odometry.size());
+  }
+  ASSERT_GT(estimator.framesProcessed(), 100);
+  // The most gyro readings that fall between two frames.
+  std::size_t most_between_frames = 0;
+  const auto& gyro = all_readings.sensors().gyro;
+  for (std::size_t f = 1; f < frame_times.size(); ++f)
+    most_between_frames = std::max<std::size_t>(
+        most_between_frames, std::count_if(gyro.begin(), gyro.end(), [&](const auto& g) {
+          return g.timestamp > frame_times[f - 1] && g.timestamp <= frame_times[f];
+        }));
+  ASSERT_GT(most_between_frames, 0u);
+  // One frame interval's readings and the one before it that bounds the increment.
+  EXPECT_LE(most_gyro, most_between_frames + 1) << "of " << gyro.size();
+  EXPECT_LT(10 * most_odometry, all_readings.sensors().odometry.size());
+  ASSERT_FALSE(estimator.motionSensors().gyro.empty());
+  EXPECT_GE(estimator.motionSensors().gyro.front().timestamp, frame_times[frame_times.size() - 2]);
 }
 
 }  // namespace

@@ -44,6 +44,11 @@ class MotionSensorCollector {
   bool add(const mrpt::obs::CObservation& observation);
   bool add(const mrpt::obs::CAction& action);
 
+  // Drops what a live estimator no longer needs once it has processed a frame at `timestamp`:
+  // odometry and gyro readings before the last one at or before it (that one still bounds the
+  // next increment), GPS fixes before it.
+  void forget_before(double timestamp);
+
   // Noise models and body_from_cam are the caller's to set.
   sfm::MotionSensors& sensors() { return sensors_; }
   const sfm::MotionSensors& sensors() const { return sensors_; }

@@ -72,7 +72,8 @@ class OmniSfmEstimator {
   int framesProcessed() const { return frames_; }
   // The points of the tracks so far, in the map frame.
   std::map<int, Eigen::Vector3d> points() const;
-  // The dead reckoning and GPS collected so far.
+  // The dead reckoning and GPS readings still held: from the last frame's on (older ones are
+  // dropped once used, so memory stays bounded on an endless run).
   const sfm::MotionSensors& motionSensors() const { return collector_.sensors(); }
   // The estimator's world (the first camera's frame) in the map frame.
   const Eigen::Isometry3d& mapFromWorld() const { return body_from_cam_; }
