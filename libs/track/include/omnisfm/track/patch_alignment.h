@@ -28,7 +28,9 @@ struct AffineWarp {
 struct AlignmentResult {
   bool converged = false;
   int iterations = 0;
-  double ncc = 0;  // weighted zero-mean normalised cross-correlation after the last step
+  // Weighted zero-mean normalised cross-correlation where the last step started (converged: a
+  // step below the tolerance before the end).
+  double ncc = 0;
 };
 
 class ReferencePatch {
@@ -51,21 +53,37 @@ class ReferencePatch {
   double ncc(const cv::Mat& image, const AffineWarp& warp) const;
 
   int half_size() const { return half_size_; }
-  bool empty() const { return values_.empty(); }
+  bool empty() const { return values_.size() == 0; }
 
  private:
-  // Samples `image` at warp * offset for every offset, and returns the weighted zero-mean NCC
-  // of the template against them, their weighted mean and the gain that maps their contrast onto
-  // the template's. -1 when the patch leaves the image.
-  double sample(const cv::Mat& image, const AffineWarp& warp, std::vector<float>* values,
-                double* mean, double* gain) const;
+  // Working arrays of one sampling, kept across an alignment's iterations: a column per
+  // quantity, a row per template pixel.
+  enum Column { kX, kY, kTopLeft, kTopRight, kBottomLeft, kBottomRight, kValue, kColumns };
+  struct Samples {
+    Eigen::Array<float, Eigen::Dynamic, kColumns> columns;
+    Eigen::ArrayXi index;  // of each sample's top-left neighbour in the image's data
+    double mean = 0;       // weighted mean of the sampled values
+    double gain = 0;       // maps their contrast onto the template's
+    void resize(Eigen::Index count) {
+      columns.resize(count, kColumns);
+      index.resize(count);
+    }
+    auto col(Column c) { return columns.col(c); }
+  };
+
+  // Samples `image` at warp * offset for every offset (into samples->col(kValue), with their
+  // weighted mean and gain), and returns the weighted zero-mean NCC of the template against
+  // them. -1 when the patch leaves the image.
+  double sample(const cv::Mat& image, const AffineWarp& warp, Samples* samples) const;
 
   int half_size_ = 0;
-  std::vector<Eigen::Vector2f> offsets_;  // from the feature to each template pixel, row-major
-  std::vector<float> weights_;            // Gaussian window about the feature, sums to 1
-  std::vector<float> values_;             // the template, weighted mean removed
-  double norm_ = 0;                       // sqrt(sum w * values^2)
-  std::vector<Eigen::Matrix<float, 6, 1>> steepest_;  // weighted steepest-descent images
+  // From the feature to each template pixel, row-major.
+  Eigen::ArrayXf offsets_x_, offsets_y_;
+  Eigen::ArrayXf weights_;  // Gaussian window about the feature, sums to 1
+  Eigen::ArrayXf values_;   // the template, weighted mean removed
+  double norm_ = 0;         // sqrt(sum w * values^2)
+  // Weighted steepest-descent images, a column per parameter: the gradient is six dot products.
+  Eigen::Matrix<float, Eigen::Dynamic, 6> steepest_;
   Eigen::Matrix<double, 6, 6> hessian_inverse_;
 };
 
