@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "omnisfm/track/valid_region.h"
+#include "shi_tomasi.h"
 
 namespace omnisfm::track {
 
@@ -61,11 +62,10 @@ std::vector<cv::Point2f> FeatureDetector::corners(const cv::Mat& level_image,
                cv::Point(cvRound(p.x / level_scale_) - level_bounds_.x,
                          cvRound(p.y / level_scale_) - level_bounds_.y),
                static_cast<int>(std::ceil(level_distance)), 0, cv::FILLED);
-  std::vector<cv::Point2f> found;
   // Enough candidates for every cell to choose from.
   const int wanted = 2 * settings_.max_tracks + 32;
-  cv::goodFeaturesToTrack(level_image(level_bounds_), found, wanted, settings_.quality_level,
-                          level_distance, allowed, 3);
+  std::vector<cv::Point2f> found = shi_tomasi_corners(
+      level_image(level_bounds_), wanted, settings_.quality_level, level_distance, allowed);
   const float scale = static_cast<float>(level_scale_);
   for (auto& p : found)
     p = cv::Point2f((p.x + level_bounds_.x) * scale, (p.y + level_bounds_.y) * scale);

@@ -46,8 +46,8 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
     for (int x = -half_size; x <= half_size; ++x, ++k) {
       p.offsets_x_(k) = static_cast<float>(x + phase.x());
       p.offsets_y_(k) = static_cast<float>(y + phase.y());
-      p.weights_(k) = static_cast<float>(column_weight(x + half_size) *
-                                         row_weight(y + half_size) / weight_sum);
+      p.weights_(k) =
+          static_cast<float>(column_weight(x + half_size) * row_weight(y + half_size) / weight_sum);
       p.values_(k) = image.at<float>(cy + y, cx + x);
     }
   const double mean = (p.weights_.cast<double>() * p.values_.cast<double>()).sum();
@@ -84,7 +84,8 @@ double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp,
   const Eigen::Index count = values_.size();
   // The patch's corners bound it (an affine image of a square is a parallelogram).
   const float x_limit = image.cols - 1.0f, y_limit = image.rows - 1.0f;
-  for (const Eigen::Index corner : {Eigen::Index{0}, Eigen::Index(side - 1), count - side, count - 1}) {
+  for (const Eigen::Index corner :
+       {Eigen::Index{0}, Eigen::Index(side - 1), count - side, count - 1}) {
     const Eigen::Vector2d at =
         warp.A * Eigen::Vector2d(offsets_x_(corner), offsets_y_(corner)) + warp.b;
     if (!(at.x() >= 0 && at.y() >= 0 && at.x() < x_limit && at.y() < y_limit)) return -1;
