@@ -69,22 +69,36 @@ std::vector<cv::Point2f> shi_tomasi_corners(const cv::Mat& image, int max_corner
   cv::minMaxLoc(eigenvalues, nullptr, &strongest, nullptr, nullptr, mask);
   const float threshold = static_cast<float>(strongest * quality_level);
 
-  // Local maxima (of the 3 x 3 neighbourhood) above the threshold, off the outermost pixels.
-  std::vector<Candidate> candidates;
+  // Local maxima (of the 3 x 3 neighbourhood) above the threshold, off the outermost pixels. The
+  // neighbourhood maxima are array operations, and the candidates are written without a branch
+  // per pixel (most pixels are not candidates, and a branch on that would mostly mispredict).
+  std::vector<Candidate> candidates(static_cast<size_t>(cols));
+  size_t count = 0;
+  const Eigen::Index inner = cols - 2;
+  using Row = Eigen::Map<const Eigen::ArrayXf>;
+  // Of each row: the maximum over each pixel and its left and right neighbours.
+  const auto across = [&](int y, Eigen::ArrayXf* out) {
+    const Row e(eigenvalues.ptr<float>(y), cols);
+    *out = e.head(inner).max(e.segment(1, inner)).max(e.tail(inner));
+  };
+  Eigen::ArrayXf above(inner), here(inner), below(inner), neighbourhood(inner);
+  across(0, &here);
+  across(1, &below);
   for (int y = 1; y + 1 < rows; ++y) {
-    const float* above = eigenvalues.ptr<float>(y - 1);
-    const float* here = eigenvalues.ptr<float>(y);
-    const float* below = eigenvalues.ptr<float>(y + 1);
-    const uchar* allowed = mask.ptr<uchar>(y);
-    for (int x = 1; x + 1 < cols; ++x) {
-      const float v = here[x];
-      if (!(v > threshold) || !allowed[x]) continue;
-      if (v < here[x - 1] || v < here[x + 1] || v < above[x - 1] || v < above[x] ||
-          v < above[x + 1] || v < below[x - 1] || v < below[x] || v < below[x + 1])
-        continue;
-      candidates.push_back({v, y * cols + x});
+    above.swap(here);
+    here.swap(below);
+    across(y + 1, &below);
+    neighbourhood = above.max(here).max(below);
+    if (candidates.size() < count + inner) candidates.resize(2 * (count + inner));
+    const float* e = eigenvalues.ptr<float>(y) + 1;
+    const uchar* allowed = mask.ptr<uchar>(y) + 1;
+    for (Eigen::Index x = 0; x < inner; ++x) {
+      const float v = e[x];
+      candidates[count] = {v, y * cols + static_cast<int>(x) + 1};
+      count += v > threshold && v >= neighbourhood(x) && allowed[x];
     }
   }
+  candidates.resize(count);
   // Strongest first; ties as cv::goodFeaturesToTrack orders them (the later pixel first).
   const auto stronger = [](const Candidate& p, const Candidate& q) {
     return p.value > q.value || (p.value == q.value && p.offset > q.offset);
@@ -112,17 +126,15 @@ std::vector<cv::Point2f> shi_tomasi_corners(const cv::Mat& image, int max_corner
   };
   // Sorted a batch at a time: the strongest few hundred candidates usually give max_corners,
   // and sorting all of them would cost more than finding them.
-  auto sorted_end = candidates.begin();
-  const size_t batch = 8 * static_cast<size_t>(max_corners);
-  while (sorted_end != candidates.end() && static_cast<int>(corners.size()) < max_corners) {
-    const auto batch_end = candidates.end() - sorted_end > static_cast<std::ptrdiff_t>(batch)
-                               ? sorted_end + batch
-                               : candidates.end();
-    std::partial_sort(sorted_end, batch_end, candidates.end(), stronger);
-    for (auto it = sorted_end; it != batch_end && static_cast<int>(corners.size()) < max_corners;
-         ++it)
-      keep_if_apart(*it);
-    sorted_end = batch_end;
+  const std::ptrdiff_t batch = 8 * static_cast<std::ptrdiff_t>(max_corners);
+  for (auto begin = candidates.begin();
+       begin != candidates.end() && static_cast<int>(corners.size()) < max_corners;) {
+    const auto end = candidates.end() - begin > batch ? begin + batch : candidates.end();
+    std::nth_element(begin, end, candidates.end(), stronger);
+    std::sort(begin, end, stronger);
+    for (; begin != end && static_cast<int>(corners.size()) < max_corners; ++begin)
+      keep_if_apart(*begin);
+    begin = end;
   }
   return corners;
 }
