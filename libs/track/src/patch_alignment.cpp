@@ -4,12 +4,30 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace omnisfm::track {
 namespace {
 
 // Contrast below this (grey levels, weighted standard deviation) is no texture.
 constexpr double kMinContrast = 1.0;
+
+// Four pixels in one register (GCC and Clang vector extensions: SSE2 on x86-64, NEON on ARM).
+using Lanes = float __attribute__((vector_size(16)));
+using LaneIndices = int __attribute__((vector_size(16)));
+static_assert(sizeof(Lanes) == ReferencePatch::kLanes * sizeof(float));
+
+Lanes load(const float* p) {
+  Lanes l;
+  std::memcpy(&l, p, sizeof l);
+  return l;
+}
+
+double lane_sum(const Lanes& l) {
+  double sum = 0;
+  for (int lane = 0; lane < ReferencePatch::kLanes; ++lane) sum += l[lane];
+  return sum;
+}
 
 }  // namespace
 
@@ -27,10 +45,11 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   p.half_size_ = half_size;
   const int side = 2 * half_size + 1;
   const Eigen::Index count = side * side;
-  p.offsets_x_.resize(count);
-  p.offsets_y_.resize(count);
-  p.weights_.resize(count);
-  p.values_.resize(count);
+  // Zero beyond the pixels: a padded pixel weighs nothing, sits on the feature and has no
+  // steepest-descent image, so it changes no sum.
+  const Eigen::Index padded = (count + kLanes - 1) / kLanes * kLanes;
+  for (Eigen::ArrayXf* a : {&p.offsets_x_, &p.offsets_y_, &p.weights_, &p.values_})
+    a->setZero(padded);
   const Eigen::Vector2d phase(cx - feature.x(), cy - feature.y());
   const double sigma = half_size;
   // The Gaussian window is separable: one exponential per row and per column.
@@ -51,12 +70,12 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
       p.values_(k) = image.at<float>(cy + y, cx + x);
     }
   const double mean = (p.weights_.cast<double>() * p.values_.cast<double>()).sum();
-  p.values_ = (p.values_.cast<double>() - mean).cast<float>();
+  p.values_.head(count) = (p.values_.head(count).cast<double>() - mean).cast<float>();
   p.norm_ = std::sqrt((p.weights_.cast<double>() * p.values_.cast<double>().square()).sum());
   if (p.norm_ < kMinContrast) return false;
 
   Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
-  p.steepest_.resize(count, 6);
+  p.steepest_.setZero(padded, 6);
   k = 0;
   for (int y = -half_size; y <= half_size; ++y)
     for (int x = -half_size; x <= half_size; ++x, ++k) {
@@ -78,10 +97,10 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   return true;
 }
 
-double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp,
-                              Samples* samples) const {
+double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp, float* values,
+                              double* mean, double* gain) const {
   const int side = 2 * half_size_ + 1;
-  const Eigen::Index count = values_.size();
+  const Eigen::Index count = side * side;
   // The patch's corners bound it (an affine image of a square is a parallelogram).
   const float x_limit = image.cols - 1.0f, y_limit = image.rows - 1.0f;
   for (const Eigen::Index corner :
@@ -90,67 +109,68 @@ double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp,
         warp.A * Eigen::Vector2d(offsets_x_(corner), offsets_y_(corner)) + warp.b;
     if (!(at.x() >= 0 && at.y() >= 0 && at.x() < x_limit && at.y() < y_limit)) return -1;
   }
-  // Bilinear sampling as whole-patch array operations, which vectorise; only the reads of the
-  // four neighbours of each sample are done one at a time.
-  Samples& s = *samples;
-  s.resize(count);
-  const Eigen::Matrix2f A = warp.A.cast<float>();
-  const Eigen::Vector2f b = warp.b.cast<float>();
-  auto x = s.col(kX), y = s.col(kY);
-  x = A(0, 0) * offsets_x_ + A(0, 1) * offsets_y_ + b.x();
-  y = A(1, 0) * offsets_x_ + A(1, 1) * offsets_y_ + b.y();
+  // kLanes pixels at a time: only the reads of each pixel's four neighbours are one at a time.
+  // This is the tracker's innermost loop.
+  const float a00 = static_cast<float>(warp.A(0, 0)), a01 = static_cast<float>(warp.A(0, 1));
+  const float a10 = static_cast<float>(warp.A(1, 0)), a11 = static_cast<float>(warp.A(1, 1));
+  const float bx = static_cast<float>(warp.b.x()), by = static_cast<float>(warp.b.y());
   const int step = static_cast<int>(image.step1());
-  // Inside the image (checked above), so truncation is the floor.
-  s.index = y.cast<int>() * step + x.cast<int>();
   const float* data = image.ptr<float>();
-  auto top_left = s.col(kTopLeft), top_right = s.col(kTopRight);
-  auto bottom_left = s.col(kBottomLeft), bottom_right = s.col(kBottomRight);
-  for (Eigen::Index k = 0; k < count; ++k) {
-    const float* p = data + s.index(k);
-    top_left(k) = p[0];
-    top_right(k) = p[1];
-    bottom_left(k) = p[step];
-    bottom_right(k) = p[step + 1];
+  Lanes sum_wv = {}, sum_wvv = {}, sum_wvt = {};
+  for (Eigen::Index k = 0; k < values_.size(); k += kLanes) {
+    const Lanes u = load(offsets_x_.data() + k), v = load(offsets_y_.data() + k);
+    const Lanes x = a00 * u + a01 * v + bx, y = a10 * u + a11 * v + by;
+    // Inside the image (checked above), so truncation is the floor.
+    const LaneIndices x0 = __builtin_convertvector(x, LaneIndices);
+    const LaneIndices y0 = __builtin_convertvector(y, LaneIndices);
+    const Lanes fx = x - __builtin_convertvector(x0, Lanes);
+    const Lanes fy = y - __builtin_convertvector(y0, Lanes);
+    const LaneIndices index = y0 * step + x0;
+    Lanes top_left, top_right, bottom_left, bottom_right;
+    for (int lane = 0; lane < kLanes; ++lane) {
+      const float* p = data + index[lane];
+      top_left[lane] = p[0];
+      top_right[lane] = p[1];
+      bottom_left[lane] = p[step];
+      bottom_right[lane] = p[step + 1];
+    }
+    const Lanes top = top_left + fx * (top_right - top_left);
+    const Lanes bottom = bottom_left + fx * (bottom_right - bottom_left);
+    const Lanes sampled = top + fy * (bottom - top);
+    std::memcpy(values + k, &sampled, sizeof sampled);
+    const Lanes weighted = load(weights_.data() + k) * sampled;
+    sum_wv += weighted;
+    sum_wvv += weighted * sampled;
+    sum_wvt += weighted * load(values_.data() + k);
   }
-  const auto fx = x - x.cast<int>().cast<float>();
-  const auto fy = y - y.cast<int>().cast<float>();
-  auto values = s.col(kValue);
-  // The lerps overwrite the corners, which they no longer need.
-  top_left += fx * (top_right - top_left);
-  bottom_left += fx * (bottom_right - bottom_left);
-  values = top_left + fy * (bottom_left - top_left);
-  auto weighted = s.col(kTopRight);
-  weighted = weights_ * values;
-  const double sum_wv = weighted.sum();
-  const double sum_wvv = (weighted * values).sum();
-  const double sum_wvt = (weighted * values_).sum();
   // Weights sum to 1 and the template has weighted mean 0, so sum w (v - m) t = sum w v t.
-  const double m = sum_wv;
-  const double variance = std::max(0.0, sum_wvv - m * m);
+  const double m = lane_sum(sum_wv);
+  const double variance = std::max(0.0, lane_sum(sum_wvv) - m * m);
   const double norm = std::sqrt(variance);
-  s.mean = m;
-  s.gain = norm > 0 ? norm_ / norm : 0;
-  return norm > 0 ? sum_wvt / (norm * norm_) : 0;
+  *mean = m;
+  *gain = norm > 0 ? norm_ / norm : 0;
+  return norm > 0 ? lane_sum(sum_wvt) / (norm * norm_) : 0;
 }
 
 double ReferencePatch::ncc(const cv::Mat& image, const AffineWarp& warp) const {
-  Samples samples;
-  return sample(image, warp, &samples);
+  Eigen::ArrayXf values(values_.size());
+  double mean, gain;
+  return sample(image, warp, values.data(), &mean, &gain);
 }
 
 AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, int max_iterations,
                                       double step_tolerance_px) const {
   CV_Assert(image.type() == CV_32FC1 && !empty());
   AlignmentResult result;
-  Samples samples;
+  Eigen::ArrayXf values(values_.size());
   for (result.iterations = 1; result.iterations <= max_iterations; ++result.iterations) {
-    result.ncc = sample(image, *warp, &samples);
+    double mean, gain;
+    result.ncc = sample(image, *warp, values.data(), &mean, &gain);
     if (result.ncc == -1) return result;
-    const float m = static_cast<float>(samples.mean), g = static_cast<float>(samples.gain);
+    const float m = static_cast<float>(mean), g = static_cast<float>(gain);
     // The residuals, then one dot product per parameter: both vectorise.
-    auto residuals = samples.col(kValue);
-    residuals = (residuals - m) * g - values_;
-    const Eigen::Matrix<float, 6, 1> gradient = steepest_.transpose() * residuals.matrix();
+    values = (values - m) * g - values_;
+    const Eigen::Matrix<float, 6, 1> gradient = steepest_.transpose() * values.matrix();
     const Eigen::Matrix<double, 6, 1> dp = hessian_inverse_ * gradient.cast<double>();
 
     // Inverse composition: W <- W o W(dp)^-1.

@@ -53,31 +53,22 @@ class ReferencePatch {
   double ncc(const cv::Mat& image, const AffineWarp& warp) const;
 
   int half_size() const { return half_size_; }
+
+  // Template pixels sampled at once.
+  static constexpr int kLanes = 4;
   bool empty() const { return values_.size() == 0; }
 
  private:
-  // Working arrays of one sampling, kept across an alignment's iterations: a column per
-  // quantity, a row per template pixel.
-  enum Column { kX, kY, kTopLeft, kTopRight, kBottomLeft, kBottomRight, kValue, kColumns };
-  struct Samples {
-    Eigen::Array<float, Eigen::Dynamic, kColumns> columns;
-    Eigen::ArrayXi index;  // of each sample's top-left neighbour in the image's data
-    double mean = 0;       // weighted mean of the sampled values
-    double gain = 0;       // maps their contrast onto the template's
-    void resize(Eigen::Index count) {
-      columns.resize(count, kColumns);
-      index.resize(count);
-    }
-    auto col(Column c) { return columns.col(c); }
-  };
-
-  // Samples `image` at warp * offset for every offset (into samples->col(kValue), with their
-  // weighted mean and gain), and returns the weighted zero-mean NCC of the template against
-  // them. -1 when the patch leaves the image.
-  double sample(const cv::Mat& image, const AffineWarp& warp, Samples* samples) const;
+  // Samples `image` at warp * offset for every offset into `values` (one entry per padded
+  // template pixel), and returns the weighted zero-mean NCC of the template against them,
+  // their weighted mean and the gain that maps their contrast onto the template's. -1 when
+  // the patch leaves the image.
+  double sample(const cv::Mat& image, const AffineWarp& warp, float* values, double* mean,
+                double* gain) const;
 
   int half_size_ = 0;
-  // From the feature to each template pixel, row-major.
+  // Per template pixel, row-major, padded with zeros to a multiple of kLanes pixels. From the
+  // feature to the pixel:
   Eigen::ArrayXf offsets_x_, offsets_y_;
   Eigen::ArrayXf weights_;  // Gaussian window about the feature, sums to 1
   Eigen::ArrayXf values_;   // the template, weighted mean removed
