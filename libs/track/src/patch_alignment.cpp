@@ -23,6 +23,18 @@ Lanes load(const float* p) {
   return l;
 }
 
+using Pair = float __attribute__((vector_size(8)));
+
+Pair load_pair(const float* p) {
+  Pair pair;
+  std::memcpy(&pair, p, sizeof pair);
+  return pair;
+}
+
+Lanes join(const Pair& low, const Pair& high) {
+  return __builtin_shufflevector(low, high, 0, 1, 2, 3);
+}
+
 double lane_sum(const Lanes& l) {
   double sum = 0;
   for (int lane = 0; lane < ReferencePatch::kLanes; ++lane) sum += l[lane];
@@ -117,8 +129,10 @@ double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp, floa
   const int step = static_cast<int>(image.step1());
   const float* data = image.ptr<float>();
   Lanes sum_wv = {}, sum_wvv = {}, sum_wvt = {};
+  const float *offsets_x = offsets_x_.data(), *offsets_y = offsets_y_.data();
+  const float *weights = weights_.data(), *template_values = values_.data();
   for (Eigen::Index k = 0; k < values_.size(); k += kLanes) {
-    const Lanes u = load(offsets_x_.data() + k), v = load(offsets_y_.data() + k);
+    const Lanes u = load(offsets_x + k), v = load(offsets_y + k);
     const Lanes x = a00 * u + a01 * v + bx, y = a10 * u + a11 * v + by;
     // Inside the image (checked above), so truncation is the floor.
     const LaneIndices x0 = __builtin_convertvector(x, LaneIndices);
@@ -126,22 +140,29 @@ double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp, floa
     const Lanes fx = x - __builtin_convertvector(x0, Lanes);
     const Lanes fy = y - __builtin_convertvector(y0, Lanes);
     const LaneIndices index = y0 * step + x0;
-    Lanes top_left, top_right, bottom_left, bottom_right;
-    for (int lane = 0; lane < kLanes; ++lane) {
-      const float* p = data + index[lane];
-      top_left[lane] = p[0];
-      top_right[lane] = p[1];
-      bottom_left[lane] = p[step];
-      bottom_right[lane] = p[step + 1];
-    }
+    // Each pixel's left and right neighbours are adjacent in memory: one 8-byte read per row,
+    // and shuffles deal the pairs out into lanes (inserting floats one by one costs twice as
+    // many instructions).
+    const float* p0 = data + index[0];
+    const float* p1 = data + index[1];
+    const float* p2 = data + index[2];
+    const float* p3 = data + index[3];
+    const Lanes top01 = join(load_pair(p0), load_pair(p1));
+    const Lanes top23 = join(load_pair(p2), load_pair(p3));
+    const Lanes bottom01 = join(load_pair(p0 + step), load_pair(p1 + step));
+    const Lanes bottom23 = join(load_pair(p2 + step), load_pair(p3 + step));
+    const Lanes top_left = __builtin_shufflevector(top01, top23, 0, 2, 4, 6);
+    const Lanes top_right = __builtin_shufflevector(top01, top23, 1, 3, 5, 7);
+    const Lanes bottom_left = __builtin_shufflevector(bottom01, bottom23, 0, 2, 4, 6);
+    const Lanes bottom_right = __builtin_shufflevector(bottom01, bottom23, 1, 3, 5, 7);
     const Lanes top = top_left + fx * (top_right - top_left);
     const Lanes bottom = bottom_left + fx * (bottom_right - bottom_left);
     const Lanes sampled = top + fy * (bottom - top);
     std::memcpy(values + k, &sampled, sizeof sampled);
-    const Lanes weighted = load(weights_.data() + k) * sampled;
+    const Lanes weighted = load(weights + k) * sampled;
     sum_wv += weighted;
     sum_wvv += weighted * sampled;
-    sum_wvt += weighted * load(values_.data() + k);
+    sum_wvt += weighted * load(template_values + k);
   }
   // Weights sum to 1 and the template has weighted mean 0, so sum w (v - m) t = sum w v t.
   const double m = lane_sum(sum_wv);
