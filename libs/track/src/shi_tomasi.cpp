@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 
 namespace omnisfm::track {
@@ -12,42 +13,91 @@ namespace {
 // edge pixel), as the Sobel filter and the box filter in cv::cornerMinEigenVal use.
 int reflect_101(int i, int n) { return i < 0 ? -i : i >= n ? 2 * n - 2 - i : i; }
 
+// Four floats in one register (GCC and Clang vector extensions: SSE2 on x86-64, NEON on ARM).
+using Lanes = float __attribute__((vector_size(16)));
+constexpr int kLanes = 4;
+static_assert(sizeof(Lanes) == kLanes * sizeof(float));
+using AllowedLanes = unsigned char __attribute__((vector_size(kLanes)));
+
+Lanes load(const float* p) {
+  Lanes l;
+  std::memcpy(&l, p, sizeof l);
+  return l;
+}
+
+void store(float* p, const Lanes& l) { std::memcpy(p, &l, sizeof l); }
+
 // The smaller eigenvalue per pixel, as cv::cornerMinEigenVal(image, 3, 3) computes it (up to
-// float rounding: its box filter sums in double).
-cv::Mat min_eigenvalues(const cv::Mat& image) {
+// float rounding: its box filter sums in double), and in *strongest the largest where `mask` is
+// set (0 if none is positive). Rows are padded to a multiple of kLanes, so that every pass is
+// whole registers; the padding is computed and never read.
+cv::Mat min_eigenvalues(const cv::Mat& image, const cv::Mat& mask, double* strongest) {
   const int rows = image.rows, cols = image.cols;
+  const int padded = (cols + kLanes - 1) / kLanes * kLanes;
   // The scale cv::cornerMinEigenVal gives 8-bit images: 1 / (2^(3 - 1) * 3 * 255).
   const double scale = 1.0 / (4 * 3 * 255.0);
-  cv::Mat dx, dy;
+  cv::Mat dx_padded(rows, padded, CV_32F), dy_padded(rows, padded, CV_32F);
+  cv::Mat dx = dx_padded.colRange(0, cols), dy = dy_padded.colRange(0, cols);
   cv::Sobel(image, dx, CV_32F, 1, 0, 3, scale, 0, cv::BORDER_DEFAULT);
   cv::Sobel(image, dy, CV_32F, 0, 1, 3, scale, 0, cv::BORDER_DEFAULT);
-  cv::Mat eigenvalues(rows, cols, CV_32F);
-  using Row = Eigen::Map<const Eigen::ArrayXf>;
-  Eigen::ArrayXf xx(cols), xy(cols), yy(cols);  // the moments summed down three rows
-  Eigen::ArrayXf a(cols), b(cols), c(cols);     // and across three columns
+  CV_Assert(dx.data == dx_padded.data && dy.data == dy_padded.data);  // filled in place
+  for (int y = 0; y < rows; ++y) {  // finite padding: no slow arithmetic on garbage
+    std::fill(dx_padded.ptr<float>(y) + cols, dx_padded.ptr<float>(y) + padded, 0.0f);
+    std::fill(dy_padded.ptr<float>(y) + cols, dy_padded.ptr<float>(y) + padded, 0.0f);
+  }
+  cv::Mat eigenvalues(rows, padded, CV_32F);
+  // The moments summed down three rows, with one more column on each side for the sums across.
+  std::vector<float> buffers(3 * static_cast<size_t>(padded + 2));
+  float* xx = buffers.data() + 1;
+  float* xy = xx + padded + 2;
+  float* yy = xy + padded + 2;
+  std::vector<unsigned char> allowed_row(static_cast<size_t>(padded), 0);
+  Lanes best = {};
   for (int y = 0; y < rows; ++y) {
-    const Row dx0(dx.ptr<float>(reflect_101(y - 1, rows)), cols), dx1(dx.ptr<float>(y), cols),
-        dx2(dx.ptr<float>(reflect_101(y + 1, rows)), cols);
-    const Row dy0(dy.ptr<float>(reflect_101(y - 1, rows)), cols), dy1(dy.ptr<float>(y), cols),
-        dy2(dy.ptr<float>(reflect_101(y + 1, rows)), cols);
-    xx = dx0.square() + dx1.square() + dx2.square();
-    xy = dx0 * dy0 + dx1 * dy1 + dx2 * dy2;
-    yy = dy0.square() + dy1.square() + dy2.square();
-    for (auto [sum, across] : {std::pair{&xx, &a}, std::pair{&xy, &b}, std::pair{&yy, &c}}) {
-      const Eigen::ArrayXf& s = *sum;
-      Eigen::ArrayXf& t = *across;
-      t.segment(1, cols - 2) = s.head(cols - 2) + s.segment(1, cols - 2) + s.tail(cols - 2);
-      t(0) = s(0) + 2 * s(1);
-      t(cols - 1) = s(cols - 1) + 2 * s(cols - 2);
+    std::memcpy(allowed_row.data(), mask.ptr<uchar>(y), static_cast<size_t>(cols));
+    const float* dx0 = dx_padded.ptr<float>(reflect_101(y - 1, rows));
+    const float* dx1 = dx_padded.ptr<float>(y);
+    const float* dx2 = dx_padded.ptr<float>(reflect_101(y + 1, rows));
+    const float* dy0 = dy_padded.ptr<float>(reflect_101(y - 1, rows));
+    const float* dy1 = dy_padded.ptr<float>(y);
+    const float* dy2 = dy_padded.ptr<float>(reflect_101(y + 1, rows));
+    for (int x = 0; x < padded; x += kLanes) {
+      const Lanes gx0 = load(dx0 + x), gx1 = load(dx1 + x), gx2 = load(dx2 + x);
+      const Lanes gy0 = load(dy0 + x), gy1 = load(dy1 + x), gy2 = load(dy2 + x);
+      store(xx + x, gx0 * gx0 + gx1 * gx1 + gx2 * gx2);
+      store(xy + x, gx0 * gy0 + gx1 * gy1 + gx2 * gy2);
+      store(yy + x, gy0 * gy0 + gy1 * gy1 + gy2 * gy2);
+    }
+    for (float* sums : {xx, xy, yy}) {
+      sums[-1] = sums[1];
+      sums[cols] = sums[cols - 2];
     }
     // As cv::cornerMinEigenVal: with a = xx / 2, c = yy / 2, the smaller eigenvalue of
     // [xx xy; xy yy] is a + c - sqrt((a - c)^2 + xy^2).
-    a *= 0.5f;
-    c *= 0.5f;
-    Eigen::Map<Eigen::ArrayXf>(eigenvalues.ptr<float>(y), cols) =
-        (a + c) - ((a - c).square() + b.square()).sqrt();
+    float* out = eigenvalues.ptr<float>(y);
+    for (int x = 0; x < padded; x += kLanes) {
+      const Lanes a = 0.5f * (load(xx + x - 1) + load(xx + x) + load(xx + x + 1));
+      const Lanes b = load(xy + x - 1) + load(xy + x) + load(xy + x + 1);
+      const Lanes c = 0.5f * (load(yy + x - 1) + load(yy + x) + load(yy + x + 1));
+      const Lanes d = a - c;
+      const Lanes r = d * d + b * b;
+      // Eigen's square root of a whole register (vector extensions have none).
+      Eigen::Array4f root;
+      std::memcpy(root.data(), &r, sizeof r);
+      root = root.sqrt();
+      const Lanes e = (a + c) - load(root.data());
+      store(out + x, e);
+      AllowedLanes allowed;
+      std::memcpy(&allowed, allowed_row.data() + x, sizeof allowed);
+      // A vector comparison gives -1 where true.
+      const Lanes on = -__builtin_convertvector(allowed != 0, Lanes);
+      const Lanes masked = e * on;
+      best = best > masked ? best : masked;
+    }
   }
-  return eigenvalues;
+  *strongest = 0;
+  for (int lane = 0; lane < kLanes; ++lane) *strongest = std::max<double>(*strongest, best[lane]);
+  return eigenvalues.colRange(0, cols);
 }
 
 struct Candidate {
@@ -64,9 +114,8 @@ std::vector<cv::Point2f> shi_tomasi_corners(const cv::Mat& image, int max_corner
   CV_Assert(max_corners > 0 && quality_level > 0 && min_distance >= 1);
   const int rows = image.rows, cols = image.cols;
   if (rows < 3 || cols < 3) return {};
-  const cv::Mat eigenvalues = min_eigenvalues(image);
   double strongest = 0;
-  cv::minMaxLoc(eigenvalues, nullptr, &strongest, nullptr, nullptr, mask);
+  const cv::Mat eigenvalues = min_eigenvalues(image, mask, &strongest);
   const float threshold = static_cast<float>(strongest * quality_level);
 
   // Local maxima (of the 3 x 3 neighbourhood) above the threshold, off the outermost pixels. The
