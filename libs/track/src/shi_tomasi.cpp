@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <opencv2/imgproc.hpp>
 
@@ -18,6 +19,9 @@ using Lanes = float __attribute__((vector_size(16)));
 constexpr int kLanes = 4;
 static_assert(sizeof(Lanes) == kLanes * sizeof(float));
 using AllowedLanes = unsigned char __attribute__((vector_size(kLanes)));
+using Flags = int __attribute__((vector_size(16)));  // a comparison's lanes: -1 where true
+
+Lanes max(const Lanes& a, const Lanes& b) { return a > b ? a : b; }
 
 Lanes load(const float* p) {
   Lanes l;
@@ -118,36 +122,39 @@ std::vector<cv::Point2f> shi_tomasi_corners(const cv::Mat& image, int max_corner
   const cv::Mat eigenvalues = min_eigenvalues(image, mask, &strongest);
   const float threshold = static_cast<float>(strongest * quality_level);
 
-  // Local maxima (of the 3 x 3 neighbourhood) above the threshold, off the outermost pixels. The
-  // neighbourhood maxima are array operations, and the candidates are written without a branch
-  // per pixel (most pixels are not candidates, and a branch on that would mostly mispredict).
-  std::vector<Candidate> candidates(static_cast<size_t>(cols));
-  size_t count = 0;
-  const Eigen::Index inner = cols - 2;
-  using Row = Eigen::Map<const Eigen::ArrayXf>;
-  // Of each row: the maximum over each pixel and its left and right neighbours.
-  const auto across = [&](int y, Eigen::ArrayXf* out) {
-    const Row e(eigenvalues.ptr<float>(y), cols);
-    *out = e.head(inner).max(e.segment(1, inner)).max(e.tail(inner));
+  // Local maxima (of the 3 x 3 neighbourhood) above the threshold, off the outermost pixels:
+  // kLanes pixels tested at once, and only the groups that hold one looked at pixel by pixel
+  // (most pixels are not local maxima).
+  std::vector<Candidate> candidates;
+  const auto add = [&](float value, const uchar* allowed, int y, int x) {
+    if (allowed[x]) candidates.push_back({value, y * cols + x});
   };
-  Eigen::ArrayXf above(inner), here(inner), below(inner), neighbourhood(inner);
-  across(0, &here);
-  across(1, &below);
   for (int y = 1; y + 1 < rows; ++y) {
-    above.swap(here);
-    here.swap(below);
-    across(y + 1, &below);
-    neighbourhood = above.max(here).max(below);
-    if (candidates.size() < count + inner) candidates.resize(2 * (count + inner));
-    const float* e = eigenvalues.ptr<float>(y) + 1;
-    const uchar* allowed = mask.ptr<uchar>(y) + 1;
-    for (Eigen::Index x = 0; x < inner; ++x) {
-      const float v = e[x];
-      candidates[count] = {v, y * cols + static_cast<int>(x) + 1};
-      count += v > threshold && v >= neighbourhood(x) && allowed[x];
+    const float* above = eigenvalues.ptr<float>(y - 1);
+    const float* here = eigenvalues.ptr<float>(y);
+    const float* below = eigenvalues.ptr<float>(y + 1);
+    const uchar* allowed = mask.ptr<uchar>(y);
+    int x = 1;
+    for (; x + kLanes < cols; x += kLanes) {
+      const Lanes v = load(here + x);
+      Lanes around = max(load(here + x - 1), load(here + x + 1));
+      for (const float* row : {above, below})
+        around = max(around, max(max(load(row + x - 1), load(row + x)), load(row + x + 1)));
+      const Flags local_maximum = (v > threshold) & (v >= around);
+      std::uint64_t halves[2];
+      std::memcpy(halves, &local_maximum, sizeof halves);
+      if ((halves[0] | halves[1]) == 0) continue;
+      for (int lane = 0; lane < kLanes; ++lane)
+        if (local_maximum[lane]) add(v[lane], allowed, y, x + lane);
+    }
+    for (; x + 1 < cols; ++x) {
+      const float v = here[x];
+      if (v > threshold && v >= here[x - 1] && v >= here[x + 1] && v >= above[x - 1] &&
+          v >= above[x] && v >= above[x + 1] && v >= below[x - 1] && v >= below[x] &&
+          v >= below[x + 1])
+        add(v, allowed, y, x);
     }
   }
-  candidates.resize(count);
   // Strongest first; ties as cv::goodFeaturesToTrack orders them (the later pixel first).
   const auto stronger = [](const Candidate& p, const Candidate& q) {
     return p.value > q.value || (p.value == q.value && p.offset > q.offset);
