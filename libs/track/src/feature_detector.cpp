@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "omnisfm/track/valid_region.h"
+#include "shi_tomasi.h"
 
 namespace omnisfm::track {
 
@@ -25,26 +26,31 @@ FeatureDetector::FeatureDetector(const cv::Mat& region, const TrackerSettings& s
     }
   level_bounds_ = cv::boundingRect(level_region_);
 
-  // Equal-area rings between the region's nearest and farthest pixels from the centre.
+  // Equal-area rings between the region's nearest and farthest pixels from the centre. Squared
+  // radii throughout: a tracker is made per sequence, and this visits every pixel.
   const cv::Rect bounds = cv::boundingRect(region);
-  double r_min = 1e300, r_max = 0;
-  for (int y = bounds.y; y < bounds.y + bounds.height; ++y)
+  double r2_min = 1e300, r2_max = 0;
+  for (int y = bounds.y; y < bounds.y + bounds.height; ++y) {
+    const uchar* inside = region.ptr<uchar>(y);
+    const double dy = y - centre_.y;
     for (int x = bounds.x; x < bounds.x + bounds.width; ++x)
-      if (region.at<uchar>(y, x)) {
-        const double r = std::hypot(x - centre_.x, y - centre_.y);
-        r_min = std::min(r_min, r);
-        r_max = std::max(r_max, r);
+      if (inside[x]) {
+        const double dx = x - centre_.x;
+        const double r2 = dx * dx + dy * dy;
+        r2_min = std::min(r2_min, r2);
+        r2_max = std::max(r2_max, r2);
       }
+  }
   for (int i = 1; i <= settings.rings; ++i)
-    ring_radii_.push_back(
-        std::sqrt(r_min * r_min + (r_max * r_max - r_min * r_min) * i / settings.rings));
+    ring_radii_squared_.push_back(r2_min + (r2_max - r2_min) * i / settings.rings);
 }
 
 int FeatureDetector::cell(const cv::Point2f& point) const {
   const double dx = point.x - centre_.x, dy = point.y - centre_.y;
-  const double r = std::hypot(dx, dy);
+  const double r2 = dx * dx + dy * dy;
   int ring = 0;
-  while (ring + 1 < static_cast<int>(ring_radii_.size()) && r > ring_radii_[ring]) ++ring;
+  while (ring + 1 < static_cast<int>(ring_radii_squared_.size()) && r2 > ring_radii_squared_[ring])
+    ++ring;
   const double turn = (std::atan2(dy, dx) + M_PI) / (2 * M_PI);
   const int sector = std::min(settings_.sectors - 1, static_cast<int>(turn * settings_.sectors));
   return ring * settings_.sectors + sector;
@@ -61,11 +67,10 @@ std::vector<cv::Point2f> FeatureDetector::corners(const cv::Mat& level_image,
                cv::Point(cvRound(p.x / level_scale_) - level_bounds_.x,
                          cvRound(p.y / level_scale_) - level_bounds_.y),
                static_cast<int>(std::ceil(level_distance)), 0, cv::FILLED);
-  std::vector<cv::Point2f> found;
   // Enough candidates for every cell to choose from.
   const int wanted = 2 * settings_.max_tracks + 32;
-  cv::goodFeaturesToTrack(level_image(level_bounds_), found, wanted, settings_.quality_level,
-                          level_distance, allowed, 3);
+  std::vector<cv::Point2f> found = shi_tomasi_corners(
+      level_image(level_bounds_), wanted, settings_.quality_level, level_distance, allowed);
   const float scale = static_cast<float>(level_scale_);
   for (auto& p : found)
     p = cv::Point2f((p.x + level_bounds_.x) * scale, (p.y + level_bounds_.y) * scale);

@@ -123,11 +123,11 @@ void FeatureTracker::follow_live_tracks() {
                            window, settings_.pyramid_levels - 1, criteria,
                            cv::OPTFLOW_USE_INITIAL_FLOW);
   // Back from where the step ends, starting where it began: a consistent step returns there
-  // within a level or two of the pyramid.
+  // (within max_forward_backward_px, well inside the window) on the finest level alone, and an
+  // inconsistent one ends whether it fails to converge there or converges too far away.
   back = previous;
   cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok, cv::noArray(),
-                           window, std::min(1, settings_.pyramid_levels - 1), criteria,
-                           cv::OPTFLOW_USE_INITIAL_FLOW);
+                           window, 0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
 
   std::vector<Track> kept;
   kept.reserve(live_.size());

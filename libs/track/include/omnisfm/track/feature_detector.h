@@ -37,7 +37,7 @@ class FeatureDetector {
   double level_scale_ = 1;  // full-resolution pixels per level pixel
   TrackerSettings settings_;
   cv::Point2d centre_;
-  std::vector<double> ring_radii_;  // outer radius of each ring
+  std::vector<double> ring_radii_squared_;  // of each ring's outer edge
 };
 
 }  // namespace omnisfm::track

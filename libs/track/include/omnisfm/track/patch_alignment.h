@@ -28,7 +28,9 @@ struct AffineWarp {
 struct AlignmentResult {
   bool converged = false;
   int iterations = 0;
-  double ncc = 0;  // weighted zero-mean normalised cross-correlation after the last step
+  // Weighted zero-mean normalised cross-correlation where the last step started (converged: a
+  // step below the tolerance before the end).
+  double ncc = 0;
 };
 
 class ReferencePatch {
@@ -51,21 +53,28 @@ class ReferencePatch {
   double ncc(const cv::Mat& image, const AffineWarp& warp) const;
 
   int half_size() const { return half_size_; }
-  bool empty() const { return values_.empty(); }
+
+  // Template pixels sampled at once.
+  static constexpr int kLanes = 4;
+  bool empty() const { return values_.size() == 0; }
 
  private:
-  // Samples `image` at warp * offset for every offset, and returns the weighted zero-mean NCC
-  // of the template against them, their weighted mean and the gain that maps their contrast onto
-  // the template's. -1 when the patch leaves the image.
-  double sample(const cv::Mat& image, const AffineWarp& warp, std::vector<float>* values,
-                double* mean, double* gain) const;
+  // Samples `image` at warp * offset for every offset into `values` (one entry per padded
+  // template pixel), and returns the weighted zero-mean NCC of the template against them,
+  // their weighted mean and the gain that maps their contrast onto the template's. -1 when
+  // the patch leaves the image.
+  double sample(const cv::Mat& image, const AffineWarp& warp, float* values, double* mean,
+                double* gain) const;
 
   int half_size_ = 0;
-  std::vector<Eigen::Vector2f> offsets_;  // from the feature to each template pixel, row-major
-  std::vector<float> weights_;            // Gaussian window about the feature, sums to 1
-  std::vector<float> values_;             // the template, weighted mean removed
-  double norm_ = 0;                       // sqrt(sum w * values^2)
-  std::vector<Eigen::Matrix<float, 6, 1>> steepest_;  // weighted steepest-descent images
+  // Per template pixel, row-major, padded with zeros to a multiple of kLanes pixels. From the
+  // feature to the pixel:
+  Eigen::ArrayXf offsets_x_, offsets_y_;
+  Eigen::ArrayXf weights_;  // Gaussian window about the feature, sums to 1
+  Eigen::ArrayXf values_;   // the template, weighted mean removed
+  double norm_ = 0;         // sqrt(sum w * values^2)
+  // Weighted steepest-descent images, a column per parameter: the gradient is six dot products.
+  Eigen::Matrix<float, Eigen::Dynamic, 6> steepest_;
   Eigen::Matrix<double, 6, 6> hessian_inverse_;
 };
 
