@@ -5,7 +5,7 @@
 #include <cmath>
 #include <set>
 
-#include "dense_covariance.h"
+#include "filter_linear_algebra.h"
 
 namespace omnisfm::sfm {
 namespace {

@@ -1,4 +1,4 @@
-#include "dense_covariance.h"
+#include "filter_linear_algebra.h"
 
 #include <dlfcn.h>
 
