@@ -13,6 +13,7 @@
 #include "omnisfm/sfm/batch_adjustment.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/long_drive.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
@@ -120,64 +121,30 @@ void BM_BatchRover(benchmark::State& state) {
 }
 BENCHMARK(BM_BatchRover)->Unit(benchmark::kMillisecond);
 
-// A long drive for the batch's scaling: `images` frames of the rover's rig 3 cm apart along an S
-// that repeats every 300 frames, one ground point per frame a little to the side of the path,
-// seen from the frames within 15 of its own that image it (tracks about 30 images long). The
-// start is the truth with centimetre errors, as a filter would give; pixel noise 0.2 px.
+// A long drive for the batch's scaling (sim::long_drive, 0.2 px noise), started from the truth
+// with centimetre errors, as a filter would give.
 struct ScaledProblem {
-  camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
-  std::vector<io::TrackObservation> observations;
+  sim::Dataset drive;
   std::vector<Eigen::Isometry3d> start_cam_from_world;
   std::map<int, Eigen::Vector3d> start_points;
 };
 
 ScaledProblem scaled_problem(int images) {
-  ScaledProblem problem;
-  sim::Dataset d{"drive", problem.camera, {}, {}, {}, {}, {}, {}, {}, {}};
-  Eigen::Vector3d position(0, 0, 0.6);
-  for (int i = 0; i < images; ++i) {
-    const double heading = 0.7 * std::sin(2 * M_PI * i / 300.0);
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    T.translation() = position;
-    d.world_from_cam.push_back(T);
-    position += 0.03 * Eigen::Vector3d(std::cos(heading), std::sin(heading), 0);
-  }
-  std::mt19937_64 rng(11);
-  for (int track = 0; track < images; ++track) {
-    // A ground point beside the path, drawn again until nearly all of its 30 frames see it: a
-    // track that is not seen for long leaves its depth free, which no real tracker would keep.
-    const int first = std::max(0, track - 15), end = std::min(images, track + 15);
-    Eigen::Vector3d point;
-    std::vector<io::TrackObservation> seen;
-    do {
-      const Eigen::Isometry3d& T = d.world_from_cam[track];
-      const double side = sim::uniform(rng, 0.8, 2.0) * (sim::uniform(rng, 0, 1) < 0.5 ? -1 : 1);
-      point = T * Eigen::Vector3d(sim::uniform(rng, -0.5, 0.5), side, 0);
-      point.z() = 0;
-      seen.clear();
-      for (int f = first; f < end; ++f) {
-        Eigen::Vector2d pixel;
-        if (!sim::true_pixel(d, f, point, &pixel, 3.0)) continue;
-        pixel += 0.2 * Eigen::Vector2d(sim::standard_normal(rng), sim::standard_normal(rng));
-        seen.push_back({f, track, pixel});
-      }
-    } while (5 * static_cast<int>(seen.size()) < 4 * (end - first));
-    problem.observations.insert(problem.observations.end(), seen.begin(), seen.end());
-    problem.start_points[track] =
-        point + 0.03 * Eigen::Vector3d(sim::standard_normal(rng), sim::standard_normal(rng),
-                                       sim::standard_normal(rng));
-  }
+  ScaledProblem problem{sim::long_drive(images, 0.2, 11), {}, {}};
+  std::mt19937_64 rng(12);
+  const auto normal3 = [&rng] {
+    return Eigen::Vector3d(sim::standard_normal(rng), sim::standard_normal(rng),
+                           sim::standard_normal(rng));
+  };
+  for (size_t track = 0; track < problem.drive.track_points.size(); ++track)
+    problem.start_points[static_cast<int>(track)] =
+        problem.drive.track_points[track] + 0.03 * normal3();
   for (int f = 0; f < images; ++f) {
-    Eigen::Isometry3d T = d.world_from_cam[f].inverse();
+    Eigen::Isometry3d T = problem.drive.world_from_cam[f].inverse();
     if (f > 0) {
-      const Eigen::Vector3d w = 0.005 * Eigen::Vector3d(sim::standard_normal(rng),
-                                                        sim::standard_normal(rng),
-                                                        sim::standard_normal(rng));
+      const Eigen::Vector3d w = 0.005 * normal3();
       T.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * T.linear();
-      T.translation() += 0.01 * Eigen::Vector3d(sim::standard_normal(rng),
-                                                sim::standard_normal(rng),
-                                                sim::standard_normal(rng));
+      T.translation() += 0.01 * normal3();
     }
     problem.start_cam_from_world.push_back(T);
   }
@@ -192,12 +159,12 @@ void BM_BatchScaled(benchmark::State& state) {
   settings.covariances = false;
   sfm::BatchResult result;
   for (auto _ : state)
-    result = sfm::batch_adjust(problem.camera, problem.observations,
+    result = sfm::batch_adjust(problem.drive.camera, problem.drive.observations,
                                problem.start_cam_from_world, problem.start_points, settings);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   state.counters["lm_iterations"] = result.iterations;
-  state.counters["observations"] = static_cast<double>(problem.observations.size());
+  state.counters["observations"] = static_cast<double>(problem.drive.observations.size());
   state.counters["converged"] = result.converged;
   state.counters["final_rms_px"] = result.final_rms_px;
   state.counters["peak_rss_MB"] = usage.ru_maxrss / 1024.0;

@@ -163,6 +163,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     result.final_rms_px = std::sqrt(reprojection_cost() / used);
   }
   result.solve_seconds = summary.total_time_in_seconds;
+  result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
   result.points = points;
 

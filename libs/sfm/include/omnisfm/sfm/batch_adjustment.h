@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
@@ -30,6 +31,9 @@ struct BatchResult {
   double initial_rms_px = 0, final_rms_px = 0;  // per coordinate
   double seconds = 0;        // in all, covariances included
   double solve_seconds = 0;  // the Levenberg-Marquardt solve alone
+  // Ceres's name of the reduced camera system's solver: ITERATIVE_SCHUR when most frames share
+  // points, SPARSE_SCHUR when the system is banded (long sequences).
+  std::string linear_solver;
   std::vector<Eigen::Isometry3d> cam_from_world;  // per frame
   std::map<int, Eigen::Vector3d> points;           // per track
   // 6x6 per frame (rotation as angle-axis, then translation; frame 0 is fixed: zero) and 3x3 per

@@ -1,0 +1,62 @@
+// The batch adjustment on a long drive, where frames share points with their neighbours only:
+// the banded reduced system goes to sparse Cholesky, and Levenberg-Marquardt must converge in a
+// few iterations instead of creeping along the drive's slow deformations.
+
+#include "omnisfm/sfm/batch_adjustment.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/sim/long_drive.h"
+#include "omnisfm/sim/track_simulator.h"
+#include "world_from_cam.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+TEST(BatchAdjustment, LongDriveConvergesWithSparseCholesky) {
+  constexpr double kNoisePx = 0.2;
+  const sim::Dataset drive = sim::long_drive(600, kNoisePx, 5);
+  // A start like a filter's: every pose but the first (the gauge) 1 cm off, points 3 cm off.
+  std::mt19937_64 rng(6);
+  const auto normal3 = [&rng] {
+    return Eigen::Vector3d(sim::standard_normal(rng), sim::standard_normal(rng),
+                           sim::standard_normal(rng));
+  };
+  std::vector<Eigen::Isometry3d> start;
+  for (size_t f = 0; f < drive.world_from_cam.size(); ++f) {
+    Eigen::Isometry3d cam_from_world = drive.world_from_cam[f].inverse();
+    if (f > 0) cam_from_world.translation() += 0.01 * normal3();
+    start.push_back(cam_from_world);
+  }
+  std::map<int, Eigen::Vector3d> start_points;
+  for (size_t t = 0; t < drive.track_points.size(); ++t)
+    start_points[static_cast<int>(t)] = drive.track_points[t] + 0.03 * normal3();
+
+  BatchSettings settings;
+  settings.covariances = false;
+  const BatchResult result = batch_adjust(drive.camera, drive.observations, start, start_points,
+                                          settings);
+  ASSERT_TRUE(result.converged) << result.message;
+  EXPECT_EQ(result.linear_solver, "SPARSE_SCHUR");
+  // Measured: 4 iterations (a fixed relative tolerance and conjugate gradients took 11 at 500
+  // images and 100 at 1,000).
+  EXPECT_LE(result.iterations, 10);
+  // Residuals at the noise (per coordinate, less what the 4,800 parameters absorb of 36,000).
+  EXPECT_GT(result.final_rms_px, 0.85 * kNoisePx);
+  EXPECT_LT(result.final_rms_px, 1.0 * kNoisePx);
+  // The path, after a similarity alignment, against the start's error (measured: 4.7 mm mean over
+  // 18 m, 0.026 %, from 16.0 mm; what is left is drift along the drive).
+  const eval::TrajectoryErrors errors =
+      eval::trajectory_errors(inverted(result.cam_from_world), drive.world_from_cam, true);
+  const eval::TrajectoryErrors start_errors =
+      eval::trajectory_errors(inverted(start), drive.world_from_cam, true);
+  EXPECT_LT(errors.mean_translation_error_m, 0.5 * start_errors.mean_translation_error_m)
+      << start_errors.mean_translation_error_m;
+  EXPECT_LT(errors.translation_error_percent, 0.05);
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
