@@ -95,19 +95,29 @@ cv::Point2f through(const cv::Mat& map_x, const cv::Mat& map_y, cv::Point2f p) {
   return {x.at<float>(0, 0), y.at<float>(0, 0)};
 }
 
+// A perspective view's lookup tables; they depend on the annulus only, so every image shares them.
+struct View {
+  cv::Mat map_x, map_y;
+};
+
+// views: one per (field of view, azimuth, elevation) searched, built the first time one is needed.
 std::optional<std::vector<cv::Point2f>> find_board(const cv::Mat& image, const Annulus& a,
-                                                   cv::Size grid) {
+                                                   cv::Size grid, std::vector<View>* views) {
+  size_t index = 0;
   for (double fov : {80.0, 100.0}) {
     for (int az = 0; az < 360; az += 30) {
       for (int el : {0, -20, 20}) {
-        cv::Mat map_x, map_y, view;
-        view_maps(a, az * M_PI / 180, el * M_PI / 180, fov, 480, &map_x, &map_y);
-        cv::remap(image, view, map_x, map_y, cv::INTER_CUBIC);
+        if (views->size() <= index) views->resize(index + 1);
+        View& v = (*views)[index++];
+        if (v.map_x.empty())
+          view_maps(a, az * M_PI / 180, el * M_PI / 180, fov, 480, &v.map_x, &v.map_y);
+        cv::Mat view;
+        cv::remap(image, view, v.map_x, v.map_y, cv::INTER_CUBIC);
         std::vector<cv::Point2f> corners;
         if (!cv::findChessboardCornersSB(view, grid, corners,
                                          cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY))
           continue;
-        for (cv::Point2f& c : corners) c = through(map_x, map_y, c);
+        for (cv::Point2f& c : corners) c = through(v.map_x, v.map_y, c);
         cv::cornerSubPix(image, corners, cv::Size(3, 3), cv::Size(-1, -1),
                          cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50,
                                           1e-3));
@@ -144,11 +154,12 @@ int main(int argc, char** argv) {
 
   std::printf("# filename x y level\n");
   int found = 0, searched = 0;
+  std::vector<View> views;
   for (size_t i = 0; i < paths.size(); ++i) {
     const std::string name = paths[i].filename().string();
     if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;
     ++searched;
-    const auto corners = find_board(images[i], annulus, grid);
+    const auto corners = find_board(images[i], annulus, grid, &views);
     if (!corners) {
       std::printf("%s - - -\n", name.c_str());
       continue;

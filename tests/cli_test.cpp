@@ -729,13 +729,13 @@ TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("vision from images"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("frames 41,"), std::string::npos) << run.out;
-  // Measured 0.011 % (similarity) and 0.30 % (rigid: the odometry reads 1.5 % long); the paper's
-  // lab figure is 0.12 %.
-  EXPECT_LT(figure_after(run.out, "batch   translation "), 0.12) << run.out;
+  // Measured 0.011 % (similarity) and 0.30 % (rigid: the odometry reads 1.5 % long), asserted at
+  // about three times that; the paper's lab figure is 0.12 %.
+  EXPECT_LT(figure_after(run.out, "batch   translation "), 0.04) << run.out;
   const size_t rigid = run.out.find("batch/rigid translation ");
   ASSERT_NE(rigid, std::string::npos) << run.out;
   const size_t open = run.out.find("m mean (", rigid);
-  EXPECT_LT(std::stod(run.out.substr(open + 8)), 1.02) << run.out;
+  EXPECT_LT(std::stod(run.out.substr(open + 8)), 0.9) << run.out;
 
   // The track verb reads the same rawlog's images, with the model they carry.
   fs::create_directories(dir_ / "tracked");
@@ -751,7 +751,8 @@ TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
       "sfm --camera lab/camera.ini --tracks tracked/tracks.vnl --out tracked/sfm "
       "--ground-truth lab/ground_truth.tum");
   ASSERT_EQ(sfm.status, 0) << sfm.err;
-  EXPECT_LT(figure_after(sfm.out, "batch   translation "), 0.12) << sfm.out;
+  // Measured 0.004 %.
+  EXPECT_LT(figure_after(sfm.out, "batch   translation "), 0.015) << sfm.out;
 }
 
 TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 #include "omnisfm/mrpt_plugin/geodetic_table.h"
 
@@ -27,40 +26,30 @@ Eigen::Isometry3d pose_at(const std::vector<Eigen::Isometry3d>& poses,
 
 }  // namespace
 
-GpsFit fit_trajectory_to_gps(const std::vector<Eigen::Isometry3d>& world_from_cam,
-                             const std::vector<double>& frame_times,
-                             const sfm::MotionSensors& sensors, bool world_is_enu) {
+GpsFit gps_fit_of(const std::vector<Eigen::Isometry3d>& world_from_cam,
+                  const std::vector<double>& frame_times, const sfm::MotionSensors& sensors) {
   const Eigen::Isometry3d cam_from_body = sensors.body_from_cam.inverse();
-  std::vector<Eigen::Vector3d> estimated, measured;
+  GpsFit fit;
+  double sum = 0;
   for (const sfm::GpsSample& fix : sensors.gps) {
     if (frame_times.empty() || fix.timestamp < frame_times.front() ||
         fix.timestamp > frame_times.back())
       continue;
-    estimated.push_back(pose_at(world_from_cam, frame_times, fix.timestamp) *
-                        (cam_from_body * sensors.antenna_in_body));
-    measured.push_back(fix.enu);
+    const Eigen::Vector3d antenna = pose_at(world_from_cam, frame_times, fix.timestamp) *
+                                    (cam_from_body * sensors.antenna_in_body);
+    sum += (antenna - fix.enu).squaredNorm();
+    ++fit.fixes;
   }
-  if (estimated.size() < 3)
-    throw std::invalid_argument(std::to_string(estimated.size()) +
-                                " GPS fixes fall within the frames' times: 3 are needed to place "
-                                "the trajectory");
-  GpsFit fit;
-  if (!world_is_enu) fit.enu_from_world = eval::align(estimated, measured, true);
-  fit.fixes = static_cast<int>(estimated.size());
-  double sum = 0;
-  for (std::size_t i = 0; i < estimated.size(); ++i)
-    sum += (fit.enu_from_world.apply(estimated[i]) - measured[i]).squaredNorm();
-  fit.rms_m = std::sqrt(sum / static_cast<double>(estimated.size()));
+  if (fit.fixes > 0) fit.rms_m = std::sqrt(sum / fit.fixes);
   return fit;
 }
 
 void write_geodetic_trajectory(const std::string& path,
                                const std::vector<Eigen::Isometry3d>& world_from_cam,
-                               const std::vector<double>& frame_times, const GpsFit& fit,
+                               const std::vector<double>& frame_times,
                                const mrpt_plugin::LocalEnuFrame& enu) {
   std::vector<Eigen::Vector3d> centres;
-  for (const Eigen::Isometry3d& T : world_from_cam)
-    centres.push_back(fit.enu_from_world.apply(T.translation()));
+  for (const Eigen::Isometry3d& T : world_from_cam) centres.push_back(T.translation());
   mrpt_plugin::write_geodetic_table(path, frame_times, centres, enu,
                                     "the estimated camera centre per frame");
 }

@@ -9,12 +9,6 @@
 namespace omnisfm::app {
 namespace {
 
-double positive(const io::IniSection& s, const std::string& key, double fallback) {
-  const double v = s.get_double(key, fallback);
-  if (!(v > 0)) s.fail(key, "must be > 0");
-  return v;
-}
-
 mrpt_plugin::ReplayVision vision_of(const io::IniSection& s) {
   const std::string v = s.get_string("vision", "auto");
   if (v == "auto") return mrpt_plugin::ReplayVision::kAuto;
@@ -37,14 +31,14 @@ void read_run_section(const io::IniSection& s, RunSettings* settings) {
     r.gps_origin = mrpt_plugin::GeodeticPoint{origin[0], origin[1], origin[2]};
   }
   sfm::OdometryNoise& o = settings->odometry_noise;
-  o.position_sigma = positive(s, "odometry_position_sigma", o.position_sigma);
-  o.heading_sigma = positive(s, "odometry_heading_sigma", o.heading_sigma);
+  o.position_sigma = s.get_positive("odometry_position_sigma", o.position_sigma);
+  o.heading_sigma = s.get_positive("odometry_heading_sigma", o.heading_sigma);
   sfm::GyroNoise& g = settings->gyro_noise;
-  g.noise_density = positive(s, "gyro_noise_density", g.noise_density);
-  g.bias_sigma = positive(s, "gyro_bias_sigma", g.bias_sigma);
-  g.bias_walk = positive(s, "gyro_bias_walk", g.bias_walk);
-  r.tracker.max_tracks = static_cast<int>(positive(s, "max_tracks", r.tracker.max_tracks));
-  r.tracker.min_ncc = positive(s, "min_ncc", r.tracker.min_ncc);
+  g.noise_density = s.get_positive("gyro_noise_density", g.noise_density);
+  g.bias_sigma = s.get_positive("gyro_bias_sigma", g.bias_sigma);
+  g.bias_walk = s.get_positive("gyro_bias_walk", g.bias_walk);
+  r.tracker.max_tracks = static_cast<int>(s.get_positive("max_tracks", r.tracker.max_tracks));
+  r.tracker.min_ncc = s.get_positive("min_ncc", r.tracker.min_ncc);
   if (r.tracker.min_ncc > 1) s.fail("min_ncc", "must be at most 1");
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [run]");
 }
@@ -54,12 +48,13 @@ void read_run_section(const io::IniSection& s, RunSettings* settings) {
 RunSettings read_run_settings(const std::string& path) {
   RunSettings settings;
   if (path.empty()) return settings;
-  settings.sfm = sfm::read_sfm_settings(path);
   const io::IniFile ini = io::IniFile::read(path);
   for (const io::IniSection& section : ini.sections()) {
     if (section.name() == "run") {
       read_run_section(section, &settings);
-    } else if (section.name() != "sfm" && !(section.name().empty() && section.entries().empty())) {
+    } else if (section.name() == "sfm") {
+      settings.sfm = sfm::read_sfm_settings(section);
+    } else if (!(section.name().empty() && section.entries().empty())) {
       if (section.name().empty())
         section.fail(section.entries().front().key, "belongs in the [run] or [sfm] section");
       throw io::InputError(path, section.line(),

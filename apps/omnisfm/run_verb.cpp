@@ -119,6 +119,8 @@ void add_run_verb(CLI::App& app) {
       throw io::InputError(o->rawlog, 0, e.what());
     }
     if (terminal) std::cerr << "\n";
+    // Camera frames after the last one with tracks have no pose: their times go too.
+    in.frame_times.resize(result.num_frames);
     const bool batch_ran = settings.sfm.run_batch;
     if (batch_ran && !result.batch.converged && result.batch.cam_from_world.empty())
       throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
@@ -137,20 +139,12 @@ void add_run_verb(CLI::App& app) {
 
     const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(
         batch_ran ? result.batch.cam_from_world : result.online_cam_from_world);
+    // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
     std::optional<GpsFit> gps_fit;
-    if (in.gps_origin) {
-      try {
-        gps_fit =
-            fit_trajectory_to_gps(trajectory, in.frame_times, in.sensors, result.world_is_enu);
-        if (result.world_is_enu)
-          report << "GPS: the estimate is in ENU; " << gps_fit->fixes << " fixes, RMS "
-                 << gps_fit->rms_m << " m against it\n";
-        else
-          report << "GPS: the trajectory placed on " << gps_fit->fixes << " fixes, RMS "
-                 << gps_fit->rms_m << " m, scale " << gps_fit->enu_from_world.scale << "\n";
-      } catch (const std::invalid_argument& e) {
-        report << "GPS: no geodetic trajectory: " << e.what() << "\n";
-      }
+    if (in.gps_origin && result.world_is_enu) {
+      gps_fit = gps_fit_of(trajectory, in.frame_times, in.sensors);
+      report << "GPS: the estimate is in ENU; " << gps_fit->fixes << " fixes, RMS "
+             << gps_fit->rms_m << " m against it\n";
     }
     TruthComparison comparison;
     if (!truth.empty()) {
@@ -162,7 +156,7 @@ void add_run_verb(CLI::App& app) {
       write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
       mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
       if (gps_fit)
-        write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times, *gps_fit,
+        write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times,
                                   mrpt_plugin::LocalEnuFrame(*in.gps_origin));
       write_sfm_plots(dir, *in.camera, in.tracks, result, batch_ran, comparison);
     });

@@ -24,14 +24,13 @@ constexpr double kMinGrazingCosine = 1e-9;
 // The mirror surface and its local frame at (s, phi), in frame M.
 struct SurfacePoint {
   MeridianPoint meridian;
-  Eigen::Vector3d m, dm_ds, d2m_ds2, e_rho, e_phi;
+  Eigen::Vector3d m, dm_ds, d2m_ds2, e_rho;
 
   SurfacePoint(const MirrorProfile& mirror, double s, double phi) {
     mirror.evaluate(s, &meridian, nullptr);
     double sn, c;
     sin_cos(phi, &sn, &c);
     e_rho << c, sn, 0;
-    e_phi << -sn, c, 0;
     m << meridian.rho * c, meridian.rho * sn, meridian.z;
     dm_ds << meridian.drho * c, meridian.drho * sn, meridian.dz;
     d2m_ds2 << meridian.d2rho * c, meridian.d2rho * sn, meridian.d2z;

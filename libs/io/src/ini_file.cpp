@@ -102,6 +102,12 @@ std::vector<double> IniSection::get_doubles(const std::string& key,
   return has(key) ? get_doubles(key) : fallback;
 }
 
+double IniSection::get_positive(const std::string& key, double fallback, bool zero_ok) const {
+  const double v = get_double(key, fallback);
+  if (!(zero_ok ? v >= 0 : v > 0)) fail(key, zero_ok ? "must be >= 0" : "must be > 0");
+  return v;
+}
+
 std::vector<IniEntry> IniSection::unread() const {
   std::vector<IniEntry> result;
   for (std::size_t i = 0; i < entries_.size(); ++i) {

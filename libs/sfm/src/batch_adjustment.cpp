@@ -73,7 +73,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   std::map<int, Eigen::Vector3d> points = start_points;
 
   ceres::Problem problem;
-  int used = 0;
   std::vector<ceres::ResidualBlockId> projections;
   std::vector<io::TrackObservation> used_observations;
   for (const auto& o : observations) {
@@ -91,8 +90,8 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     projections.push_back(
         problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data()));
     used_observations.push_back(o);
-    ++used;
   }
+  const double used = static_cast<double>(used_observations.size());
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
     return result;

@@ -43,10 +43,6 @@ void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A, bool transpose_A,
   const int m = static_cast<int>(C.rows()), n = static_cast<int>(C.cols());
   const int k = static_cast<int>(transpose_A ? A.rows() : A.cols());
   if (m == 0 || n == 0) return;
-  if (k == 0) {
-    C.setZero();
-    return;
-  }
   const int lda = static_cast<int>(A.outerStride()), ldb = static_cast<int>(B.outerStride());
   const int ldc = static_cast<int>(C.outerStride());
   const double one = 1, zero = 0;

@@ -109,17 +109,21 @@ GyroIncrement integrate_gyro(const std::vector<GyroSample>& gyro, const GyroNois
   return increment;
 }
 
+FrameMotion frame_motion(const MotionSensors& sensors, double t0, double t1,
+                         const Eigen::Vector3d& gyro_bias_lin) {
+  FrameMotion m;
+  m.odometry = odometry_increment(sensors.odometry, sensors.odometry_noise, t0, t1);
+  m.gyro = integrate_gyro(sensors.gyro, sensors.gyro_noise, t0, t1, gyro_bias_lin);
+  return m;
+}
+
 std::vector<FrameMotion> frame_motions(const MotionSensors& sensors,
                                        const std::vector<double>& frame_timestamps,
                                        const Eigen::Vector3d& gyro_bias_lin) {
   std::vector<FrameMotion> motions;
-  for (size_t k = 0; k + 1 < frame_timestamps.size(); ++k) {
-    const double t0 = frame_timestamps[k], t1 = frame_timestamps[k + 1];
-    FrameMotion m;
-    m.odometry = odometry_increment(sensors.odometry, sensors.odometry_noise, t0, t1);
-    m.gyro = integrate_gyro(sensors.gyro, sensors.gyro_noise, t0, t1, gyro_bias_lin);
-    motions.push_back(m);
-  }
+  for (size_t k = 0; k + 1 < frame_timestamps.size(); ++k)
+    motions.push_back(
+        frame_motion(sensors, frame_timestamps[k], frame_timestamps[k + 1], gyro_bias_lin));
   return motions;
 }
 

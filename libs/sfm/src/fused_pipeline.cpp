@@ -3,6 +3,7 @@
 #include <ceres/normal_prior.h>
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 

@@ -57,10 +57,8 @@ MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSe
 
 MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, double t1,
                                        const FilterSettings& settings) {
-  FrameMotion motion;
-  motion.odometry = odometry_increment(sensors.odometry, sensors.odometry_noise, t0, t1);
-  motion.gyro = integrate_gyro(sensors.gyro, sensors.gyro_noise, t0, t1, Eigen::Vector3d::Zero());
-  return predict_camera_motion(motion, sensors, settings);
+  return predict_camera_motion(frame_motion(sensors, t0, t1, Eigen::Vector3d::Zero()), sensors,
+                               settings);
 }
 
 }  // namespace omnisfm::sfm

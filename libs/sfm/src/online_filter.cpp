@@ -6,29 +6,13 @@
 #include <set>
 
 #include "filter_linear_algebra.h"
+#include "so3.h"
 
 namespace omnisfm::sfm {
 namespace {
 
 // One kilometre: far enough to stand for infinity in any scene the rig maps.
 constexpr double kMinInverseDepth = 1e-3;
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w) {
-  const double angle = w.norm();
-  if (angle < 1e-12) return Eigen::Matrix3d::Identity() + skew(w);
-  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-}
-
-Eigen::Vector3d log_so3(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
 
 }  // namespace
 
@@ -65,7 +49,6 @@ Eigen::Vector3d OnlineFilter::world_point(int slot, const Eigen::Vector3d& param
 }
 
 void OnlineFilter::propagate() {
-  if (motion_) return propagate(*motion_);
   P_.topLeftCorner<3, 3>().diagonal().array() += std::pow(settings_.rotation_walk_sigma, 2);
   P_.block<3, 3>(3, 3).diagonal().array() += std::pow(settings_.translation_walk_sigma, 2);
 }
@@ -115,7 +98,7 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   const Eigen::Vector3d X_W = world_point(slot, params, &J_X_params);
   const Eigen::Vector3d X_C = R_ * X_W + t_;
   Eigen::Matrix<double, 3, 6> J_pose;
-  J_pose << R_.transpose() * skew(X_C - t_), -R_.transpose();
+  J_pose << R_.transpose() * so3::skew(X_C - t_), -R_.transpose();
   const Eigen::Matrix<double, 3, 6> G = J_X_params.inverse() * J_pose;
   const double across = radians_per_pixel * settings_.pixel_sigma;
   const Eigen::Vector3d own_sigma(across, across, settings_.inverse_depth_sigma);
@@ -154,7 +137,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
 
   for (int iteration = 0; iteration < std::max(1, settings_.update_iterations); ++iteration) {
     // Linearise at the current iterate; the correction is taken from the prediction.
-    const Eigen::Vector3d rotation_offset = log_so3(R_ * c->R.transpose());
+    const Eigen::Vector3d rotation_offset = so3::log(R_ * c->R.transpose());
     for (int k = 0; k < m; ++k) {
       const int s = meas[k].slot;
       Eigen::Matrix3d J_world_params;
@@ -171,7 +154,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
         continue;
       }
       predicted.segment<2>(2 * k) = pixel;
-      H_pose.middleRows<2>(2 * k) << -J_X * skew(RX), J_X;
+      H_pose.middleRows<2>(2 * k) << -J_X * so3::skew(RX), J_X;
       H_point[k] = J_X * c->R * J_world_params;
       const Eigen::Vector3d point_offset = points_.segment<3>(3 * s) - X.segment<3>(3 * s);
       innovation.segment<2>(2 * k) = meas[k].pixel - pixel -
@@ -200,7 +183,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     Eigen::VectorXd weighted = S.triangularView<Eigen::Lower>().solve(innovation);
     S.triangularView<Eigen::Lower>().adjoint().solveInPlace(weighted);
     const Eigen::VectorXd correction = PHt * weighted;
-    c->R = exp_so3(correction.head<3>()) * R_;
+    c->R = so3::exp(correction.head<3>()) * R_;
     c->t = t_ + correction.segment<3>(3);
     X = points_ + correction.tail(n - 6);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
@@ -223,6 +206,11 @@ void OnlineFilter::accept(Candidate* c) {
 }
 
 bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations) {
+  return process(frame, observations, nullptr);
+}
+
+bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observations,
+                           const MotionPrediction* motion) {
   std::map<int, Eigen::Vector2d> seen;
   for (const auto& o : observations)
     if (!excluded_.count(o.track)) seen[o.track] = o.pixel;
@@ -241,7 +229,10 @@ bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& obser
       remove_slot(s);
     }
 
-  propagate();
+  if (motion)
+    propagate(*motion);
+  else
+    propagate();
 
   std::vector<Measurement> measurements;
   for (const auto& [track, pixel] : seen) {
@@ -265,7 +256,7 @@ bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& obser
       Eigen::Matrix<double, 2, 3> J_X;
       camera_.project(RX + t_, &predicted, &J_X);
       Eigen::Matrix<double, 2, 9> H;
-      H << -J_X * skew(RX), J_X, J_X * R_ * J_world;
+      H << -J_X * so3::skew(RX), J_X, J_X * R_ * J_world;
       Eigen::Matrix<double, 9, 9> P_local;
       P_local << P_.topLeftCorner<6, 6>(), P_.block<6, 3>(0, c), P_.block<3, 6>(c, 0),
           P_.block<3, 3>(c, c);

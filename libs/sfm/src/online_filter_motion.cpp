@@ -8,10 +8,7 @@ namespace omnisfm::sfm {
 
 bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations,
                                  const MotionPrediction& motion) {
-  motion_ = &motion;
-  const bool updated = process_frame(frame, observations);
-  motion_ = nullptr;
-  return updated;
+  return process(frame, observations, &motion);
 }
 
 // With M = cam_from_previous_cam: R' = R_M R, t' = R_M t + t_M. For the left-perturbed pose error

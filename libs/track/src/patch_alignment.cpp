@@ -6,22 +6,16 @@
 #include <cmath>
 #include <cstring>
 
+#include "float_lanes.h"
+
 namespace omnisfm::track {
 namespace {
 
 // Contrast below this (grey levels, weighted standard deviation) is no texture.
 constexpr double kMinContrast = 1.0;
 
-// Four pixels in one register (GCC and Clang vector extensions: SSE2 on x86-64, NEON on ARM).
-using Lanes = float __attribute__((vector_size(16)));
 using LaneIndices = int __attribute__((vector_size(16)));
-static_assert(sizeof(Lanes) == ReferencePatch::kLanes * sizeof(float));
-
-Lanes load(const float* p) {
-  Lanes l;
-  std::memcpy(&l, p, sizeof l);
-  return l;
-}
+static_assert(ReferencePatch::kLanes == kLanes);
 
 using Pair = float __attribute__((vector_size(8)));
 

@@ -7,29 +7,19 @@
 #include <cstring>
 #include <opencv2/imgproc.hpp>
 
+#include "float_lanes.h"
+
 namespace omnisfm::track {
 namespace {
 
-// Index of row or column i of n (n >= 2) with OpenCV's default border (reflected about the
-// edge pixel), as the Sobel filter and the box filter in cv::cornerMinEigenVal use.
-int reflect_101(int i, int n) { return i < 0 ? -i : i >= n ? 2 * n - 2 - i : i; }
+// Row i of n with OpenCV's default border (reflected about the edge pixel), as the Sobel filter
+// and the box filter in cv::cornerMinEigenVal use.
+int reflect_101(int i, int n) { return cv::borderInterpolate(i, n, cv::BORDER_REFLECT_101); }
 
-// Four floats in one register (GCC and Clang vector extensions: SSE2 on x86-64, NEON on ARM).
-using Lanes = float __attribute__((vector_size(16)));
-constexpr int kLanes = 4;
-static_assert(sizeof(Lanes) == kLanes * sizeof(float));
 using AllowedLanes = unsigned char __attribute__((vector_size(kLanes)));
 using Flags = int __attribute__((vector_size(16)));  // a comparison's lanes: -1 where true
 
 Lanes max(const Lanes& a, const Lanes& b) { return a > b ? a : b; }
-
-Lanes load(const float* p) {
-  Lanes l;
-  std::memcpy(&l, p, sizeof l);
-  return l;
-}
-
-void store(float* p, const Lanes& l) { std::memcpy(p, &l, sizeof l); }
 
 // The smaller eigenvalue per pixel, as cv::cornerMinEigenVal(image, 3, 3) computes it (up to
 // float rounding: its box filter sums in double), and in *strongest the largest where `mask` is

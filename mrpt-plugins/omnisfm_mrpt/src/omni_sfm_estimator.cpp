@@ -11,6 +11,7 @@
 #include "omnisfm/track/track_images.h"
 
 #include "eigen_poses.h"
+#include "grey_image.h"
 
 namespace omnisfm::mrpt_plugin {
 namespace {
@@ -129,10 +130,9 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     if (!tracker_)
       throw std::invalid_argument("images and tracked features from one camera: use one kind");
     image->load();
-    const mrpt::img::CImage grey(image->image, mrpt::img::FAST_REF_OR_CONVERT_TO_GRAY);
     track::SequenceFrame frame;
     frame.index = tracker_->frames();
-    grey.asCvMat(frame.image, mrpt::img::DEEP_COPY);
+    frame.image = grey_of(image->image);
     std::vector<sfm::TrackPixel> pixels;
     for (const track::TrackedPoint& p : tracker_->add(frame, image->sensorLabel))
       pixels.push_back({p.track, p.pixel});

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 
+#include "grey_image.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/mrpt_plugin/rawlog_reader.h"
@@ -26,18 +27,6 @@ void for_each_observation(const mrpt::serialization::CSerializable::Ptr& object,
   } else if (auto frame = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {
     for (const auto& member : *frame) visit(member);
   }
-}
-
-cv::Mat grey_of(const mrpt::img::CImage& image) {
-  const mrpt::img::CImage grey(image, mrpt::img::FAST_REF_OR_CONVERT_TO_GRAY);
-  cv::Mat mat;
-  grey.asCvMat(mat, mrpt::img::DEEP_COPY);
-  if (mat.type() != CV_8UC1) {
-    cv::Mat converted;
-    mat.convertTo(converted, CV_8U);
-    return converted;
-  }
-  return mat;
 }
 
 // Where MRPT's tools look for a rawlog's external images (CRawlog::detectImagesDirectory, which

@@ -46,6 +46,8 @@ class IniSection {
   double get_double(const std::string& key, double fallback) const;
   std::vector<double> get_doubles(const std::string& key,
                                   const std::vector<double>& fallback) const;
+  // A number > 0 (>= 0 with zero_ok), or the fallback when absent; fails naming the key otherwise.
+  double get_positive(const std::string& key, double fallback, bool zero_ok = false) const;
 
   // Entries no getter has read, in file order: what the caller did not expect.
   std::vector<IniEntry> unread() const;

@@ -53,6 +53,11 @@ OdometryIncrement odometry_increment(const std::vector<OdometrySample>& odometry
 GyroIncrement integrate_gyro(const std::vector<GyroSample>& gyro, const GyroNoise& noise,
                              double t0, double t1, const Eigen::Vector3d& bias_lin);
 
+// The odometry increment and the integrated gyro between t0 and t1 (either invalid where its
+// sensor does not cover the interval).
+FrameMotion frame_motion(const MotionSensors& sensors, double t0, double t1,
+                         const Eigen::Vector3d& gyro_bias_lin);
+
 // One per pair of consecutive frames (frame_timestamps.size() - 1 of them).
 std::vector<FrameMotion> frame_motions(const MotionSensors& sensors,
                                        const std::vector<double>& frame_timestamps,

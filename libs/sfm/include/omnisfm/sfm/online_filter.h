@@ -93,6 +93,9 @@ class OnlineFilter {
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
     Eigen::MatrixXd S_factor;       // the innovation covariance's Cholesky factor (lower)
   };
+  // Both process_frame overloads: propagated by `motion` when given, else by the random walk.
+  bool process(int frame, const std::vector<TrackPixel>& observations,
+               const MotionPrediction* motion);
   void propagate();
   void propagate(const MotionPrediction& motion);
   void remove_slot(int slot);
@@ -124,7 +127,6 @@ class OnlineFilter {
   std::map<int, Eigen::Vector3d> ended_points_;
   std::map<int, bool> excluded_;  // rejected tracks, ignored from then on
   std::vector<RejectedTrack> rejected_;
-  const MotionPrediction* motion_ = nullptr;  // for the frame being processed, when given
 };
 
 }  // namespace omnisfm::sfm

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "omnisfm/io/ini_file.h"
 #include "omnisfm/sfm/pipeline.h"
 
 namespace omnisfm::sfm {
@@ -13,5 +14,7 @@ namespace omnisfm::sfm {
 // Throws io::InputError naming the file, the key and its line for an unknown key, a non-number or
 // a value out of range.
 SfmSettings read_sfm_settings(const std::string& path);
+// The same from a section already read (its name is not checked).
+SfmSettings read_sfm_settings(const io::IniSection& section);
 
 }  // namespace omnisfm::sfm
