@@ -39,8 +39,7 @@ sim::FolderWriter simulated_rawlog_writer(const sim::Dataset& dataset, std::uint
                " gyro" + (with_gps ? " and " + std::to_string(written.gps) + " GPS" : "") +
                " readings";
     if (with_gps)
-      mrpt_plugin::write_gps_ground_truth(dataset, sim::simulate_gps(dataset, *options.gps),
-                                          options.start_time, dir);
+      mrpt_plugin::write_gps_ground_truth(dataset, written.gps_track, options.start_time, dir);
   };
 }
 

@@ -241,8 +241,9 @@ class RawlogWriter {
 SimulatedRawlogSummary write_simulated_rawlog(const sim::Dataset& dataset, const std::string& path,
                                               const SimulatedRawlogOptions& options) {
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(dataset, options.sensors);
-  const sim::GpsTrack gps = options.gps ? sim::simulate_gps(dataset, *options.gps) : sim::GpsTrack();
   SimulatedRawlogSummary summary;
+  if (options.gps) summary.gps_track = sim::simulate_gps(dataset, *options.gps);
+  const sim::GpsTrack& gps = summary.gps_track;
   io::write_atomically(path, [&](const std::string& temporary_path) {
     mrpt::io::CFileGZOutputStream file;
     if (!file.open(temporary_path)) throw std::runtime_error(path + ": cannot write");

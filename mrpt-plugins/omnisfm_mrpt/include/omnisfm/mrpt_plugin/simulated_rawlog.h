@@ -45,6 +45,7 @@ struct SimulatedRawlogOptions {
 
 struct SimulatedRawlogSummary {
   std::size_t images = 0, tracked_frames = 0, odometry = 0, gyro = 0, gps = 0;
+  sim::GpsTrack gps_track;  // the fixes written and their ground truth (empty without GPS)
 };
 
 // Writes the rawlog to `path`, replaced whole or not at all. Throws std::runtime_error naming the
