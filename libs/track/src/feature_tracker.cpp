@@ -14,7 +14,8 @@ constexpr int kMaxAlignmentIterations = 20;
 constexpr size_t kRecentPositions = 8;
 // Around the region's bounding box: room for the coarsest pyramid level's window and for ORB.
 constexpr int kBoundsBorder = 40;
-constexpr double kAlignmentTolerancePx = 0.002;
+// A tenth of the tracks' median error: finer steps change nothing and cost an iteration.
+constexpr double kAlignmentTolerancePx = 0.005;
 
 cv::Point2f point(const Eigen::Vector2d& p) {
   return {static_cast<float>(p.x()), static_cast<float>(p.y())};
@@ -47,6 +48,7 @@ FeatureTracker::FeatureTracker(const cv::Mat& region, const TrackerSettings& set
   // Tracks move around in vectors every frame: copying them would cost more than tracking.
   static_assert(std::is_nothrow_move_constructible_v<Track>);
   CV_Assert(settings.max_tracks >= 0 && settings.lk_window >= 3 && settings.pyramid_levels >= 1 &&
+            settings.prediction_level >= 0 && settings.prediction_level < settings.pyramid_levels &&
             settings.patch_half_size >= 1);
 }
 
@@ -56,12 +58,17 @@ cv::Mat FeatureTracker::alignment_image(const cv::Mat& image) const {
     image.convertTo(converted, CV_32F);
     return converted;
   }
-  // Blur and conversion in one pass.
-  const int half = std::max(1, static_cast<int>(std::ceil(3 * settings_.image_blur_sigma)));
+  // Blur and conversion in one pass; the kernel reaches three sigma, rounded down: a 0.5-pixel
+  // blur then has 3 taps (the next would weigh 3e-4).
+  const int half = std::max(1, static_cast<int>(3 * settings_.image_blur_sigma));
   const cv::Mat kernel = cv::getGaussianKernel(2 * half + 1, settings_.image_blur_sigma, CV_32F);
   cv::sepFilter2D(image, converted, CV_32F, kernel, kernel, cv::Point(-1, -1), 0,
                   cv::BORDER_REFLECT_101);
   return converted;
+}
+
+int FeatureTracker::lucas_kanade_finest_level() const {
+  return settings_.refine ? settings_.prediction_level : 0;
 }
 
 bool FeatureTracker::in_region(const Eigen::Vector2d& p) const {
@@ -76,8 +83,10 @@ std::vector<TrackedPoint> FeatureTracker::track(const cv::Mat& full_image) {
   image_ = full_image(bounds_);
   aligned_image_ = alignment_image(image_);
   previous_pyramid_.swap(pyramid_);
-  cv::buildOpticalFlowPyramid(image_, pyramid_, cv::Size(settings_.lk_window, settings_.lk_window),
-                              settings_.pyramid_levels - 1, true);
+  const int finest = lucas_kanade_finest_level();
+  cv::buildOpticalFlowPyramid(half_sizes(image_, finest), pyramid_,
+                              cv::Size(settings_.lk_window, settings_.lk_window),
+                              settings_.pyramid_levels - 1 - finest, true);
   if (frame_ > 0) {
     follow_live_tracks();
     remove_duplicates();
@@ -108,10 +117,13 @@ void FeatureTracker::end_track(size_t index, int* counter, bool may_return) {
 
 void FeatureTracker::follow_live_tracks() {
   if (live_.empty()) return;
+  // Pixels of the pyramid's finest level.
+  const int finest = lucas_kanade_finest_level();
+  const double to_level = 1.0 / (1 << finest);
   std::vector<cv::Point2f> previous, predicted, back;
   for (const Track& t : live_) {
-    previous.push_back(point(t.position));
-    predicted.push_back(point(t.position + t.velocity));
+    previous.push_back(point(to_level * t.position));
+    predicted.push_back(point(to_level * (t.position + t.velocity)));
   }
   const cv::Size window(settings_.lk_window, settings_.lk_window);
   // Lucas-Kanade only predicts (the reference alignment measures) and checks consistency to
@@ -120,7 +132,7 @@ void FeatureTracker::follow_live_tracks() {
   std::vector<uchar> forward_ok, backward_ok;
   // No error output: OpenCV then skips computing each point's patch difference.
   cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid_, previous, predicted, forward_ok, cv::noArray(),
-                           window, settings_.pyramid_levels - 1, criteria,
+                           window, settings_.pyramid_levels - 1 - finest, criteria,
                            cv::OPTFLOW_USE_INITIAL_FLOW);
   // Back from where the step ends, starting where it began: a consistent step returns there
   // (within max_forward_backward_px, well inside the window) on the finest level alone, and an
@@ -137,12 +149,13 @@ void FeatureTracker::follow_live_tracks() {
       end_track(i, &statistics_.lost);
       continue;
     }
-    if ((vector(back[i]) - t.position).norm() > settings_.max_forward_backward_px) {
+    if ((vector(back[i]) / to_level - t.position).norm() > settings_.max_forward_backward_px) {
       end_track(i, &statistics_.forward_backward);
       continue;
     }
+    const Eigen::Vector2d prediction = vector(predicted[i]) / to_level;
     AffineWarp warp = t.warp;
-    warp.b = vector(predicted[i]);
+    warp.b = prediction;
     AlignmentResult aligned;
     if (settings_.refine) {
       aligned =
@@ -152,7 +165,7 @@ void FeatureTracker::follow_live_tracks() {
       aligned.ncc = t.reference.ncc(aligned_image_, warp);
     }
     if (!aligned.converged || aligned.ncc < settings_.min_ncc ||
-        (warp.b - vector(predicted[i])).norm() > settings_.max_refinement_shift_px) {
+        (warp.b - prediction).norm() > settings_.max_refinement_shift_px) {
       end_track(i, &statistics_.appearance);
       continue;
     }
@@ -223,11 +236,13 @@ void FeatureTracker::replenish() {
   if (static_cast<int>(live_.size()) < settings_.max_tracks) {
     std::vector<cv::Point2f> live_points;
     for (const Track& t : live_) live_points.push_back(point(t.position));
-    // The pyramid holds each level's image then its derivatives.
-    const int level = std::min(settings_.detection_level, settings_.pyramid_levels - 1);
-    const cv::Mat level_image = level == settings_.detection_level
-                                    ? pyramid_[2 * level]
-                                    : half_sizes(image_, settings_.detection_level);
+    // The pyramid holds each level's image then its derivatives, from the finest level
+    // Lucas-Kanade works on.
+    const int in_pyramid = settings_.detection_level - lucas_kanade_finest_level();
+    const cv::Mat level_image =
+        in_pyramid >= 0 && 2 * in_pyramid < static_cast<int>(pyramid_.size())
+            ? pyramid_[2 * in_pyramid]
+            : half_sizes(image_, settings_.detection_level);
     corners = detector_.corners(level_image, live_points);
   }
   std::vector<cv::Point2f> reacquired;

@@ -2,7 +2,7 @@
 // The tracker: features followed from image to image, as the paper's first stage.
 //
 // Per image: pyramidal Lucas-Kanade (OpenCV) from the previous image predicts every live track,
-// starting from its last image velocity; tracking that prediction back must return to the old
+// starting from its last image velocity, down to half resolution; tracking that prediction back must return to the old
 // position (the forward-backward check). The track's reference patch, taken where the track
 // started, is then aligned affinely at the prediction (patch_alignment.h): the track's position
 // comes from that alignment, so it does not drift, and a poor correlation or a large correction
@@ -85,6 +85,8 @@ class FeatureTracker {
   // changed its look) is remembered for reacquisition.
   void end_track(size_t index, int* counter, bool may_return = true);
   bool in_region(const Eigen::Vector2d& p) const;
+  // The pyramids start at this level (0: full resolution).
+  int lucas_kanade_finest_level() const;
 
   // All work is done in the region's bounding box (with a border for the pyramid and the
   // descriptors): positions inside the tracker are relative to its corner.

@@ -19,9 +19,14 @@ struct TrackerSettings {
   double rim_margin_px = 12;
   int sectors = 16, rings = 3;
 
-  // Frame-to-frame pyramidal Lucas-Kanade (OpenCV), window lk_window x lk_window.
+  // Frame-to-frame pyramidal Lucas-Kanade (OpenCV), window lk_window x lk_window, on pyramid
+  // levels prediction_level to pyramid_levels - 1. It only predicts where the refinement starts,
+  // which converges from a pixel or more away, so it stops at half resolution (1), where the
+  // image derivatives it needs cost a quarter of the full image's; without the refinement it
+  // works down to full resolution (level 0).
   int lk_window = 11;
   int pyramid_levels = 3;
+  int prediction_level = 1;
   // The forward-backward check: tracking the new position back must land this close to the old.
   double max_forward_backward_px = 0.5;
 
