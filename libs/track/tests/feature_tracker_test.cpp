@@ -121,6 +121,29 @@ TEST(FeatureTracker, FollowsATranslatingTextureWithoutDrift) {
   EXPECT_LT(o.worst_error, 0.1);
 }
 
+// Without the refinement, positions are Lucas-Kanade's chained from frame to frame: it must then
+// run down to full resolution (at half resolution its steps are half as precise and the chain
+// drifts faster).
+TEST(FeatureTracker, ChainsFullResolutionLucasKanadeWithoutTheRefinement) {
+  const WaveTexture texture(5);
+  TrackerSettings settings;
+  settings.max_tracks = 40;
+  settings.refine = false;
+  settings.reacquire = false;
+  const Outcome o = track_texture(
+      texture, 40,
+      [](int f) {
+        Motion m;
+        m.b = Eigen::Vector2d(1.37 * f, -0.61 * f);
+        return m;
+      },
+      settings);
+  // Measured: median 0.011 px, worst 0.055 px (at half resolution 0.075 and 0.34).
+  EXPECT_GT(o.observations, 500);
+  EXPECT_LT(o.median_error, 0.03);
+  EXPECT_LT(o.worst_error, 0.15);
+}
+
 TEST(FeatureTracker, FollowsARotatingAndScalingTexture) {
   const WaveTexture texture(8);
   TrackerSettings settings;
