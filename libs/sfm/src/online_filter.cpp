@@ -114,6 +114,21 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   points_.segment<3>(3 * slot) = params;
 }
 
+bool OnlineFilter::linearise(int slot, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                             const Eigen::Vector3d& params, bool jacobians,
+                             Linearisation* out) const {
+  if (!(params.z() > 0)) return false;
+  Eigen::Matrix3d J_world_params;
+  const Eigen::Vector3d RX = R * world_point(slot, params, jacobians ? &J_world_params : nullptr);
+  Eigen::Matrix<double, 2, 3> J_X;
+  if (!camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr)) return false;
+  if (jacobians) {
+    out->pose << -J_X * so3::skew(RX), J_X;
+    out->point = J_X * R * J_world_params;
+  }
+  return true;
+}
+
 void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) const {
   const int m = static_cast<int>(meas.size());
   const int n = static_cast<int>(P_.rows());
@@ -121,60 +136,39 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   c->R = R_;
   c->t = t_;
   c->points = points_;
-  c->residuals.assign(m, INFINITY);
+  c->residuals.resize(m);
   Eigen::VectorXd& X = c->points;
   // H is sparse: each measurement's two rows touch the pose and its own point only. The pose
-  // columns of all rows are kept together, for one product with P's pose columns.
+  // columns of all rows are kept together, for one product with P's pose columns. Each
+  // measurement's rows, prediction and innovation z - h(x_i) - H (x_prior - x_i) come from the
+  // last iterate x_i where it projected.
   Eigen::Matrix<double, Eigen::Dynamic, 6> H_pose(2 * m, 6);
   std::vector<Eigen::Matrix<double, 2, 3>> H_point(m);
-  Eigen::VectorXd innovation(2 * m);
+  Eigen::VectorXd predicted(2 * m), innovation(2 * m);
+  for (int k = 0; k < m; ++k) {
+    H_pose.middleRows<2>(2 * k) = meas[k].at_prior.pose;
+    H_point[k] = meas[k].at_prior.point;
+    predicted.segment<2>(2 * k) = meas[k].at_prior.pixel;
+    innovation.segment<2>(2 * k) = meas[k].pixel - meas[k].at_prior.pixel;
+  }
   Eigen::MatrixXd& PHt = c->PHt;
   Eigen::MatrixXd& S = c->S_factor;
   PHt.resize(n, 2 * m);
   S.resize(2 * m, 2 * m);
-  Eigen::VectorXd predicted(2 * m), previous_predicted(2 * m);
   const double settled_px = 0.03 * settings_.pixel_sigma;
+  const int linearisations = std::max(1, settings_.update_iterations);
 
-  for (int iteration = 0; iteration < std::max(1, settings_.update_iterations); ++iteration) {
-    // Linearise at the current iterate; the correction is taken from the prediction.
-    const Eigen::Vector3d rotation_offset = so3::log(R_ * c->R.transpose());
-    for (int k = 0; k < m; ++k) {
-      const int s = meas[k].slot;
-      Eigen::Matrix3d J_world_params;
-      const Eigen::Vector3d params = X.segment<3>(3 * s);
-      const Eigen::Vector3d RX = c->R * world_point(s, params, &J_world_params);
-      Eigen::Vector2d pixel;
-      Eigen::Matrix<double, 2, 3> J_X;
-      if (!(params.z() > 0) || !camera_.project(RX + c->t, &pixel, &J_X)) {
-        // Off the mirror at this iterate: keep the previous linearisation for this one.
-        if (iteration == 0) {
-          c->PHt.resize(0, 0);
-          return;
-        }
-        continue;
-      }
-      predicted.segment<2>(2 * k) = pixel;
-      H_pose.middleRows<2>(2 * k) << -J_X * so3::skew(RX), J_X;
-      H_point[k] = J_X * c->R * J_world_params;
-      const Eigen::Vector3d point_offset = points_.segment<3>(3 * s) - X.segment<3>(3 * s);
-      innovation.segment<2>(2 * k) = meas[k].pixel - pixel -
-                                     H_pose.middleRows<2>(2 * k).leftCols<3>() * rotation_offset -
-                                     H_pose.middleRows<2>(2 * k).rightCols<3>() * (t_ - c->t) -
-                                     H_point[k] * point_offset;
-    }
-    // Settled when the iterate's predicted pixels moved by less than 3 % of the pixel noise:
-    // linearising there again would change nothing measurable. P H^T and S stay the previous
-    // iteration's, which that iterate came from.
-    if (iteration > 0 && (predicted - previous_predicted).cwiseAbs().maxCoeff() < settled_px) break;
-    previous_predicted = predicted;
-    // P H^T and S = H P H^T + R from the blocks of H.
+  for (int iteration = 0;; ++iteration) {
+    // P H^T and S = H P H^T + R from the blocks of H; the Cholesky factorisation reads S's
+    // lower triangle only.
     multiply(P_.leftCols<6>(), false, H_pose, true, PHt);
     for (int k = 0; k < m; ++k)
       PHt.middleCols<2>(2 * k).noalias() +=
           P_.middleCols<3>(6 + 3 * meas[k].slot) * H_point[k].transpose();
     multiply(H_pose, false, PHt.topRows<6>(), false, S);
     for (int k = 0; k < m; ++k)
-      S.middleRows<2>(2 * k).noalias() += H_point[k] * PHt.middleRows<3>(6 + 3 * meas[k].slot);
+      S.block(2 * k, 0, 2, 2 * k + 2).noalias() +=
+          H_point[k] * PHt.block(6 + 3 * meas[k].slot, 0, 3, 2 * k + 2);
     S.diagonal().array() += variance;
     if (!cholesky_lower_in_place(&S)) {
       c->PHt.resize(0, 0);
@@ -188,13 +182,35 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     X = points_ + correction.tail(n - 6);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
     for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
-  }
 
-  for (int k = 0; k < m; ++k) {
-    const Eigen::Vector3d params = X.segment<3>(3 * meas[k].slot);
-    Eigen::Vector2d pixel;
-    if (params.z() > 0 && camera_.project(c->R * world_point(meas[k].slot, params) + c->t, &pixel))
-      c->residuals[k] = (pixel - meas[k].pixel).norm();
+    // Project the new iterate (its pixels are the outlier test's residuals). Settled when its
+    // predicted pixels moved by less than 3 % of the pixel noise: linearising there again would
+    // change nothing measurable, and P H^T and S stay this linearisation's, which the iterate
+    // came from.
+    const bool may_relinearise = iteration + 1 < linearisations;
+    Eigen::Matrix<double, 6, 1> prior_offset;
+    prior_offset << so3::log(R_ * c->R.transpose()), t_ - c->t;
+    bool settled = true;
+    for (int k = 0; k < m; ++k) {
+      const int s = meas[k].slot;
+      Linearisation at;
+      if (!linearise(s, c->R, c->t, X.segment<3>(3 * s), may_relinearise, &at)) {
+        // Off the mirror here: its previous linearisation stays, and it fails the outlier test
+        // unless a later iterate brings it back.
+        c->residuals[k] = INFINITY;
+        continue;
+      }
+      c->residuals[k] = (at.pixel - meas[k].pixel).norm();
+      if ((at.pixel - predicted.segment<2>(2 * k)).cwiseAbs().maxCoeff() >= settled_px)
+        settled = false;
+      if (!may_relinearise) continue;
+      H_pose.middleRows<2>(2 * k) = at.pose;
+      H_point[k] = at.point;
+      predicted.segment<2>(2 * k) = at.pixel;
+      innovation.segment<2>(2 * k) = meas[k].pixel - at.pixel - at.pose * prior_offset -
+                                     at.point * (points_.segment<3>(3 * s) - X.segment<3>(3 * s));
+    }
+    if (settled || !may_relinearise) return;
   }
 }
 
@@ -238,10 +254,10 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   for (const auto& [track, pixel] : seen) {
     const auto slot = track_slot_.find(track);
     if (slot == track_slot_.end()) continue;
-    Eigen::Vector2d predicted;
-    if (camera_.project(R_ * world_point(slot->second, points_.segment<3>(3 * slot->second)) + t_,
-                        &predicted))
-      measurements.push_back({slot->second, pixel});
+    Measurement measurement{slot->second, pixel, {}};
+    if (linearise(slot->second, R_, t_, points_.segment<3>(3 * slot->second), true,
+                  &measurement.at_prior))
+      measurements.push_back(measurement);
   }
 
   std::set<int> rejected_slots;
@@ -249,20 +265,14 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     std::vector<Measurement> kept;
     for (const auto& m : measurements) {
       const int c = 6 + 3 * m.slot;
-      Eigen::Matrix3d J_world;
-      const Eigen::Vector3d X_W = world_point(m.slot, points_.segment<3>(3 * m.slot), &J_world);
-      const Eigen::Vector3d RX = R_ * X_W;
-      Eigen::Vector2d predicted;
-      Eigen::Matrix<double, 2, 3> J_X;
-      camera_.project(RX + t_, &predicted, &J_X);
       Eigen::Matrix<double, 2, 9> H;
-      H << -J_X * so3::skew(RX), J_X, J_X * R_ * J_world;
+      H << m.at_prior.pose, m.at_prior.point;
       Eigen::Matrix<double, 9, 9> P_local;
       P_local << P_.topLeftCorner<6, 6>(), P_.block<6, 3>(0, c), P_.block<3, 6>(c, 0),
           P_.block<3, 3>(c, c);
       Eigen::Matrix2d S = H * P_local * H.transpose();
       S.diagonal().array() += settings_.pixel_sigma * settings_.pixel_sigma;
-      const Eigen::Vector2d y = m.pixel - predicted;
+      const Eigen::Vector2d y = m.pixel - m.at_prior.pixel;
       if (y.dot(S.ldlt().solve(y)) > settings_.innovation_gate_chi2)
         rejected_slots.insert(m.slot);
       else

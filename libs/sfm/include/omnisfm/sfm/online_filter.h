@@ -79,9 +79,16 @@ class OnlineFilter {
   int num_live_points() const { return static_cast<int>(slot_track_.size()); }
 
  private:
+  // A measurement's predicted pixel at some state, and its Jacobians there.
+  struct Linearisation {
+    Eigen::Vector2d pixel;
+    Eigen::Matrix<double, 2, 6> pose;   // rotation (left perturbation), then translation
+    Eigen::Matrix<double, 2, 3> point;  // the point's parameters
+  };
   struct Measurement {
     int slot;
     Eigen::Vector2d pixel;
+    Linearisation at_prior;  // at the propagated state, shared by the outlier test's re-runs
   };
   // An update not yet accepted: the new mean, its residuals, and what the covariance downdate
   // needs, so that an update the outlier test refuses costs no covariance work.
@@ -103,6 +110,10 @@ class OnlineFilter {
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
   void accept(Candidate* candidate);
   void add_point(int track, const Eigen::Vector2d& pixel);
+  // The slot's pixel at the state (R, t, params), with its Jacobians when asked. False where the
+  // point does not project.
+  bool linearise(int slot, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                 const Eigen::Vector3d& params, bool jacobians, Linearisation* out) const;
   // The world point of a slot's parameters, and its derivative with respect to them.
   Eigen::Vector3d world_point(int slot, const Eigen::Vector3d& params,
                               Eigen::Matrix3d* J_params = nullptr) const;
