@@ -1,0 +1,94 @@
+// The batch's reprojection residuals (metric, and with the inverse scale as a parameter): their
+// analytic Jacobians against central differences, and the scaled residual's agreement with the
+// metric one at the same geometry.
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "../src/projection_cost.h"
+#include "jacobian_check.h"
+#include "omnisfm/sim/scenario.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+struct Observation {
+  std::vector<double> pose, point;  // cam_from_world (angle-axis, translation), world point
+  Eigen::Vector2d pixel;
+};
+
+// Rover-like views: the rig turned and moved, points 0.5-8 m away around it and below the
+// horizon, each observed 0.5 px off its projection.
+std::vector<Observation> observations(const camera::CatadioptricCamera& camera, int count) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Observation> out;
+  while (static_cast<int>(out.size()) < count) {
+    Observation o;
+    o.pose = {0.3 * u(rng), 0.3 * u(rng), 3 * u(rng), u(rng), u(rng), 0.5 * u(rng)};
+    const double azimuth = 3.2 * u(rng), distance = 4.25 + 3.75 * u(rng);
+    const Eigen::Vector3d X_C(distance * std::cos(azimuth), distance * std::sin(azimuth),
+                              -0.6 + 0.5 * u(rng));
+    // The world point whose camera-frame position is X_C.
+    double rotated[3];
+    const double inverse_rotation[3] = {-o.pose[0], -o.pose[1], -o.pose[2]};
+    const double shifted[3] = {X_C.x() - o.pose[3], X_C.y() - o.pose[4], X_C.z() - o.pose[5]};
+    ceres::AngleAxisRotatePoint(inverse_rotation, shifted, rotated);
+    o.point.assign(rotated, rotated + 3);
+    if (!camera.project(X_C, &o.pixel)) continue;
+    o.pixel += Eigen::Vector2d(0.5, -0.5);
+    out.push_back(o);
+  }
+  return out;
+}
+
+// The observation's pose and point in units of sigma: the same geometry for the scaled residual.
+struct ScaledBlocks {
+  ScaledBlocks(const Observation& o, double inverse_scale)
+      : pose(o.pose), point(o.point), sigma(inverse_scale) {
+    for (int i = 3; i < 6; ++i) pose[i] *= sigma;
+    for (double& x : point) x *= sigma;
+  }
+  std::vector<double> pose, point;
+  double sigma;
+};
+
+// The mirror solve stops within about 1e-11 px, which central differences with steps of 1e-6 turn
+// into errors of some 1e-5 px per unit: the tolerance, relative to each block's largest entry.
+constexpr double kDerivativeTolerance = 1e-5;
+
+TEST(ProjectionCost, JacobiansMatchCentralDifferences) {
+  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  for (const Observation& o : observations(camera, 50)) {
+    ProjectionCost cost(&camera, o.pixel);
+    expect_jacobians_match(cost, {o.pose, o.point}, kDerivativeTolerance);
+  }
+}
+
+TEST(ScaledProjectionCost, JacobiansMatchCentralDifferences) {
+  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  for (const Observation& o : observations(camera, 50)) {
+    const ScaledBlocks scaled(o, 0.4);
+    ScaledProjectionCost cost(&camera, o.pixel);
+    expect_jacobians_match(cost, {scaled.pose, scaled.point, {scaled.sigma}},
+                           kDerivativeTolerance);
+  }
+}
+
+TEST(ScaledProjectionCost, EqualsTheMetricResidualOfTheSameGeometry) {
+  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  for (const Observation& o : observations(camera, 50)) {
+    const ScaledBlocks blocks(o, 2.5);
+    double metric[2], scaled[2];
+    const double* metric_blocks[2] = {o.pose.data(), o.point.data()};
+    const double* scaled_blocks[3] = {blocks.pose.data(), blocks.point.data(), &blocks.sigma};
+    ASSERT_TRUE(ProjectionCost(&camera, o.pixel).Evaluate(metric_blocks, metric, nullptr));
+    ASSERT_TRUE(ScaledProjectionCost(&camera, o.pixel).Evaluate(scaled_blocks, scaled, nullptr));
+    EXPECT_NEAR(scaled[0], metric[0], 1e-9);
+    EXPECT_NEAR(scaled[1], metric[1], 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
