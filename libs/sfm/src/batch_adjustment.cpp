@@ -30,9 +30,6 @@ Eigen::Isometry3d to_pose(const PoseVector& v) {
   return T;
 }
 
-// Above this share of frame pairs observing a common point, the reduced camera system is dense.
-constexpr double kDenseFill = 0.25;
-
 // The share of frame pairs that observe a common point: the fill of the reduced camera system.
 double reduced_system_fill(const std::vector<io::TrackObservation>& observations, int frames) {
   std::map<int, std::vector<int>> frames_of_track;
@@ -51,48 +48,6 @@ double reduced_system_fill(const std::vector<io::TrackObservation>& observations
           ++pairs;
         }
   return frames > 0 ? pairs / (0.5 * frames * (frames + 1.0)) : 0;
-}
-
-// Adds the reprojection residual of `o` on pose and point (and on the inverse scale, when given);
-// nullptr, adding nothing, when the point cannot be projected from there.
-ceres::ResidualBlockId add_reprojection(ceres::Problem* problem,
-                                        const camera::CatadioptricCamera& camera,
-                                        const io::TrackObservation& o, double huber_px,
-                                        double* pose, double* point, double* inverse_scale) {
-  ceres::CostFunction* cost = inverse_scale
-                                  ? static_cast<ceres::CostFunction*>(
-                                        new ScaledProjectionCost(&camera, o.pixel))
-                                  : new ProjectionCost(&camera, o.pixel);
-  double residual[2];
-  const double* blocks[3] = {pose, point, inverse_scale};
-  if (!cost->Evaluate(blocks, residual, nullptr)) {
-    delete cost;
-    return nullptr;
-  }
-  ceres::LossFunction* loss = huber_px > 0 ? new ceres::HuberLoss(huber_px) : nullptr;
-  return inverse_scale ? problem->AddResidualBlock(cost, loss, pose, point, inverse_scale)
-                       : problem->AddResidualBlock(cost, loss, pose, point);
-}
-
-// With the inverse scale free, its gauge: one translation coordinate held, the largest of the
-// frame farthest from the first (which sits at the origin). False when every frame is there.
-bool hold_scale_gauge(ceres::Problem* problem, std::vector<PoseVector>* poses) {
-  double farthest = 0;
-  PoseVector* held = nullptr;
-  for (size_t f = 1; f < poses->size(); ++f) {
-    PoseVector& pose = (*poses)[f];
-    // |t| is the frame's distance from the origin: t = -R c.
-    if (problem->HasParameterBlock(pose.data()) && pose.tail<3>().norm() > farthest) {
-      farthest = pose.tail<3>().norm();
-      held = &pose;
-    }
-  }
-  if (!held || !(farthest > 0)) return false;
-  int coordinate = 3;
-  for (int i = 4; i < 6; ++i)
-    if (std::abs((*held)[i]) > std::abs((*held)[coordinate])) coordinate = i;
-  problem->SetManifold(held->data(), new ceres::SubsetManifold(6, {coordinate}));
-  return true;
 }
 
 }  // namespace
@@ -116,57 +71,34 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   std::vector<PoseVector> poses;
   for (const auto& T : cam_from_world) poses.push_back(to_vector(T));
   std::map<int, Eigen::Vector3d> points = start_points;
-  if (poses.empty()) {
-    result.message = "no observation can be projected from the starting estimate";
-    return result;
-  }
-
-  // Without motion sensors the scale is observed only through the mirror's noncentral parallax,
-  // which falls as 1 / scale: in metric coordinates the cost is far from quadratic along the
-  // scale, and from a start off in scale (a filter's) Levenberg-Marquardt takes a step per
-  // halving of the error, its full Gauss-Newton steps overshooting off the mirror. Solved instead
-  // for the inverse scale sigma and for poses and points in units of it, X = (R p + t) / sigma,
-  // about the first camera's centre (which the held first pose keeps in place): the parallax is
-  // then close to linear in sigma. The solution is the same, in a few iterations. Only where most
-  // frames share points: along a long drive the scale drifts rather than being one number, and
-  // sigma's dense row in the banded reduced system costs more than it saves.
-  std::vector<io::TrackObservation> candidates;
-  for (const auto& o : observations)
-    if (points.count(o.track) && o.frame >= 0 && o.frame < static_cast<int>(poses.size()))
-      candidates.push_back(o);
-  const double fill = reduced_system_fill(candidates, static_cast<int>(poses.size()));
-  const bool inverse_scale = !extra && fill > kDenseFill;
-  const Eigen::Vector3d origin = to_pose(poses[0]).inverse().translation();
-  if (inverse_scale) {
-    for (auto& pose : poses) pose.tail<3>() += to_pose(pose).linear() * origin;
-    for (auto& [track, p] : points) p -= origin;
-  }
-  double sigma = 1;
 
   ceres::Problem problem;
   std::vector<ceres::ResidualBlockId> projections;
   std::vector<io::TrackObservation> used_observations;
-  for (const auto& o : candidates) {
-    // Left out when it cannot be projected from the start.
-    const ceres::ResidualBlockId id =
-        add_reprojection(&problem, camera, o, settings.huber_px, poses[o.frame].data(),
-                         points[o.track].data(), inverse_scale ? &sigma : nullptr);
-    if (!id) continue;
-    projections.push_back(id);
+  for (const auto& o : observations) {
+    auto point = points.find(o.track);
+    if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size())) continue;
+    auto* cost = new ProjectionCost(&camera, o.pixel);
+    double residual[2];
+    const double* blocks[2] = {poses[o.frame].data(), point->second.data()};
+    if (!cost->Evaluate(blocks, residual, nullptr)) {
+      delete cost;  // cannot be projected from the start: left out
+      continue;
+    }
+    ceres::LossFunction* loss =
+        settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
+    projections.push_back(
+        problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data()));
     used_observations.push_back(o);
   }
   const double used = static_cast<double>(used_observations.size());
-  if (used == 0) {
+  if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
     return result;
   }
   const bool gauge_fixed = extra && extra->add(&problem, &poses);
   if (!gauge_fixed && problem.HasParameterBlock(poses[0].data()))
     problem.SetParameterBlockConstant(poses[0].data());
-  // Without a frame away from the first the scale has no gauge to measure it against (nor is it
-  // observable): sigma stays 1.
-  const bool scale_held_by_pose = inverse_scale && hold_scale_gauge(&problem, &poses);
-  if (inverse_scale && !scale_held_by_pose) problem.SetParameterBlockConstant(&sigma);
 
   ceres::Solver::Options options;
   // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels): they never share a
@@ -179,7 +111,8 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   for (double* block : blocks_in_problem)
     if (!ordering->IsMember(block)) ordering->AddElementToGroup(block, 1);
   options.linear_solver_ordering = ordering;
-  if (fill > kDenseFill) {
+  const double fill = reduced_system_fill(used_observations, static_cast<int>(poses.size()));
+  if (fill > 0.25) {
     // When most frames share points (short sequences, long tracks) the reduced camera system is
     // dense, and forming and factoring it costs more than the whole evaluation. Conjugate
     // gradients on it, with its block diagonal as preconditioner, never form it; a small forcing
@@ -203,9 +136,8 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   // than a tenth of its standard deviation (the pixel variance taken from the cost). A fixed
   // relative tolerance instead lets Levenberg-Marquardt creep for hundreds of iterations along a
   // long drive's slow, curved deformations without changing anything that can be measured.
-  // Degrees of freedom: residuals less free parameters (NumParameters counts a held first pose,
-  // sigma, and the translation coordinate or sigma held for sigma's gauge).
-  const double held = (gauge_fixed ? 0 : 6) + (inverse_scale ? 1 : 0);
+  // Degrees of freedom: residuals less free parameters (NumParameters counts a held first pose).
+  const double held = gauge_fixed ? 0 : 6;
   const double dof = std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
   options.function_tolerance = std::max(1e-10, 0.01 / dof);
   options.parameter_tolerance = 1e-10;
@@ -231,25 +163,9 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   }
   result.solve_seconds = summary.total_time_in_seconds;
   result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
-  if (inverse_scale) {
-    for (auto& pose : poses)
-      pose.tail<3>() = pose.tail<3>() / sigma - to_pose(pose).linear() * origin;
-    for (auto& [track, p] : points) p = p / sigma + origin;
-  }
   for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
   result.points = points;
 
-  // Covariances of the metric poses and points: from the same reprojections on them, the first
-  // pose held.
-  ceres::Problem metric_problem;
-  if (inverse_scale && settings.covariances && summary.IsSolutionUsable()) {
-    for (const auto& o : used_observations)
-      add_reprojection(&metric_problem, camera, o, settings.huber_px, poses[o.frame].data(),
-                       points[o.track].data(), nullptr);
-    if (metric_problem.HasParameterBlock(poses[0].data()))
-      metric_problem.SetParameterBlockConstant(poses[0].data());
-  }
-  ceres::Problem& problem_on_poses = inverse_scale ? metric_problem : problem;
   if (settings.covariances && summary.IsSolutionUsable()) {
     ceres::Covariance::Options covariance_options;
     // Sparse QR: the gauge is fixed by the first pose, so the problem is of full rank.
@@ -258,24 +174,24 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     ceres::Covariance covariance(covariance_options);
     std::vector<std::pair<const double*, const double*>> blocks;
     for (const auto& v : poses)
-      if (problem_on_poses.HasParameterBlock(v.data()) && !problem_on_poses.IsParameterBlockConstant(v.data()))
+      if (problem.HasParameterBlock(v.data()) && !problem.IsParameterBlockConstant(v.data()))
         blocks.emplace_back(v.data(), v.data());
     for (const auto& [track, p] : points)
-      if (problem_on_poses.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
-    if (covariance.Compute(blocks, &problem_on_poses)) {
+      if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
+    if (covariance.Compute(blocks, &problem)) {
       // Scaled by the residual variance: the pixel noise is estimated, not assumed.
       const double variance = 2 * summary.final_cost / dof;
       result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
       for (size_t f = 0; f < poses.size(); ++f) {
-        if (!problem_on_poses.HasParameterBlock(poses[f].data()) ||
-            problem_on_poses.IsParameterBlockConstant(poses[f].data()))
+        if (!problem.HasParameterBlock(poses[f].data()) ||
+            problem.IsParameterBlockConstant(poses[f].data()))
           continue;
         Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
         covariance.GetCovarianceBlock(poses[f].data(), poses[f].data(), c.data());
         result.pose_covariances[f] = variance * c;
       }
       for (const auto& [track, p] : points) {
-        if (!problem_on_poses.HasParameterBlock(p.data())) continue;
+        if (!problem.HasParameterBlock(p.data())) continue;
         Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c;
         covariance.GetCovarianceBlock(p.data(), p.data(), c.data());
         result.point_covariances[track] = variance * c;

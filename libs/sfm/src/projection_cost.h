@@ -1,8 +1,7 @@
 #pragma once
 // The reprojection residual of a world point seen from a pose, for Ceres: parameter blocks
 // cam_from_world as (angle-axis, translation) and the point; analytic Jacobians from the camera
-// model, the rotation's from Jets. ScaledProjectionCost adds a third block, the inverse scale
-// sigma: the point in the camera frame is (R p + t) / sigma.
+// model, the rotation's from Jets.
 //
 // Each instance keeps the mirror point of its last projection as the next one's start: the
 // optimiser moves the point little between evaluations (and not at all between a step's cost and
@@ -16,25 +15,23 @@
 
 namespace omnisfm::sfm {
 
-// The projection of (R(aa) p + t) / sigma and its derivatives, shared by both costs.
-class PosePointProjection {
+class ProjectionCost : public ceres::SizedCostFunction<2, 6, 3> {
  public:
-  PosePointProjection(const camera::CatadioptricCamera* camera, const Eigen::Vector2d& pixel)
+  ProjectionCost(const camera::CatadioptricCamera* camera, const Eigen::Vector2d& pixel)
       : camera_(camera), pixel_(pixel) {}
 
-  // Writes the residual; with derivatives wanted, also d residual / d (aa, t, p) into J_pose
-  // (2 x 6) and J_point (2 x 3), when not null, and d residual / d sigma into J_sigma.
-  bool evaluate(const double* pose, const double* point, double sigma, double* residuals,
-                bool derivatives, double* J_pose, double* J_point, double* J_sigma) const {
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double* pose = parameters[0];
+    const double* point = parameters[1];
     Eigen::Vector2d pixel;
-    if (!derivatives) {
+    if (!jacobians) {
       double rotated[3];
       ceres::AngleAxisRotatePoint(pose, point, rotated);
-      const Eigen::Vector3d X = Eigen::Vector3d(rotated[0] + pose[3], rotated[1] + pose[4],
-                                                rotated[2] + pose[5]) / sigma;
+      const Eigen::Vector3d X(rotated[0] + pose[3], rotated[1] + pose[4], rotated[2] + pose[5]);
       if (!project(X, &pixel, nullptr)) return false;
     } else {
-      // R(aa) p: derivatives with respect to aa and p from one 6-dimensional Jet pass.
+      // X = R(aa) p + t: derivatives with respect to aa and p from one 6-dimensional Jet pass.
       using Jet = ceres::Jet<double, 6>;
       Jet aa[3], p[3], rotated[3];
       for (int i = 0; i < 3; ++i) {
@@ -45,23 +42,18 @@ class PosePointProjection {
       Eigen::Vector3d X;
       Eigen::Matrix<double, 3, 6> J_rot_point;
       for (int r = 0; r < 3; ++r) {
-        X[r] = (rotated[r].a + pose[3 + r]) / sigma;
+        X[r] = rotated[r].a + pose[3 + r];
         J_rot_point.row(r) = rotated[r].v.transpose();
       }
       Eigen::Matrix<double, 2, 3> J_X;
       if (!project(X, &pixel, &J_X)) return false;
-      const Eigen::Matrix<double, 2, 3> J_unscaled = J_X / sigma;
-      if (J_pose) {
-        Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J(J_pose);
-        J << J_unscaled * J_rot_point.leftCols<3>(), J_unscaled;
+      if (jacobians[0]) {
+        Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_pose(jacobians[0]);
+        J_pose << J_X * J_rot_point.leftCols<3>(), J_X;
       }
-      if (J_point) {
-        Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> J(J_point);
-        J = J_unscaled * J_rot_point.rightCols<3>();
-      }
-      if (J_sigma) {
-        Eigen::Map<Eigen::Vector2d> J(J_sigma);
-        J = -J_unscaled * X;
+      if (jacobians[1]) {
+        Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> J_point(jacobians[1]);
+        J_point = J_X * J_rot_point.rightCols<3>();
       }
     }
     residuals[0] = pixel.x() - pixel_.x();
@@ -81,39 +73,6 @@ class PosePointProjection {
   Eigen::Vector2d pixel_;
   mutable camera::Reflection last_reflection_;
   mutable bool has_last_reflection_ = false;
-};
-
-class ProjectionCost : public ceres::SizedCostFunction<2, 6, 3> {
- public:
-  ProjectionCost(const camera::CatadioptricCamera* camera, const Eigen::Vector2d& pixel)
-      : projection_(camera, pixel) {}
-
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    return projection_.evaluate(parameters[0], parameters[1], 1.0, residuals, jacobians,
-                                jacobians ? jacobians[0] : nullptr,
-                                jacobians ? jacobians[1] : nullptr, nullptr);
-  }
-
- private:
-  PosePointProjection projection_;
-};
-
-class ScaledProjectionCost : public ceres::SizedCostFunction<2, 6, 3, 1> {
- public:
-  ScaledProjectionCost(const camera::CatadioptricCamera* camera, const Eigen::Vector2d& pixel)
-      : projection_(camera, pixel) {}
-
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    return projection_.evaluate(parameters[0], parameters[1], parameters[2][0], residuals,
-                                jacobians, jacobians ? jacobians[0] : nullptr,
-                                jacobians ? jacobians[1] : nullptr,
-                                jacobians ? jacobians[2] : nullptr);
-  }
-
- private:
-  PosePointProjection projection_;
 };
 
 }  // namespace omnisfm::sfm

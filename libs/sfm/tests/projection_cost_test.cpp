@@ -1,6 +1,4 @@
-// The batch's reprojection residuals (metric, and with the inverse scale as a parameter): their
-// analytic Jacobians against central differences, and the scaled residual's agreement with the
-// metric one at the same geometry.
+// The batch's reprojection residual: its analytic Jacobians against central differences.
 
 #include <gtest/gtest.h>
 
@@ -43,17 +41,6 @@ std::vector<Observation> observations(const camera::CatadioptricCamera& camera, 
   return out;
 }
 
-// The observation's pose and point in units of sigma: the same geometry for the scaled residual.
-struct ScaledBlocks {
-  ScaledBlocks(const Observation& o, double inverse_scale)
-      : pose(o.pose), point(o.point), sigma(inverse_scale) {
-    for (int i = 3; i < 6; ++i) pose[i] *= sigma;
-    for (double& x : point) x *= sigma;
-  }
-  std::vector<double> pose, point;
-  double sigma;
-};
-
 // The mirror solve stops within about 1e-11 px, which central differences with steps of 1e-6 turn
 // into errors of some 1e-5 px per unit: the tolerance, relative to each block's largest entry.
 constexpr double kDerivativeTolerance = 1e-5;
@@ -63,30 +50,6 @@ TEST(ProjectionCost, JacobiansMatchCentralDifferences) {
   for (const Observation& o : observations(camera, 50)) {
     ProjectionCost cost(&camera, o.pixel);
     expect_jacobians_match(cost, {o.pose, o.point}, kDerivativeTolerance);
-  }
-}
-
-TEST(ScaledProjectionCost, JacobiansMatchCentralDifferences) {
-  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
-  for (const Observation& o : observations(camera, 50)) {
-    const ScaledBlocks scaled(o, 0.4);
-    ScaledProjectionCost cost(&camera, o.pixel);
-    expect_jacobians_match(cost, {scaled.pose, scaled.point, {scaled.sigma}},
-                           kDerivativeTolerance);
-  }
-}
-
-TEST(ScaledProjectionCost, EqualsTheMetricResidualOfTheSameGeometry) {
-  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
-  for (const Observation& o : observations(camera, 50)) {
-    const ScaledBlocks blocks(o, 2.5);
-    double metric[2], scaled[2];
-    const double* metric_blocks[2] = {o.pose.data(), o.point.data()};
-    const double* scaled_blocks[3] = {blocks.pose.data(), blocks.point.data(), &blocks.sigma};
-    ASSERT_TRUE(ProjectionCost(&camera, o.pixel).Evaluate(metric_blocks, metric, nullptr));
-    ASSERT_TRUE(ScaledProjectionCost(&camera, o.pixel).Evaluate(scaled_blocks, scaled, nullptr));
-    EXPECT_NEAR(scaled[0], metric[0], 1e-9);
-    EXPECT_NEAR(scaled[1], metric[1], 1e-9);
   }
 }
 
