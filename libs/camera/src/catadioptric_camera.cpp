@@ -440,19 +440,6 @@ bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, doub
 bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
                                  Eigen::Matrix<double, 2, 3>* J_X, double* J_params,
                                  Reflection* reflection) const {
-  return project_from(X, nullptr, pixel, J_X, J_params, reflection);
-}
-
-bool CatadioptricCamera::project_near(const Eigen::Vector3d& X, Reflection* nearby,
-                                      Eigen::Vector2d* pixel,
-                                      Eigen::Matrix<double, 2, 3>* J_X) const {
-  const Reflection start = *nearby;
-  return project_from(X, &start, pixel, J_X, nullptr, nearby);
-}
-
-bool CatadioptricCamera::project_from(const Eigen::Vector3d& X, const Reflection* start,
-                                      Eigen::Vector2d* pixel, Eigen::Matrix<double, 2, 3>* J_X,
-                                      double* J_params, Reflection* reflection) const {
   // The camera's own centre sees only itself.
   if (!X.allFinite() || (!inner_->is_orthographic() && X.norm() < 1e-12)) return false;
   const Eigen::Vector3d& t = pose_.translation();
@@ -465,18 +452,10 @@ bool CatadioptricCamera::project_from(const Eigen::Vector3d& X, const Reflection
   const double rho_X = std::sqrt(X_M.x() * X_M.x() + X_M.y() * X_M.y());
   const double cos_base = rho_X > 0 ? X_M.x() / rho_X : 1.0;
   const double sin_base = rho_X > 0 ? X_M.y() / rho_X : 0.0;
-  const bool want_shape = J_params && mirror_->num_shape_params() > 0;
   NewtonState state;
-  bool solved = false;
-  if (start) {
-    state.s = start->s;
-    state.phi = std::remainder(start->phi - std::atan2(sin_base, cos_base), 2 * M_PI);
-    solved = solve(X_M, cos_base, sin_base, want_shape, &state);
-  }
-  if (!solved) {
-    initial_guess(X_M, cos_base, sin_base, &state.s, &state.phi);
-    if (!solve(X_M, cos_base, sin_base, want_shape, &state)) return false;
-  }
+  initial_guess(X_M, cos_base, sin_base, &state.s, &state.phi);
+  if (!solve(X_M, cos_base, sin_base, J_params && mirror_->num_shape_params() > 0, &state))
+    return false;
   const double s = state.s;
   const MeridianPoint& mp = state.meridian;
   const MeridianShapeJacobian& J_shape = state.J_shape;

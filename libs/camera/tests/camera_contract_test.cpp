@@ -107,30 +107,6 @@ TEST_P(CameraContract, JacobianCallsGiveIdenticalPixels) {
   }
 }
 
-// Started from a nearby point's reflection, or from a distant one's (where the tabulated guess
-// may have to take over), the projection is the one from the usual start, to the solve's
-// convergence, and the reflection handed back is the point's own.
-TEST_P(CameraContract, ProjectionNearAnEarlierOneIsTheSame) {
-  const auto points = field_points(300, 7);
-  ASSERT_GT(points.size(), 200u);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d& X = points[i];
-    const Eigen::Vector3d close_by = X + 0.01 * X.norm() * Eigen::Vector3d(0.3, -0.5, 0.2);
-    for (const Eigen::Vector3d& earlier : {close_by, points[(i + 1) % points.size()]}) {
-      Eigen::Vector2d earlier_pixel, expected, pixel;
-      Reflection nearby, own;
-      if (!camera_->project(earlier, &earlier_pixel, nullptr, nullptr, &nearby)) continue;
-      Eigen::Matrix<double, 2, 3> J_expected, J_X;
-      ASSERT_TRUE(camera_->project(X, &expected, &J_expected, nullptr, &own));
-      ASSERT_TRUE(camera_->project_near(X, &nearby, &pixel, &J_X));
-      EXPECT_LT((pixel - expected).norm(), 1e-9);
-      EXPECT_LT((J_X - J_expected).norm(), 1e-6 * J_expected.norm());
-      EXPECT_NEAR(nearby.s, own.s, 1e-9);
-      EXPECT_LT((nearby.point_C - own.point_C).norm(), 1e-9);
-    }
-  }
-}
-
 // Columns of an analytic Jacobian against central differences, relative to each column's size.
 void expect_columns_match(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& numeric,
                           const std::vector<std::string>& names, const std::string& where) {

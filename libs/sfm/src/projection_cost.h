@@ -2,11 +2,6 @@
 // The reprojection residual of a world point seen from a pose, for Ceres: parameter blocks
 // cam_from_world as (angle-axis, translation) and the point; analytic Jacobians from the camera
 // model, the rotation's from Jets.
-//
-// Each instance keeps the mirror point of its last projection as the next one's start: the
-// optimiser moves the point little between evaluations (and not at all between a step's cost and
-// its Jacobians), so the mirror solve takes one or two Newton steps. One instance therefore
-// belongs to one residual block, which Ceres evaluates from one thread at a time.
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
@@ -29,7 +24,7 @@ class ProjectionCost : public ceres::SizedCostFunction<2, 6, 3> {
       double rotated[3];
       ceres::AngleAxisRotatePoint(pose, point, rotated);
       const Eigen::Vector3d X(rotated[0] + pose[3], rotated[1] + pose[4], rotated[2] + pose[5]);
-      if (!project(X, &pixel, nullptr)) return false;
+      if (!camera_->project(X, &pixel)) return false;
     } else {
       // X = R(aa) p + t: derivatives with respect to aa and p from one 6-dimensional Jet pass.
       using Jet = ceres::Jet<double, 6>;
@@ -46,7 +41,7 @@ class ProjectionCost : public ceres::SizedCostFunction<2, 6, 3> {
         J_rot_point.row(r) = rotated[r].v.transpose();
       }
       Eigen::Matrix<double, 2, 3> J_X;
-      if (!project(X, &pixel, &J_X)) return false;
+      if (!camera_->project(X, &pixel, &J_X)) return false;
       if (jacobians[0]) {
         Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_pose(jacobians[0]);
         J_pose << J_X * J_rot_point.leftCols<3>(), J_X;
@@ -62,17 +57,8 @@ class ProjectionCost : public ceres::SizedCostFunction<2, 6, 3> {
   }
 
  private:
-  bool project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
-               Eigen::Matrix<double, 2, 3>* J_X) const {
-    if (has_last_reflection_) return camera_->project_near(X, &last_reflection_, pixel, J_X);
-    has_last_reflection_ = camera_->project(X, pixel, J_X, nullptr, &last_reflection_);
-    return has_last_reflection_;
-  }
-
   const camera::CatadioptricCamera* camera_;
   Eigen::Vector2d pixel_;
-  mutable camera::Reflection last_reflection_;
-  mutable bool has_last_reflection_ = false;
 };
 
 }  // namespace omnisfm::sfm

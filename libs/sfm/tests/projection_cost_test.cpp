@@ -41,8 +41,8 @@ std::vector<Observation> observations(const camera::CatadioptricCamera& camera, 
   return out;
 }
 
-// The mirror solve stops within about 1e-11 px, which central differences with steps of 1e-6 turn
-// into errors of some 1e-5 px per unit: the tolerance, relative to each block's largest entry.
+// Relative to each block's largest entry: the mirror solve stops within about 1e-11 px, which
+// central differences with steps of 1e-6 turn into errors of some 1e-5 px per unit.
 constexpr double kDerivativeTolerance = 1e-5;
 
 TEST(ProjectionCost, JacobiansMatchCentralDifferences) {

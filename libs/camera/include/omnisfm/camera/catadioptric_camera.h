@@ -53,13 +53,6 @@ class CatadioptricCamera {
                Eigen::Matrix<double, 2, 3>* J_X = nullptr, double* J_params = nullptr,
                Reflection* reflection = nullptr) const;
 
-  // As project, with the Newton solve started from *nearby, the reflection of a point close to X
-  // (an earlier call's), instead of the tabulated guess, which remains the fall-back when that
-  // start does not converge; *nearby then receives X's reflection. The repeated projections of a
-  // slowly moving point (an optimiser's iterations) then take one or two Newton steps.
-  bool project_near(const Eigen::Vector3d& X, Reflection* nearby, Eigen::Vector2d* pixel,
-                    Eigen::Matrix<double, 2, 3>* J_X = nullptr) const;
-
   // The reflected ray of a pixel, in frame C: origin on the mirror, unit direction.
   bool unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,
                  Eigen::Vector3d* direction) const;
@@ -97,10 +90,6 @@ class CatadioptricCamera {
   struct NewtonState;
   bool solve(const Eigen::Vector3d& X_M, double cos_base, double sin_base, bool want_shape,
              NewtonState* state) const;
-  // project, the Newton solve started from `start` when given (see project_near).
-  bool project_from(const Eigen::Vector3d& X, const Reflection* start, Eigen::Vector2d* pixel,
-                    Eigen::Matrix<double, 2, 3>* J_X, double* J_params,
-                    Reflection* reflection) const;
 
   std::unique_ptr<InnerCamera> inner_;
   std::unique_ptr<MirrorProfile> mirror_;
