@@ -3,8 +3,6 @@
 // those tracks, and the paper's error figures next to the paper's own and next to the same
 // estimators run on the simulator's own tracks; the tracks' accuracy against the truth; plots.
 
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -30,6 +28,7 @@
 #include "residual_plots.h"
 #include "sfm_outputs.h"
 #include "trajectory_plots.h"
+#include "terminal_progress.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -56,24 +55,18 @@ double rotation_figure(const char* kind, const eval::TrajectoryErrors& e) {
   return e.mean_rotation_error_deg;
 }
 
-// Shows "SCENARIO: WHAT done/all" on a terminal, every 10 steps and at the end.
-struct Progress {
-  bool terminal;
-  const char* scenario;
-  void operator()(const char* what, int done, int all) const {
-    if (terminal && (done % 10 == 0 || done == all))
-      std::cerr << "\romnisfm: " << scenario << ": " << what << " " << done << "/" << all
-                << (done == all ? "\n" : "") << std::flush;
-  }
-};
+// "SCENARIO: WHAT", as the progress line names the work.
+std::string step(const char* scenario, const char* what) {
+  return std::string(scenario) + ": " + what;
+}
 
 sfm::SfmResult shape_from_motion(const sim::Dataset& d,
                                  const std::vector<io::TrackObservation>& tracks,
-                                 const Progress& progress, const char* what) {
+                                 const std::string& what) {
   sfm::SfmSettings settings;
   settings.batch.covariances = false;
-  return sfm::run_sfm(d.camera, tracks, settings,
-                      [&](int done, int all) { progress(what, done, all); });
+  TerminalProgress progress(what, "frames");
+  return sfm::run_sfm(d.camera, tracks, settings, progress.callback());
 }
 
 }  // namespace
@@ -90,7 +83,6 @@ void add_demo_verb(CLI::App& app) {
       ->capture_default_str();
   verb->add_option("--seed", *seed, "Random seed of the simulations")->capture_default_str();
   verb->callback([out, seed] {
-    const bool terminal = ::isatty(STDERR_FILENO);
     std::ostringstream motion, tracking;
     motion << "experiment  figure           paper       simulated   from images:            "
               "outliers (> 2 px)\n"
@@ -101,7 +93,6 @@ void add_demo_verb(CLI::App& app) {
              << "                            error against the truth   (> 1 px)\n";
     write_folder(*out, [&](const std::string& root) {
       for (const PaperFigures& paper : kPaper) {
-        const Progress progress{terminal, paper.scenario};
         sim::SimulationOptions options;
         options.scenario = paper.scenario;
         options.seed = *seed;
@@ -110,16 +101,18 @@ void add_demo_verb(CLI::App& app) {
         fs::create_directories(dir);
         const sim::Renderer renderer(d.camera, 4);
         const int frames = static_cast<int>(d.world_from_cam.size());
+        TerminalProgress rendering(step(paper.scenario, "rendered"), "images");
         sim::write_dataset(d, (dir / "dataset").string(), [&](int frame, const std::string& path) {
           sim::write_png(path, renderer.render(d.scene, d.world_from_cam[frame]));
-          progress("rendered", frame + 1, frames);
+          rendering(frame + 1, frames);
         });
 
         // From pixels: the rendered images tracked, as `omnisfm track` does.
         track::ImageSequence images((dir / "dataset" / "images").string());
+        TerminalProgress tracking_progress(step(paper.scenario, "tracked"), "images");
         track::TrackedSequence tracked =
             track::track_images(d.camera, images, track::TrackerSettings(),
-                                [&](int done, int all) { progress("tracked", done, all); });
+                                tracking_progress.callback());
         for (track::TrackedFrame& f : tracked.frames) f.timestamp = d.timestamps[f.index];
         fs::create_directories(dir / "track");
         track::write_frames_file((dir / "track" / "frames.vnl").string(), tracked.frames);
@@ -129,12 +122,12 @@ void add_demo_verb(CLI::App& app) {
         // The same estimators on the simulator's tracks (Gaussian noise, known mistracks): what
         // the tracking costs.
         const sfm::SfmResult simulated =
-            shape_from_motion(d, d.observations, progress, "filter on simulated tracks");
+            shape_from_motion(d, d.observations, step(paper.scenario, "filter on simulated tracks"));
         const auto simulated_batch = eval::trajectory_errors(
             world_from_cam(simulated.batch.cam_from_world), d.world_from_cam, true);
 
         const sfm::SfmResult r =
-            shape_from_motion(d, tracked.observations, progress, "filter on tracked images");
+            shape_from_motion(d, tracked.observations, step(paper.scenario, "filter on tracked images"));
         const auto online = eval::trajectory_errors(world_from_cam(r.online_cam_from_world),
                                                     d.world_from_cam, true);
         const auto batch =

@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -15,6 +13,7 @@
 #include "output_folder.h"
 #include "run_settings.h"
 #include "sfm_outputs.h"
+#include "terminal_progress.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -83,13 +82,10 @@ void add_run_verb(CLI::App& app) {
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
 
-    const bool terminal = ::isatty(STDERR_FILENO);
-    mrpt_plugin::ReplayInput in =
-        mrpt_plugin::read_replay_input(o->rawlog, settings.replay, [terminal](int done, int all) {
-          if (terminal && (done % 10 == 0 || done == all))
-            std::cerr << "\romnisfm: tracked " << done << "/" << all << " images" << std::flush;
-        });
-    if (terminal && in.frames_with_images > 0) std::cerr << "\n";
+    mrpt_plugin::ReplayInput in = [&] {
+      TerminalProgress progress("tracked", "images");
+      return mrpt_plugin::read_replay_input(o->rawlog, settings.replay, progress.callback());
+    }();
     if (!in.read.complete()) {
       if (o->strict) throw io::InputError(o->rawlog, 0, in.read.problem);
       std::cerr << "omnisfm: warning: " << in.read.problem << "; replaying the "
@@ -109,16 +105,12 @@ void add_run_verb(CLI::App& app) {
 
     sfm::SfmResult result;
     try {
+      TerminalProgress progress("filter", "frames");
       result = sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings.sfm,
-                                  [terminal](int done, int all) {
-                                    if (terminal && (done % 10 == 0 || done == all))
-                                      std::cerr << "\romnisfm: filter " << done << "/" << all
-                                                << " frames" << std::flush;
-                                  });
+                                  progress.callback());
     } catch (const std::invalid_argument& e) {
       throw io::InputError(o->rawlog, 0, e.what());
     }
-    if (terminal) std::cerr << "\n";
     // Camera frames after the last one with tracks have no pose: their times go too.
     in.frame_times.resize(result.num_frames);
     const bool batch_ran = settings.sfm.run_batch;

@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +15,7 @@
 #include "output_folder.h"
 #include "sfm_outputs.h"
 #include "verb_inputs.h"
+#include "terminal_progress.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -67,17 +66,13 @@ void add_sfm_verb(CLI::App& app) {
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
 
-    const bool terminal = ::isatty(STDERR_FILENO);
     sfm::SfmResult result;
     try {
-      result = sfm::run_sfm(camera, tracks, settings, [terminal](int done, int all) {
-        if (terminal && (done % 10 == 0 || done == all))
-          std::cerr << "\romnisfm: filter " << done << "/" << all << " frames" << std::flush;
-      });
+      TerminalProgress progress("filter", "frames");
+      result = sfm::run_sfm(camera, tracks, settings, progress.callback());
     } catch (const std::invalid_argument& e) {
       throw io::InputError(o->tracks, 0, e.what());
     }
-    if (terminal) std::cerr << "\n";
     if (settings.run_batch && !result.batch.converged && result.batch.cam_from_world.empty())
       throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 

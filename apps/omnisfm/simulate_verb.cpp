@@ -11,6 +11,7 @@
 #include "omnisfm/sim/renderer.h"
 #include "omnisfm/sim/scenario.h"
 #include "simulated_rawlog_output.h"
+#include "terminal_progress.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -77,17 +78,15 @@ void add_simulate_verb(CLI::App& app) {
     if (!std::filesystem::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0)
       throw io::InputError(*out, 0, "cannot write here: " + parent.string() +
                                         " is not a writable folder");
+    TerminalProgress progress("rendered", "images");
     sim::FrameImageWriter write_image;
     std::unique_ptr<sim::Renderer> renderer;
     if (*render) {
       renderer = std::make_unique<sim::Renderer>(dataset.camera, *samples);
-      const bool terminal = ::isatty(STDERR_FILENO);
       const int frames = static_cast<int>(dataset.world_from_cam.size());
-      write_image = [&, terminal, frames](int frame, const std::string& path) {
+      write_image = [&, frames](int frame, const std::string& path) {
         sim::write_png(path, renderer->render(dataset.scene, dataset.world_from_cam[frame]));
-        if (terminal)
-          std::cerr << "\romnisfm: rendered " << frame + 1 << "/" << frames << " images"
-                    << (frame + 1 == frames ? "\n" : "") << std::flush;
+        progress(frame + 1, frames);
       };
     }
     std::string rawlog_summary;

@@ -12,6 +12,7 @@
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
 #include "verb_inputs.h"
+#include "terminal_progress.h"
 #include "verbs.h"
 #ifdef OMNISFM_WITH_MRPT_PLUGIN
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
@@ -28,25 +29,19 @@ bool is_rawlog(const std::string& path) {
   return false;
 }
 
-void show_progress(bool terminal, int done, int expected) {
-  if (!terminal || (done % 10 != 0 && done != expected)) return;
-  std::cerr << "\romnisfm: tracked " << done;
-  if (expected > 0) std::cerr << "/" << expected;
-  std::cerr << " frames" << std::flush;
-}
-
 // The images of an MRPT rawlog through the tracker (the plugin reads them): the rawlog's own camera
 // model unless a camera file is given; a damaged rawlog is tracked up to the damaged object.
 track::TrackedSequence track_rawlog(const std::string& path, const std::string& camera_file,
-                                    const track::TrackerSettings& settings, bool terminal) {
+                                    const track::TrackerSettings& settings) {
 #ifdef OMNISFM_WITH_MRPT_PLUGIN
   mrpt_plugin::ReplayOptions options;
   options.vision = mrpt_plugin::ReplayVision::kImages;
   if (!camera_file.empty()) options.camera = load_camera(camera_file);
   options.tracker = settings;
-  const mrpt_plugin::ReplayInput in = mrpt_plugin::read_replay_input(
-      path, options, [terminal](int done, int all) { show_progress(terminal, done, all); });
-  if (terminal) std::cerr << "\n";
+  const mrpt_plugin::ReplayInput in = [&] {
+    TerminalProgress progress("tracked", "frames");
+    return mrpt_plugin::read_replay_input(path, options, progress.callback());
+  }();
   if (!in.read.complete())
     std::cerr << "omnisfm: warning: " << in.read.problem << "; tracked the "
               << in.frame_times.size() << " images before it\n";
@@ -57,7 +52,7 @@ track::TrackedSequence track_rawlog(const std::string& path, const std::string& 
   sequence.statistics.frames = static_cast<int>(in.frame_times.size());
   return sequence;
 #else
-  (void)camera_file, (void)settings, (void)terminal;
+  (void)camera_file, (void)settings;
   throw io::InputError(path, 0, "is a rawlog: this omnisfm was built without the MRPT plugin");
 #endif
 }
@@ -111,17 +106,14 @@ void add_track_verb(CLI::App& app) {
     const auto timestamps = o->timestamps.empty() ? std::map<std::string, double>()
                                                   : track::read_image_timestamps(o->timestamps);
 
-    const bool terminal = ::isatty(STDERR_FILENO);
     track::TrackedSequence result;
     if (rawlog) {
-      result = track_rawlog(o->images, o->camera, o->settings, terminal);
+      result = track_rawlog(o->images, o->camera, o->settings);
     } else {
       const camera::CatadioptricCamera camera = load_camera(o->camera);
       track::ImageSequence images(o->images);
-      result = track::track_images(camera, images, o->settings, [terminal](int done, int expected) {
-        show_progress(terminal, done, expected);
-      });
-      if (terminal) std::cerr << "\n";
+      TerminalProgress progress("tracked", "frames");
+      result = track::track_images(camera, images, o->settings, progress.callback());
     }
     if (result.frames.size() < 2)
       throw io::InputError(o->images, 0, "holds a single image: there is nothing to track");
