@@ -10,6 +10,7 @@
 
 #include "omnisfm/io/gnuplot.h"
 #include "omnisfm/io/percentile.h"
+#include "omnisfm/io/residual_vectors_plot.h"
 #include "omnisfm/io/vnlog.h"
 
 namespace omnisfm::app {
@@ -42,25 +43,16 @@ void write_per_frame(const std::string& path, const std::vector<sfm::Observation
 }
 
 std::string vectors_script(int w, int h, double scale, bool with_outliers) {
-  std::ostringstream gp;
-  const double bar_x = 0.05 * w, bar_y = 0.95 * h;
-  gp << "# Reprojection residuals (projected - observed) over the image, y down.\n"
-     << "set terminal pngcairo size 1100," << static_cast<int>(1100.0 * h / w + 60)
-     << " font 'sans,11'\nset output 'residuals.png'\nset size ratio -1\n"
-     << "set xrange [-0.5:" << w - 0.5 << "]\nset yrange [" << h - 0.5 << ":-0.5]\n"
-     << "set xlabel 'x (pixels)'\nset ylabel 'y (pixels)'\n"
-     << "set title 'Reprojection residuals, drawn " << scale
-     << " times their length: the bar is 1 px'\nset key outside bottom center horizontal\n"
-     << "set arrow from " << bar_x << "," << bar_y << " to " << bar_x + scale << "," << bar_y
-     << " nohead lw 3 lc rgb 'black'\n"
-     << "set label '1 px' at " << bar_x << "," << bar_y - 0.02 * h << "\n"
-     << "plot 'residuals.vnl' using 3:($7 == 0 ? $4 : 1/0):($5*" << scale << "):($6*" << scale
-     << ") with vectors nohead lc rgb '#1f4e9e' title 'inlier tracks'";
-  if (with_outliers)
-    gp << ", \\\n     'residuals.vnl' using 3:($7 == 1 ? $4 : 1/0):($5*" << scale << "):($6*"
-       << scale << ") with vectors nohead lc rgb '#d62728' title 'outlier tracks'";
-  gp << "\n";
-  return gp.str();
+  io::ResidualVectorsPlot plot;
+  plot.image_width = w, plot.image_height = h;
+  plot.scale = scale;
+  plot.title = "Reprojection residuals";
+  plot.x_column = 3, plot.y_column = 4, plot.du_column = 5, plot.dv_column = 6;
+  plot.outlier_column = 7;
+  plot.inlier_label = "inlier tracks";
+  plot.outlier_label = with_outliers ? "outlier tracks" : "";
+  plot.arrow_heads = false;
+  return io::residual_vectors_script(plot);
 }
 
 std::string per_frame_script(bool with_outliers) {

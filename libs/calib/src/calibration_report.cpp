@@ -13,6 +13,7 @@
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/gnuplot.h"
 #include "omnisfm/io/percentile.h"
+#include "omnisfm/io/residual_vectors_plot.h"
 #include "omnisfm/io/vnlog.h"
 
 namespace omnisfm::calib {
@@ -59,31 +60,15 @@ void write_text(const fs::path& path, const std::string& text) {
 }
 
 std::string residuals_script(const CalibrationOutcome& outcome, double scale) {
-  const int w = outcome.camera->image_width(), h = outcome.camera->image_height();
-  const double bar_x = 0.05 * w, bar_y = 0.95 * h - 0.5;
-  std::ostringstream gp;
-  gp << "# The residual vectors (projected - observed) over the image, y down.\n"
-     << "set terminal pngcairo size 1200," << static_cast<int>(1200.0 * h / w + 60)
-     << " font 'sans,11'\n"
-     << "set output 'residuals.png'\n"
-     << "set datafile missing '-'\n"
-     << "set size ratio -1\n"
-     << "set xrange [-0.5:" << w - 0.5 << "]\n"
-     << "set yrange [" << h - 0.5 << ":-0.5]\n"
-     << "set xlabel 'x (pixels)'\nset ylabel 'y (pixels)'\n"
-     << "set title 'Residuals (projected - observed), drawn " << general(scale)
-     << " times their length: the bar is 1 px of residual'\n"
-     << "set key outside bottom center horizontal\n"
-     << "set arrow from " << bar_x << "," << bar_y << " to " << bar_x + scale << "," << bar_y
-     << " nohead lw 3 lc rgb 'black'\n"
-     << "set label '1 px' at " << bar_x << "," << bar_y - 0.015 * h << "\n"
-     << "plot 'residuals.vnl' using 4:($8 == 0 ? $5 : 1/0):($6*" << scale << "):($7*" << scale
-     << ") with vectors lc rgb '#1f4e9e' title 'inliers', \\\n"
-     << "     'residuals.vnl' using 4:($8 == 1 ? $5 : 1/0):($6*" << scale << "):($7*" << scale
-     << ") with vectors lw 2 lc rgb '#d62728' title 'outliers', \\\n"
-     << "     'residuals.vnl' using 4:5 with points pt 7 ps 0.3 lc rgb '#808080' title "
-        "'observations'\n";
-  return gp.str();
+  io::ResidualVectorsPlot plot;
+  plot.image_width = outcome.camera->image_width();
+  plot.image_height = outcome.camera->image_height();
+  plot.scale = scale;
+  plot.title = "Residuals (projected - observed)";
+  plot.x_column = 4, plot.y_column = 5, plot.du_column = 6, plot.dv_column = 7;
+  plot.outlier_column = 8;
+  plot.observation_dots = true;
+  return io::residual_vectors_script(plot);
 }
 
 std::string histogram_script(const CalibrationOutcome& outcome) {
