@@ -2,77 +2,125 @@
 
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservationImage.h>
-#include <mrpt/obs/CSensoryFrame.h>
 
 #include <algorithm>
 #include <memory>
 
+#include "eigen_poses.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/mrpt_plugin/rawlog_reader.h"
 #include "omnisfm/track/track_images.h"
-
-#include "eigen_poses.h"
+#include "rawlog_observations.h"
 
 namespace omnisfm::mrpt_plugin {
 namespace {
 
-// The first pass: motion sensors, tracked features, and what the images say about the camera.
-class RawlogScan {
+// The rawlog in one pass: motion sensors, tracked features, and the camera's images through the
+// tracker for as long as they may be the vision (with kAuto, until tracked features turn up).
+class ReplayPass {
  public:
-  RawlogScan(const ReplayOptions& options, ReplayInput* input)
-      : options_(options),
+  ReplayPass(const std::string& path, const ReplayOptions& options,
+             const ReplayProgress& progress, ReplayInput* input)
+      : path_(path),
+        options_(options),
+        progress_(progress),
         input_(input),
         collector_({options.odometry_label, options.gyro_label, options.gps_label},
                    options.gps_origin) {}
 
-  void add(const mrpt::serialization::CSerializable::Ptr& object) {
-    if (auto observation = std::dynamic_pointer_cast<mrpt::obs::CObservation>(object)) {
-      add(*observation);
-    } else if (auto frame = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object)) {
-      for (const auto& member : *frame) add(*member);
-    } else if (auto actions = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(object)) {
+  // False at damage (an image that cannot be loaded), which `damage` then describes.
+  bool add(const mrpt::serialization::CSerializable::Ptr& object, std::size_t index,
+           std::string* damage) {
+    if (auto actions = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(object)) {
       for (std::size_t i = 0; i < actions->size(); ++i) collector_.add(*actions->get(i));
+      return true;
     }
+    for_each_observation(object, [&](const mrpt::obs::CObservation::Ptr& observation) {
+      if (damage->empty()) add(observation, index, damage);
+    });
+    return damage->empty();
   }
 
   void finish() {
-    input_->sensors = collector_.sensors();
-    if (body_from_cam_) input_->sensors.body_from_cam = *body_from_cam_;
-    if (collector_.enu_frame() && !input_->sensors.gps.empty())
-      input_->gps_origin = collector_.enu_frame()->origin();
-    input_->out_of_order = collector_.out_of_order();
-    if (!input_->camera) input_->camera = first_model_;
+    ReplayInput& in = *input_;
+    in.sensors = collector_.sensors();
+    if (body_from_cam_) in.sensors.body_from_cam = *body_from_cam_;
+    if (collector_.enu_frame() && !in.sensors.gps.empty())
+      in.gps_origin = collector_.enu_frame()->origin();
+    in.out_of_order = collector_.out_of_order();
+    if (!in.camera) in.camera = first_model_;
+    if (options_.vision == ReplayVision::kImages ||
+        (options_.vision == ReplayVision::kAuto && feature_times_.empty() && images_ > 0)) {
+      if (!untracked_.empty()) throw io::InputError(path_, 0, untracked_);
+      in.vision = "images";
+      in.frame_times = image_times_;
+      in.frames_with_images = tracker_ ? tracker_->frames() : 0;
+      if (tracker_) in.tracks = tracker_->finish().observations;
+      return;
+    }
+    in.vision = "tracked features";
+    in.tracks = std::move(features_);
+    in.frame_times = feature_times_;
+    std::stable_sort(in.tracks.begin(), in.tracks.end(),
+                     [](const io::TrackObservation& a, const io::TrackObservation& b) {
+                       return a.frame != b.frame ? a.frame < b.frame : a.track < b.track;
+                     });
   }
-
-  int images() const { return images_; }
-  const std::vector<io::TrackObservation>& tracks() const { return tracks_; }
-  const std::vector<double>& tracked_frame_times() const { return tracked_frame_times_; }
 
  private:
-  bool is_camera(const mrpt::obs::CObservation& observation) const {
-    return options_.camera_label.empty() || observation.sensorLabel == options_.camera_label;
+  bool images_are_vision() const {
+    return options_.vision == ReplayVision::kImages ||
+           (options_.vision == ReplayVision::kAuto && feature_times_.empty());
   }
 
-  void add(const mrpt::obs::CObservation& observation) {
-    if (collector_.add(observation)) return;
-    if (const auto* features = dynamic_cast<const CObservationTrackedFeatures*>(&observation)) {
-      if (!is_camera(observation)) return;
-      const int frame = static_cast<int>(tracked_frame_times_.size());
-      tracked_frame_times_.push_back(mrpt::Clock::toDouble(features->timestamp));
-      for (const TrackedFeature& f : features->features)
-        tracks_.push_back({frame, f.track, Eigen::Vector2d(f.u, f.v)});
+  void add(const mrpt::obs::CObservation::Ptr& observation, std::size_t index,
+           std::string* damage) {
+    if (collector_.add(*observation) || !has_label(*observation, options_.camera_label)) return;
+    if (const auto* features = dynamic_cast<const CObservationTrackedFeatures*>(observation.get())) {
+      if (options_.vision == ReplayVision::kImages) return;
+      const int frame = static_cast<int>(feature_times_.size());
+      feature_times_.push_back(mrpt::Clock::toDouble(features->timestamp));
+      append_tracked_features(*features, frame, &features_);
       note_camera(features->sensorPose, features->model);
-    } else if (const auto* image = dynamic_cast<const mrpt::obs::CObservationImage*>(&observation)) {
-      if (!is_camera(observation)) return;
-      ++images_;
-      if (const auto* omni = dynamic_cast<const CObservationOmniImage*>(image))
-        note_camera(image->cameraPose, omni->model);
-      else if (!body_from_cam_)
-        body_from_cam_ = isometry_of(image->cameraPose);
+      tracker_.reset();  // with kAuto, the images tracked so far are not the vision
+      return;
     }
+    const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation);
+    if (!image) return;
+    ++images_;
+    if (const auto* omni = dynamic_cast<const CObservationOmniImage*>(image.get()))
+      note_camera(image->cameraPose, omni->model);
+    else if (!body_from_cam_)
+      body_from_cam_ = isometry_of(image->cameraPose);
+    if (images_are_vision()) track(*image, index, damage);
+  }
+
+  void track(mrpt::obs::CObservationImage& observation, std::size_t index, std::string* damage) {
+    if (!tracker_) {
+      const auto& camera = options_.camera ? options_.camera : first_model_;
+      if (!camera) {
+        // An error only if the images turn out to be the vision.
+        if (untracked_.empty())
+          untracked_ = "object " + std::to_string(index) +
+                       " is a stock CObservationImage, which carries no camera model: give the "
+                       "camera file (--camera)";
+        return;
+      }
+      if (!untracked_.empty()) return;
+      tracker_ = std::make_unique<track::SequenceTracker>(*camera, options_.tracker);
+    }
+    const std::optional<RawlogImage> image = load_rawlog_image(observation, path_, index, damage);
+    if (!image) return;
+    track::SequenceFrame frame;
+    frame.index = tracker_->frames();
+    frame.image = image->grey;
+    frame.timestamp = image->timestamp;
+    tracker_->add(frame, path_ + ": object " + std::to_string(index));
+    image_times_.push_back(image->timestamp);
+    if (progress_) progress_(tracker_->frames(), 0);
   }
 
   void note_camera(const mrpt::poses::CPose3D& pose, const CCatadioptricCameraModel& model) {
@@ -80,45 +128,20 @@ class RawlogScan {
     if (!first_model_ && model.has_camera()) first_model_ = model.camera();
   }
 
+  const std::string& path_;
   const ReplayOptions& options_;
+  const ReplayProgress& progress_;
   ReplayInput* input_;
   MotionSensorCollector collector_;
   std::optional<Eigen::Isometry3d> body_from_cam_;
   std::optional<camera::CatadioptricCamera> first_model_;
-  std::vector<io::TrackObservation> tracks_;
-  std::vector<double> tracked_frame_times_;
+  std::vector<io::TrackObservation> features_;
+  std::vector<double> feature_times_;
   int images_ = 0;
+  std::unique_ptr<track::SequenceTracker> tracker_;
+  std::vector<double> image_times_;
+  std::string untracked_;  // why the images could not be tracked
 };
-
-// The second pass, for images: every camera image through the tracker, in file order.
-void track_rawlog_images(const std::string& path, const ReplayOptions& options, int images,
-                         const ReplayProgress& progress, ReplayInput* input) {
-  std::unique_ptr<track::SequenceTracker> tracker;
-  const RawlogReadResult read = for_each_rawlog_image(
-      path,
-      [&](RawlogImage& image) {
-        if (!tracker) {
-          if (!input->camera) input->camera = image.camera;
-          if (!input->camera)
-            throw io::InputError(path, 0,
-                                 "object " + std::to_string(image.object_index) +
-                                     " is a stock CObservationImage, which carries no camera "
-                                     "model: give the camera file (--camera)");
-          tracker = std::make_unique<track::SequenceTracker>(*input->camera, options.tracker);
-        }
-        track::SequenceFrame frame;
-        frame.index = tracker->frames();
-        frame.image = image.grey;
-        frame.timestamp = image.timestamp;
-        tracker->add(frame, path + ": object " + std::to_string(image.object_index));
-        input->frame_times.push_back(image.timestamp);
-        if (progress) progress(tracker->frames(), images);
-      },
-      options.camera_label);
-  if (!read.complete()) input->read = read;
-  input->frames_with_images = tracker ? tracker->frames() : 0;
-  if (tracker) input->tracks = tracker->finish().observations;
-}
 
 }  // namespace
 
@@ -126,30 +149,15 @@ ReplayInput read_replay_input(const std::string& path, const ReplayOptions& opti
                               const ReplayProgress& progress) {
   ReplayInput input;
   input.camera = options.camera;
-  RawlogScan scan(options, &input);
-  {
-    RawlogReader reader(path);
-    while (const auto object = reader.next()) scan.add(object);
-    input.read.objects = reader.index();
-    input.read.problem = reader.problem();
-  }
-  scan.finish();
-
-  const bool use_images =
-      options.vision == ReplayVision::kImages ||
-      (options.vision == ReplayVision::kAuto && scan.tracks().empty() && scan.images() > 0);
-  if (use_images) {
-    input.vision = "images";
-    track_rawlog_images(path, options, scan.images(), progress, &input);
-  } else {
-    input.vision = "tracked features";
-    input.tracks = scan.tracks();
-    input.frame_times = scan.tracked_frame_times();
-    std::stable_sort(input.tracks.begin(), input.tracks.end(),
-                     [](const io::TrackObservation& a, const io::TrackObservation& b) {
-                       return a.frame != b.frame ? a.frame < b.frame : a.track < b.track;
-                     });
-  }
+  ReplayPass pass(path, options, progress, &input);
+  use_external_images_of(path);
+  RawlogReader reader(path);
+  std::string damage;
+  while (const auto object = reader.next())
+    if (!pass.add(object, reader.index() - 1, &damage)) break;
+  input.read.objects = damage.empty() ? reader.index() : reader.index() - 1;
+  input.read.problem = damage.empty() ? reader.problem() : damage;
+  pass.finish();
   input.read.used = input.frame_times.size();
   return input;
 }

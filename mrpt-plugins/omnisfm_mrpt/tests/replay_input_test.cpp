@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
@@ -178,6 +179,53 @@ TEST(OutdoorRawlog, GroundTruthInEnuAndGeodetic) {
     EXPECT_LT((back - centre).norm(), 1e-6) << f;
     EXPECT_DOUBLE_EQ(geodetic.number(f, cols[0]), enu_truth[f].timestamp);
   }
+}
+
+// A rawlog with both the images and the tracked features of every frame, read in one pass: kAuto
+// takes the tracks (the images it may have started on are dropped), kImages tracks the images.
+TEST(ReplayVision, AutoTakesTheTracksAndImagesModeTracksTheImages) {
+  sim::SimulationOptions simulation;
+  simulation.scenario = "lab";
+  const sim::Dataset lab = sim::simulate(simulation);
+  cv::Mat picture(lab.camera.image_height(), lab.camera.image_width(), CV_8UC1);
+  for (int y = 0; y < picture.rows; ++y)
+    for (int x = 0; x < picture.cols; ++x)
+      picture.at<uint8_t>(y, x) = static_cast<uint8_t>((x * 7) ^ (y * 13));
+  const std::string png = testing::temporary_path("replay_frame.png");
+  ASSERT_TRUE(cv::imwrite(png, picture));
+  SimulatedRawlogOptions rawlog;
+  rawlog.image_file = [&](int) { return png; };
+  const std::string path = testing::temporary_path("lab_images_and_tracks.rawlog");
+  write_simulated_rawlog(lab, path, rawlog);
+
+  const ReplayInput automatic = read_replay_input(path, ReplayOptions{});
+  EXPECT_TRUE(automatic.read.complete()) << automatic.read.problem;
+  EXPECT_EQ(automatic.vision, "tracked features");
+  EXPECT_EQ(automatic.tracks.size(), lab.observations.size());
+  EXPECT_EQ(automatic.frame_times.size(), 41u);
+  EXPECT_EQ(automatic.frames_with_images, 0);
+
+  ReplayOptions images;
+  images.vision = ReplayVision::kImages;
+  images.tracker.max_tracks = 20;
+  std::vector<int> progress;
+  const ReplayInput tracked = read_replay_input(path, images, [&](int done, int all) {
+    EXPECT_EQ(all, 0);
+    progress.push_back(done);
+  });
+  EXPECT_TRUE(tracked.read.complete()) << tracked.read.problem;
+  EXPECT_EQ(tracked.vision, "images");
+  EXPECT_EQ(tracked.frames_with_images, 41);
+  ASSERT_EQ(tracked.frame_times.size(), 41u);
+  EXPECT_EQ(tracked.frame_times, automatic.frame_times);
+  ASSERT_EQ(progress.size(), 41u);
+  EXPECT_EQ(progress.back(), 41);
+  // The picture stands still: every track stays where it started, in every frame.
+  EXPECT_GE(tracked.tracks.size(), 41u * 15);
+  EXPECT_EQ(tracked.tracks.back().frame, 40);
+  // The motion sensors come with either.
+  EXPECT_EQ(tracked.sensors.odometry.size(), automatic.sensors.odometry.size());
+  EXPECT_GT(tracked.sensors.odometry.size(), 0u);
 }
 
 TEST(DamagedReplay, TheValidPartIsReplayedAndTheObjectNamed) {

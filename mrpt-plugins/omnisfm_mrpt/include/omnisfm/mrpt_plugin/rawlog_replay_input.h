@@ -54,7 +54,8 @@ struct ReplayInput {
   RawlogReadResult read;
 };
 
-// Called while images are tracked: (frames tracked, frames in the rawlog).
+// Called while images are tracked: (frames tracked, 0: the rawlog is read once, so the total is
+// not known).
 using ReplayProgress = std::function<void(int, int)>;
 
 // Throws io::InputError when the file cannot be opened, and naming the image's object when images
