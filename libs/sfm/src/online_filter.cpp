@@ -160,13 +160,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   at.offset = Eigen::VectorXd::Zero(n);
   at.g = Eigen::VectorXd::Zero(n);
   at.cost = at.residual.squaredNorm() / variance;
-  // Until a step is taken, the candidate is the prior, without a covariance downdate.
-  c->R = R_;
-  c->t = t_;
-  c->points = points_;
   c->residuals.resize(m);
-  for (int k = 0; k < m; ++k) c->residuals[k] = at.residual.segment<2>(2 * k).norm();
-  c->PHt.resize(0, 0);
 
   // A point that has taken part in fewer than kEstablishedUpdates updates knows its depth only
   // from the prior, and its measurement ties that depth to the camera's motion since the point entered:
@@ -186,7 +180,13 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
       at.H_point[k].setZero();
     }
 
-  Eigen::MatrixXd PHt(n, 2 * m), S(2 * m, 2 * m), HPHt;
+  // P H^T and S's factor are built in the candidate: every step is taken (the warm start's is
+  // overwritten by the next linearisation).
+  Eigen::MatrixXd& PHt = c->PHt;
+  Eigen::MatrixXd& S = c->S_factor;
+  PHt.resize(n, 2 * m);
+  S.resize(2 * m, 2 * m);
+  Eigen::MatrixXd HPHt;
   const double settled_px = 0.03 * settings_.pixel_sigma;
   // Levenberg's damping in the prior's metric, mu |x - x_i|^2_P^-1 added to the posterior cost:
   // the step is the iterated EKF's with P / (1 + mu) and the offset x_i - x_prior shrunk by
@@ -214,7 +214,14 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
       S *= shrink;
     }
     S.diagonal().array() += variance;
-    if (!cholesky_lower_in_place(&S)) break;  // keeps the last candidate
+    if (!cholesky_lower_in_place(&S)) {
+      // P is not positive definite: no update.
+      c->R = R_;
+      c->t = t_;
+      c->points = points_;
+      PHt.resize(0, 0);
+      return;
+    }
     Eigen::VectorXd weighted = at.innovation - (1 - shrink) * at.H_offset;
     S.triangularView<Eigen::Lower>().solveInPlace(weighted);
     S.triangularView<Eigen::Lower>().adjoint().solveInPlace(weighted);
@@ -299,15 +306,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     c->t = t;
     c->points.swap(X);
     for (int k = 0; k < m; ++k) c->residuals[k] = at.residual.segment<2>(2 * k).norm();
-    c->PHt.swap(PHt);
-    PHt.resize(n, 2 * m);
     damped = mu > 0;
-    if (damped) {
-      c->S_factor.swap(HPHt);
-    } else {
-      c->S_factor.swap(S);
-      S.resize(2 * m, 2 * m);
-    }
     if (!may_relinearise || (settled && !damped)) break;
     if (!damped && projected && linearisation_error < settled_px) break;
     if (gain > 0.75)
@@ -317,8 +316,9 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   }
   // The covariance downdate uses the linearisation the candidate came from, undamped.
   if (damped) {
-    c->S_factor.diagonal().array() += variance;
-    if (!cholesky_lower_in_place(&c->S_factor)) c->PHt.resize(0, 0);
+    S = HPHt;
+    S.diagonal().array() += variance;
+    if (!cholesky_lower_in_place(&S)) PHt.resize(0, 0);
   }
 }
 
