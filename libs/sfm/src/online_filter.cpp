@@ -13,6 +13,8 @@ namespace {
 
 // One kilometre: far enough to stand for infinity in any scene the rig maps.
 constexpr double kMinInverseDepth = 1e-3;
+// Updates after which a point's depth counts as established (see update()).
+constexpr int kEstablishedUpdates = 2;
 
 }  // namespace
 
@@ -60,6 +62,7 @@ void OnlineFilter::remove_slot(int slot) {
     const int from = 6 + 3 * last, to = 6 + 3 * slot;
     points_.segment<3>(3 * slot) = points_.segment<3>(3 * last);
     anchors_[slot] = anchors_[last];
+    slot_updates_[slot] = slot_updates_[last];
     P_.middleCols<3>(to) = P_.middleCols<3>(from);
     P_.middleRows<3>(to) = P_.middleRows<3>(from);
     slot_track_[slot] = slot_track_[last];
@@ -67,6 +70,7 @@ void OnlineFilter::remove_slot(int slot) {
   }
   slot_track_.pop_back();
   anchors_.pop_back();
+  slot_updates_.pop_back();
   points_.conservativeResize(3 * last);
   P_.conservativeResize(n, n);
 }
@@ -88,6 +92,7 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   anchor.basis.col(2) = d_W.cross(anchor.basis.col(1));
   const int slot = static_cast<int>(slot_track_.size());
   anchors_.push_back(anchor);
+  slot_updates_.push_back(0);
   slot_track_.push_back(track);
   track_slot_[track] = slot;
   const Eigen::Vector3d params(0, 0, 1 / settings_.initial_depth);
@@ -133,84 +138,187 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   const int m = static_cast<int>(meas.size());
   const int n = static_cast<int>(P_.rows());
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
-  c->R = R_;
-  c->t = t_;
-  c->points = points_;
-  c->residuals.resize(m);
-  Eigen::VectorXd& X = c->points;
-  // H is sparse: each measurement's two rows touch the pose and its own point only. The pose
-  // columns of all rows are kept together, for one product with P's pose columns. Each
-  // measurement's rows, prediction and innovation z - h(x_i) - H (x_prior - x_i) come from the
-  // last iterate x_i where it projected.
-  Eigen::Matrix<double, Eigen::Dynamic, 6> H_pose(2 * m, 6);
-  std::vector<Eigen::Matrix<double, 2, 3>> H_point(m);
-  Eigen::VectorXd predicted(2 * m), innovation(2 * m);
-  for (int k = 0; k < m; ++k) {
-    H_pose.middleRows<2>(2 * k) = meas[k].at_prior.pose;
-    H_point[k] = meas[k].at_prior.point;
-    predicted.segment<2>(2 * k) = meas[k].at_prior.pixel;
-    innovation.segment<2>(2 * k) = meas[k].pixel - meas[k].at_prior.pixel;
+  // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
+  // at x_i.
+  Iterate at, next;
+  for (Iterate* it : {&at, &next}) {
+    it->H_pose.resize(2 * m, 6);
+    it->H_point.resize(m);
+    it->pixels.resize(2 * m);
+    it->residual.resize(2 * m);
+    it->innovation.resize(2 * m);
+    it->H_offset.resize(2 * m);
   }
+  for (int k = 0; k < m; ++k) {
+    at.H_pose.middleRows<2>(2 * k) = meas[k].at_prior.pose;
+    at.H_point[k] = meas[k].at_prior.point;
+    at.pixels.segment<2>(2 * k) = meas[k].at_prior.pixel;
+    at.residual.segment<2>(2 * k) = meas[k].pixel - meas[k].at_prior.pixel;
+  }
+  at.innovation = at.residual;
+  at.H_offset = Eigen::VectorXd::Zero(2 * m);
+  at.offset = Eigen::VectorXd::Zero(n);
+  at.g = Eigen::VectorXd::Zero(n);
+  at.cost = at.residual.squaredNorm() / variance;
+  c->residuals.resize(m);
+
+  // A point that has taken part in fewer than kEstablishedUpdates updates knows its depth only
+  // from the prior, and its measurement ties that depth to the camera's motion since the point entered:
+  // a product the linearisation at the prior misses, so the first Gauss-Newton steps overshoot
+  // and drag the pose along (predicted pixels moving tens of pixels between iterates). The first
+  // linearisation point is therefore the update by the established points alone (the new
+  // points' rows of H zero), which places the pose; the iterations then start from there.
+  std::vector<int> new_points;
+  for (int k = 0; k < m; ++k)
+    if (slot_updates_[meas[k].slot] < kEstablishedUpdates) new_points.push_back(k);
+  const int linearisations = std::max(1, settings_.update_iterations);
+  bool warm_step =
+      !new_points.empty() && static_cast<int>(new_points.size()) < m && linearisations > 2;
+  if (warm_step)
+    for (int k : new_points) {
+      at.H_pose.middleRows<2>(2 * k).setZero();
+      at.H_point[k].setZero();
+    }
+
+  // P H^T and S's factor are built in the candidate: every step is taken (the warm start's is
+  // overwritten by the next linearisation).
   Eigen::MatrixXd& PHt = c->PHt;
   Eigen::MatrixXd& S = c->S_factor;
   PHt.resize(n, 2 * m);
   S.resize(2 * m, 2 * m);
+  Eigen::MatrixXd HPHt;
   const double settled_px = 0.03 * settings_.pixel_sigma;
-  const int linearisations = std::max(1, settings_.update_iterations);
-
-  for (int iteration = 0;; ++iteration) {
-    // P H^T and S = H P H^T + R from the blocks of H; the Cholesky factorisation reads S's
-    // lower triangle only.
-    multiply(P_.leftCols<6>(), false, H_pose, true, PHt);
+  // Levenberg's damping in the prior's metric, mu |x - x_i|^2_P^-1 added to the posterior cost:
+  // the step is the iterated EKF's with P / (1 + mu) and the offset x_i - x_prior shrunk by
+  // 1 / (1 + mu). mu starts at 0 (the plain iterated EKF) and follows Marquardt's rule on the
+  // ratio of the actual to the linear model's decrease of the posterior cost. Unlike
+  // Levenberg-Marquardt, a step that raises the cost is still taken (and the next one damped):
+  // early in a sequence, where the scale is barely known, the translation and the depths
+  // oscillate along a curved valley, and refusing such steps crawls along it instead.
+  double mu = 0;
+  bool damped = false;  // whether the candidate came from a damped step
+  for (int linearisation = 0;; ++linearisation) {
+    const double shrink = 1 / (1 + mu);
+    // P H^T and S = H P H^T / (1 + mu) + R from the blocks of H; the Cholesky factorisation
+    // reads S's lower triangle only.
+    multiply(P_.leftCols<6>(), false, at.H_pose, true, PHt);
     for (int k = 0; k < m; ++k)
       PHt.middleCols<2>(2 * k).noalias() +=
-          P_.middleCols<3>(6 + 3 * meas[k].slot) * H_point[k].transpose();
-    multiply(H_pose, false, PHt.topRows<6>(), false, S);
+          P_.middleCols<3>(6 + 3 * meas[k].slot) * at.H_point[k].transpose();
+    multiply(at.H_pose, false, PHt.topRows<6>(), false, S);
     for (int k = 0; k < m; ++k)
       S.block(2 * k, 0, 2, 2 * k + 2).noalias() +=
-          H_point[k] * PHt.block(6 + 3 * meas[k].slot, 0, 3, 2 * k + 2);
+          at.H_point[k] * PHt.block(6 + 3 * meas[k].slot, 0, 3, 2 * k + 2);
+    if (mu > 0) {
+      HPHt = S;  // for the undamped factor the covariance needs
+      S *= shrink;
+    }
     S.diagonal().array() += variance;
     if (!cholesky_lower_in_place(&S)) {
-      c->PHt.resize(0, 0);
+      // P is not positive definite: no update.
+      c->R = R_;
+      c->t = t_;
+      c->points = points_;
+      PHt.resize(0, 0);
       return;
     }
-    Eigen::VectorXd weighted = S.triangularView<Eigen::Lower>().solve(innovation);
+    Eigen::VectorXd weighted = at.innovation - (1 - shrink) * at.H_offset;
+    S.triangularView<Eigen::Lower>().solveInPlace(weighted);
     S.triangularView<Eigen::Lower>().adjoint().solveInPlace(weighted);
-    const Eigen::VectorXd correction = PHt * weighted;
-    c->R = so3::exp(correction.head<3>()) * R_;
-    c->t = t_ + correction.segment<3>(3);
-    X = points_ + correction.tail(n - 6);
+    next.offset.noalias() = PHt * weighted;
+    next.g = mu * at.g;
+    next.g.head<6>().noalias() += at.H_pose.transpose() * weighted;
+    for (int k = 0; k < m; ++k)
+      next.g.segment<3>(6 + 3 * meas[k].slot).noalias() +=
+          at.H_point[k].transpose() * weighted.segment<2>(2 * k);
+    next.offset = shrink * (next.offset + mu * at.offset);
+    next.g *= shrink;
+    // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
+    // model's residual r - H d is variance times the weighted innovation.
+    const double prior_cost = next.g.dot(next.offset);
+    const double model_cost = variance * weighted.squaredNorm() + prior_cost;
+    const Eigen::Matrix3d R = so3::exp(next.offset.head<3>()) * R_;
+    const Eigen::Vector3d t = t_ + next.offset.segment<3>(3);
+    Eigen::VectorXd X = points_ + next.offset.tail(n - 6);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
     for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
+    next.offset.tail(n - 6) = X - points_;
 
     // Project the new iterate (its pixels are the outlier test's residuals). Settled when its
     // predicted pixels moved by less than 3 % of the pixel noise: linearising there again would
     // change nothing measurable, and P H^T and S stay this linearisation's, which the iterate
     // came from.
-    const bool may_relinearise = iteration + 1 < linearisations;
-    Eigen::Matrix<double, 6, 1> prior_offset;
-    prior_offset << so3::log(R_ * c->R.transpose()), t_ - c->t;
-    bool settled = true;
+    const bool may_relinearise = linearisation + 1 < linearisations;
+    const Eigen::Matrix3d chart = so3::left_jacobian(next.offset.head<3>());
+    bool settled = true, projected = true;
+    double linearisation_error = 0;  // largest |h(x_{i+1}) - h(x_i) - H_i (x_{i+1} - x_i)|
+    next.cost = prior_cost;
     for (int k = 0; k < m; ++k) {
       const int s = meas[k].slot;
-      Linearisation at;
-      if (!linearise(s, c->R, c->t, X.segment<3>(3 * s), may_relinearise, &at)) {
-        // Off the mirror here: its previous linearisation stays, and it fails the outlier test
-        // unless a later iterate brings it back.
-        c->residuals[k] = INFINITY;
+      Linearisation lin;
+      if (!linearise(s, R, t, X.segment<3>(3 * s), may_relinearise, &lin)) {
+        // Off the mirror here: its previous linearisation stays (the prior's, if that one was
+        // the established points' only), and it fails the outlier test unless a later iterate
+        // brings it back.
+        const bool stale_prior = warm_step && at.H_point[k].isZero();
+        next.H_pose.middleRows<2>(2 * k) =
+            stale_prior ? meas[k].at_prior.pose : at.H_pose.middleRows<2>(2 * k);
+        next.H_point[k] = stale_prior ? meas[k].at_prior.point : at.H_point[k];
+        next.pixels.segment<2>(2 * k) = at.pixels.segment<2>(2 * k);
+        next.residual.segment<2>(2 * k).setConstant(INFINITY);
+        next.innovation.segment<2>(2 * k) =
+            stale_prior ? (meas[k].pixel - meas[k].at_prior.pixel).eval()
+                        : at.innovation.segment<2>(2 * k);
+        next.H_offset.segment<2>(2 * k) =
+            stale_prior ? Eigen::Vector2d::Zero().eval() : at.H_offset.segment<2>(2 * k).eval();
+        projected = false;
         continue;
       }
-      c->residuals[k] = (at.pixel - meas[k].pixel).norm();
-      if ((at.pixel - predicted.segment<2>(2 * k)).cwiseAbs().maxCoeff() >= settled_px)
+      if ((lin.pixel - at.pixels.segment<2>(2 * k)).cwiseAbs().maxCoeff() >= settled_px)
         settled = false;
+      const Eigen::Vector2d linear_pixel =
+          at.pixels.segment<2>(2 * k) +
+          at.H_pose.middleRows<2>(2 * k) * (next.offset.head<6>() - at.offset.head<6>()) +
+          at.H_point[k] * (next.offset.segment<3>(6 + 3 * s) - at.offset.segment<3>(6 + 3 * s));
+      linearisation_error =
+          std::max(linearisation_error, (lin.pixel - linear_pixel).cwiseAbs().maxCoeff());
+      next.pixels.segment<2>(2 * k) = lin.pixel;
+      next.residual.segment<2>(2 * k) = meas[k].pixel - lin.pixel;
+      next.cost += next.residual.segment<2>(2 * k).squaredNorm() / variance;
       if (!may_relinearise) continue;
-      H_pose.middleRows<2>(2 * k) = at.pose;
-      H_point[k] = at.point;
-      predicted.segment<2>(2 * k) = at.pixel;
-      innovation.segment<2>(2 * k) = meas[k].pixel - at.pixel - at.pose * prior_offset -
-                                     at.point * (points_.segment<3>(3 * s) - X.segment<3>(3 * s));
+      next.H_pose.block<2, 3>(2 * k, 0) = lin.pose.leftCols<3>() * chart;
+      next.H_pose.block<2, 3>(2 * k, 3) = lin.pose.rightCols<3>();
+      next.H_point[k] = lin.point;
+      next.H_offset.segment<2>(2 * k) = next.H_pose.middleRows<2>(2 * k) * next.offset.head<6>() +
+                                        lin.point * next.offset.segment<3>(6 + 3 * s);
+      next.innovation.segment<2>(2 * k) =
+          next.residual.segment<2>(2 * k) + next.H_offset.segment<2>(2 * k);
     }
-    if (settled || !may_relinearise) return;
+    if (!projected) next.cost = INFINITY;
+    const double gain = (at.cost - next.cost) / std::max(at.cost - model_cost, 1e-12);
+    std::swap(at, next);
+    if (warm_step) {
+      // Only a linearisation point (its H is not the measurements'): no candidate yet.
+      warm_step = false;
+      continue;
+    }
+    c->R = R;
+    c->t = t;
+    c->points.swap(X);
+    for (int k = 0; k < m; ++k) c->residuals[k] = at.residual.segment<2>(2 * k).norm();
+    damped = mu > 0;
+    if (!may_relinearise || (settled && !damped)) break;
+    if (!damped && projected && linearisation_error < settled_px) break;
+    if (gain > 0.75)
+      mu = mu < 0.25 ? 0 : mu / 4;
+    else if (!(gain >= 0.25))
+      mu = mu == 0 ? 1 : 2 * mu;
+  }
+  // The covariance downdate uses the linearisation the candidate came from, undamped.
+  if (damped) {
+    S = HPHt;
+    S.diagonal().array() += variance;
+    if (!cholesky_lower_in_place(&S)) PHt.resize(0, 0);
   }
 }
 
@@ -218,7 +326,7 @@ void OnlineFilter::accept(Candidate* c) {
   R_ = c->R;
   t_ = c->t;
   points_.swap(c->points);
-  downdate_covariance(&P_, &c->PHt, c->S_factor);
+  if (c->PHt.size() > 0) downdate_covariance(&P_, &c->PHt, c->S_factor);
 }
 
 bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& observations) {
@@ -294,6 +402,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
       continue;
     }
     accept(&candidate);
+    for (const auto& m : measurements) ++slot_updates_[m.slot];
     updated = true;
     break;
   }

@@ -9,10 +9,11 @@
 // that prediction and adds its covariance. A new track's point starts on a sphere around the camera along its
 // ray: very uncertain along the ray, certain across it. Points are held in inverse depth about
 // their first ray (two angles across it, one inverse distance along it), where a depth that is
-// barely known stays well approximated by a Gaussian and never crosses behind the camera. The measurement update uses the
-// noncentral projection's analytic Jacobians; afterwards, if the largest residual exceeds the
-// outlier threshold, that track is discarded and the update re-run from the propagated estimate,
-// until none does. A track that is not observed in a frame has ended and leaves the state, so the
+// barely known stays well approximated by a Gaussian and never crosses behind the camera. The
+// measurement update uses the noncentral projection's analytic Jacobians, iterated (a damped
+// Gauss-Newton on the posterior cost, started from the established points' update when new
+// points are measured); afterwards, if the largest residual exceeds the outlier threshold, that
+// track is discarded and the update re-run from the propagated estimate, until none does. A track that is not observed in a frame has ended and leaves the state, so the
 // per-frame cost stays bounded however long the sequence.
 
 #include <Eigen/Geometry>
@@ -34,9 +35,11 @@ struct FilterSettings {
   // Mahalanobis distance of its predicted covariance: a track that slides to a nearby feature
   // jumps by a few pixels, which the update alone can absorb. 0 turns the gate off.
   double innovation_gate_chi2 = 0.0;
-  // 1: the classic EKF; more: the iterated EKF, at most this many times, stopping once an
-  // iterate's predicted pixels move by less than 3 % of pixel_sigma. New points' depths make
-  // the first updates strongly nonlinear.
+  // 1: the classic EKF; more: the iterated EKF, at most this many linearisations, stopping once
+  // an iterate's predicted pixels move, or differ from the last linearisation's prediction, by
+  // less than 3 % of pixel_sigma. New points' depths make the first updates strongly nonlinear:
+  // with more than 2, frames with new points start from the established points' update, and
+  // steps are damped when the posterior cost falls short of the linear model's prediction.
   int update_iterations = 8;
 };
 
@@ -100,6 +103,21 @@ class OnlineFilter {
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
     Eigen::MatrixXd S_factor;       // the innovation covariance's Cholesky factor (lower)
   };
+  // An iterate of the update, x_i. Offsets x - x_prior hold the rotation in the prior's chart,
+  // R = exp(theta) R_prior, so H's rotation columns are the left perturbation's times the chart's
+  // Jacobian. H is sparse: each measurement's two rows touch the pose and its own point only;
+  // the pose columns of all rows are kept together, for one product with P's pose columns.
+  struct Iterate {
+    Eigen::Matrix<double, Eigen::Dynamic, 6> H_pose;
+    std::vector<Eigen::Matrix<double, 2, 3>> H_point;
+    // Per measurement, from the last iterate where it projected: h(x_i), z - h(x_i) (infinite
+    // where it did not project here), H_i (x_i - x_prior) and the innovation
+    // z - h(x_i) + H_i (x_i - x_prior).
+    Eigen::VectorXd pixels, residual, H_offset, innovation;
+    Eigen::VectorXd offset;  // x_i - x_prior = P g
+    Eigen::VectorXd g;
+    double cost = 0;         // the posterior cost at x_i (infinite where a point did not project)
+  };
   // Both process_frame overloads: propagated by `motion` when given, else by the random walk.
   bool process(int frame, const std::vector<TrackPixel>& observations,
                const MotionPrediction* motion);
@@ -132,6 +150,7 @@ class OnlineFilter {
   Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
   Eigen::VectorXd points_;     // 3 per slot: angles across the first ray, inverse depth
   std::vector<Anchor> anchors_;  // per slot
+  std::vector<int> slot_updates_;  // per slot: the updates its point has taken part in
   Eigen::MatrixXd P_;          // 6 + 3 * slots
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;
