@@ -62,7 +62,6 @@ void OnlineFilter::remove_slot(int slot) {
     const int from = 6 + 3 * last, to = 6 + 3 * slot;
     points_.segment<3>(3 * slot) = points_.segment<3>(3 * last);
     anchors_[slot] = anchors_[last];
-    slot_updates_[slot] = slot_updates_[last];
     P_.middleCols<3>(to) = P_.middleCols<3>(from);
     P_.middleRows<3>(to) = P_.middleRows<3>(from);
     slot_track_[slot] = slot_track_[last];
@@ -70,7 +69,6 @@ void OnlineFilter::remove_slot(int slot) {
   }
   slot_track_.pop_back();
   anchors_.pop_back();
-  slot_updates_.pop_back();
   points_.conservativeResize(3 * last);
   P_.conservativeResize(n, n);
 }
@@ -92,7 +90,6 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   anchor.basis.col(2) = d_W.cross(anchor.basis.col(1));
   const int slot = static_cast<int>(slot_track_.size());
   anchors_.push_back(anchor);
-  slot_updates_.push_back(0);
   slot_track_.push_back(track);
   track_slot_[track] = slot;
   const Eigen::Vector3d params(0, 0, 1 / settings_.initial_depth);
@@ -170,7 +167,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   // points' rows of H zero), which places the pose; the iterations then start from there.
   std::vector<int> new_points;
   for (int k = 0; k < m; ++k)
-    if (slot_updates_[meas[k].slot] < kEstablishedUpdates) new_points.push_back(k);
+    if (anchors_[meas[k].slot].updates < kEstablishedUpdates) new_points.push_back(k);
   const int linearisations = std::max(1, settings_.update_iterations);
   bool warm_step =
       !new_points.empty() && static_cast<int>(new_points.size()) < m && linearisations > 2;
@@ -402,7 +399,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
       continue;
     }
     accept(&candidate);
-    for (const auto& m : measurements) ++slot_updates_[m.slot];
+    for (const auto& m : measurements) ++anchors_[m.slot].updates;
     updated = true;
     break;
   }

@@ -85,7 +85,9 @@ class ReplayPass {
       feature_times_.push_back(mrpt::Clock::toDouble(features->timestamp));
       append_tracked_features(*features, frame, &features_);
       note_camera(features->sensorPose, features->model);
-      tracker_.reset();  // with kAuto, the images tracked so far are not the vision
+      // With kAuto, the images tracked so far are not the vision.
+      tracker_.reset();
+      image_times_.clear();
       return;
     }
     const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation);

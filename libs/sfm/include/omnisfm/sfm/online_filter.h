@@ -141,6 +141,7 @@ class OnlineFilter {
   struct Anchor {
     Eigen::Vector3d origin;
     Eigen::Matrix3d basis;
+    int updates = 0;  // accepted updates the point has taken part in
   };
 
   camera::CatadioptricCamera camera_;
@@ -150,7 +151,6 @@ class OnlineFilter {
   Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
   Eigen::VectorXd points_;     // 3 per slot: angles across the first ray, inverse depth
   std::vector<Anchor> anchors_;  // per slot
-  std::vector<int> slot_updates_;  // per slot: the updates its point has taken part in
   Eigen::MatrixXd P_;          // 6 + 3 * slots
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;
