@@ -11,15 +11,16 @@
 namespace omnisfm::sfm {
 namespace {
 
-// One kilometre: far enough to stand for infinity in any scene the rig maps.
-constexpr double kMinInverseDepth = 1e-3;
 // Updates after which a point's depth counts as established (see update()).
 constexpr int kEstablishedUpdates = 2;
 
 }  // namespace
 
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
-    : camera_(camera), settings_(settings), P_(Eigen::MatrixXd::Zero(6, 6)) {}
+    : camera_(camera),
+      settings_(settings),
+      P_(Eigen::MatrixXd::Zero(6, 6)),
+      smoothing_start_(settings.smoothed_start_frames > 0) {}
 
 Eigen::Isometry3d OnlineFilter::cam_from_world() const {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -31,13 +32,12 @@ Eigen::Isometry3d OnlineFilter::cam_from_world() const {
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   std::map<int, Eigen::Vector3d> all = ended_points_;
   for (size_t s = 0; s < slot_track_.size(); ++s)
-    all[slot_track_[s]] = world_point(static_cast<int>(s), points_.segment<3>(3 * s));
+    all[slot_track_[s]] = world_point(anchors_[s], points_.segment<3>(3 * s));
   return all;
 }
 
-Eigen::Vector3d OnlineFilter::world_point(int slot, const Eigen::Vector3d& params,
-                                          Eigen::Matrix3d* J_params) const {
-  const Anchor& a = anchors_[slot];
+Eigen::Vector3d OnlineFilter::world_point(const Anchor& a, const Eigen::Vector3d& params,
+                                          Eigen::Matrix3d* J_params) {
   const Eigen::Vector3d u = a.basis.col(0) + params.x() * a.basis.col(1) + params.y() * a.basis.col(2);
   const double norm = u.norm();
   const Eigen::Vector3d direction = u / norm;
@@ -90,6 +90,7 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   anchor.basis.col(2) = d_W.cross(anchor.basis.col(1));
   const int slot = static_cast<int>(slot_track_.size());
   anchors_.push_back(anchor);
+  if (smoothing_start_) start_anchors_[track] = anchor;
   slot_track_.push_back(track);
   track_slot_[track] = slot;
   const Eigen::Vector3d params(0, 0, 1 / settings_.initial_depth);
@@ -97,7 +98,7 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   // The point hangs on the current pose: X_W = R^T (X_C - t), with R = exp(dtheta) R, moved into
   // the point's parameters through the inverse of their Jacobian.
   Eigen::Matrix3d J_X_params;
-  const Eigen::Vector3d X_W = world_point(slot, params, &J_X_params);
+  const Eigen::Vector3d X_W = world_point(anchor, params, &J_X_params);
   const Eigen::Vector3d X_C = R_ * X_W + t_;
   Eigen::Matrix<double, 3, 6> J_pose;
   J_pose << R_.transpose() * so3::skew(X_C - t_), -R_.transpose();
@@ -116,12 +117,13 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   points_.segment<3>(3 * slot) = params;
 }
 
-bool OnlineFilter::linearise(int slot, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
-                             const Eigen::Vector3d& params, bool jacobians,
-                             Linearisation* out) const {
+bool OnlineFilter::linearise(const Anchor& anchor, const Eigen::Matrix3d& R,
+                             const Eigen::Vector3d& t, const Eigen::Vector3d& params,
+                             bool jacobians, Linearisation* out) const {
   if (!(params.z() > 0)) return false;
   Eigen::Matrix3d J_world_params;
-  const Eigen::Vector3d RX = R * world_point(slot, params, jacobians ? &J_world_params : nullptr);
+  const Eigen::Vector3d RX =
+      R * world_point(anchor, params, jacobians ? &J_world_params : nullptr);
   Eigen::Matrix<double, 2, 3> J_X;
   if (!camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr)) return false;
   if (jacobians) {
@@ -253,7 +255,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     for (int k = 0; k < m; ++k) {
       const int s = meas[k].slot;
       Linearisation lin;
-      if (!linearise(s, R, t, X.segment<3>(3 * s), may_relinearise, &lin)) {
+      if (!linearise(anchors_[s], R, t, X.segment<3>(3 * s), may_relinearise, &lin)) {
         // Off the mirror here: its previous linearisation stays (the prior's, if that one was
         // the established points' only), and it fails the outlier test unless a later iterate
         // brings it back.
@@ -339,13 +341,14 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   if (!started_) {
     started_ = true;
     for (const auto& [track, pixel] : seen) add_point(track, pixel);
+    record_start_frame(frame, observations, nullptr);
     return true;
   }
 
   // Tracks not seen in this frame have ended: their points leave the state.
   for (int s = static_cast<int>(slot_track_.size()) - 1; s >= 0; --s)
     if (!seen.count(slot_track_[s])) {
-      ended_points_[slot_track_[s]] = world_point(s, points_.segment<3>(3 * s));
+      ended_points_[slot_track_[s]] = world_point(anchors_[s], points_.segment<3>(3 * s));
       track_slot_.erase(slot_track_[s]);
       remove_slot(s);
     }
@@ -360,7 +363,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     const auto slot = track_slot_.find(track);
     if (slot == track_slot_.end()) continue;
     Measurement measurement{slot->second, pixel, {}};
-    if (linearise(slot->second, R_, t_, points_.segment<3>(3 * slot->second), true,
+    if (linearise(anchors_[slot->second], R_, t_, points_.segment<3>(3 * slot->second), true,
                   &measurement.at_prior))
       measurements.push_back(measurement);
   }
@@ -414,7 +417,23 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
 
   for (const auto& [track, pixel] : seen)
     if (!track_slot_.count(track) && !excluded_.count(track)) add_point(track, pixel);
+  record_start_frame(frame, observations, motion);
   return updated;
+}
+
+void OnlineFilter::record_start_frame(int frame, const std::vector<TrackPixel>& observations,
+                                      const MotionPrediction* motion) {
+  if (!smoothing_start_) return;
+  StartFrame f;
+  f.frame = frame;
+  f.R = R_;
+  f.t = t_;
+  f.random_walk = motion == nullptr;
+  if (motion) f.motion = *motion;
+  for (const auto& o : observations)
+    if (track_slot_.count(o.track)) f.observations.push_back(o);
+  start_frames_.push_back(std::move(f));
+  if (static_cast<int>(start_frames_.size()) >= settings_.smoothed_start_frames) smooth_start();
 }
 
 }  // namespace omnisfm::sfm

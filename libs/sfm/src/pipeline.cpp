@@ -46,6 +46,7 @@ void run_filter(const camera::CatadioptricCamera& camera,
   }
   result->online_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  for (const auto& [frame, T] : filter.smoothed_start()) result->online_cam_from_world[frame] = T;
   result->online_points = filter.points();
   result->outliers = filter.rejected();
 }

@@ -31,6 +31,9 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   f.innovation_gate_chi2 = s.get_positive("innovation_gate_chi2", f.innovation_gate_chi2, true);
   f.update_iterations =
       static_cast<int>(s.get_positive("update_iterations", f.update_iterations));
+  f.smoothed_start_frames = static_cast<int>(
+      s.get_positive("smoothed_start_frames", f.smoothed_start_frames, true));
+  if (f.smoothed_start_frames == 1) s.fail("smoothed_start_frames", "must be 0 (off) or at least 2");
   settings.run_batch = flag(s, "batch", settings.run_batch);
   settings.batch_outlier_threshold_px =
       s.get_positive("batch_outlier_threshold_px", settings.batch_outlier_threshold_px, true);

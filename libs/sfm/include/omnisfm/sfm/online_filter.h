@@ -13,8 +13,16 @@
 // measurement update uses the noncentral projection's analytic Jacobians, iterated (a damped
 // Gauss-Newton on the posterior cost, started from the established points' update when new
 // points are measured); afterwards, if the largest residual exceeds the outlier threshold, that
-// track is discarded and the update re-run from the propagated estimate, until none does. A track that is not observed in a frame has ended and leaves the state, so the
-// per-frame cost stays bounded however long the sequence.
+// track is discarded and the update re-run from the propagated estimate, until none does. A track
+// that is not observed in a frame has ended and leaves the state, so the per-frame cost stays
+// bounded however long the sequence.
+//
+// The smoothed start: while every depth is still the initialisation's guess, each update
+// linearises far from the truth, and an EKF keeps those errors (the first frames' poses and the
+// points' covariances). After the first smoothed_start_frames frames, the filter solves its own
+// model over them exactly (Gauss-Newton over all their poses and points: the measurements, the
+// depth priors and the motion priors) and restarts from that solution, its covariance the
+// information's inverse marginalised onto the current pose and the live points.
 
 #include <Eigen/Geometry>
 #include <map>
@@ -41,6 +49,8 @@ struct FilterSettings {
   // with more than 2, frames with new points start from the established points' update, and
   // steps are damped when the posterior cost falls short of the linear model's prediction.
   int update_iterations = 8;
+  // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
+  int smoothed_start_frames = 20;
 };
 
 // The camera's motion since the previous frame as the vehicle's sensors predict it:
@@ -79,6 +89,9 @@ class OnlineFilter {
   // The latest estimate of every point the filter has carried (live or ended), outliers excluded.
   std::map<int, Eigen::Vector3d> points() const;
   const std::vector<RejectedTrack>& rejected() const { return rejected_; }
+  // The poses of the first frames as the smoothed start revised them (frame -> cam_from_world);
+  // empty until it has run.
+  const std::map<int, Eigen::Isometry3d>& smoothed_start() const { return smoothed_start_; }
   int num_live_points() const { return static_cast<int>(slot_track_.size()); }
 
  private:
@@ -128,13 +141,9 @@ class OnlineFilter {
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
   void accept(Candidate* candidate);
   void add_point(int track, const Eigen::Vector2d& pixel);
-  // The slot's pixel at the state (R, t, params), with its Jacobians when asked. False where the
-  // point does not project.
-  bool linearise(int slot, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
-                 const Eigen::Vector3d& params, bool jacobians, Linearisation* out) const;
-  // The world point of a slot's parameters, and its derivative with respect to them.
-  Eigen::Vector3d world_point(int slot, const Eigen::Vector3d& params,
-                              Eigen::Matrix3d* J_params = nullptr) const;
+
+  // One kilometre: far enough to stand for infinity in any scene the rig maps.
+  static constexpr double kMinInverseDepth = 1e-3;
 
   // A point's fixed reference: where its first ray started, and a basis whose first column is
   // that ray's direction (world frame).
@@ -143,6 +152,29 @@ class OnlineFilter {
     Eigen::Matrix3d basis;
     int updates = 0;  // accepted updates the point has taken part in
   };
+  // The pixel of the point (anchor, params) from the pose (R, t), with its Jacobians when asked.
+  // False where the point does not project.
+  bool linearise(const Anchor& anchor, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                 const Eigen::Vector3d& params, bool jacobians, Linearisation* out) const;
+  // The world point of an anchor's parameters, and its derivative with respect to them.
+  static Eigen::Vector3d world_point(const Anchor& anchor, const Eigen::Vector3d& params,
+                                     Eigen::Matrix3d* J_params = nullptr);
+
+  // What the smoothed start needs of the frames so far: per frame, the pose's estimate, the
+  // motion prior into it (none for the first) and the observations of tracks in the state; per
+  // track, its anchor.
+  struct StartFrame {
+    int frame = 0;
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    bool random_walk = true;  // else `motion`
+    MotionPrediction motion;
+    std::vector<TrackPixel> observations;
+  };
+  void record_start_frame(int frame, const std::vector<TrackPixel>& observations,
+                          const MotionPrediction* motion);
+  // online_filter_smoothed_start.cpp
+  void smooth_start();
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
@@ -157,6 +189,11 @@ class OnlineFilter {
   std::map<int, Eigen::Vector3d> ended_points_;
   std::map<int, bool> excluded_;  // rejected tracks, ignored from then on
   std::vector<RejectedTrack> rejected_;
+  bool smoothing_start_ = false;           // until the smoothed start has run
+  std::vector<StartFrame> start_frames_;
+
+  std::map<int, Anchor> start_anchors_;
+  std::map<int, Eigen::Isometry3d> smoothed_start_;
 };
 
 }  // namespace omnisfm::sfm

@@ -1,0 +1,254 @@
+// The filter's smoothed start (online_filter.h): its own model over the first frames solved by
+// Levenberg-Marquardt, and the filter restarted from the solution.
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "motion_prior_residual.h"
+#include "omnisfm/sfm/online_filter.h"
+#include "so3.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+constexpr int kMaxIterations = 50;
+// A step that lowers chi-square by less than this moves the estimate by a small fraction of its
+// standard deviation (as the batch's stopping rule).
+constexpr double kChiSquareTolerance = 0.01;
+// Variances below this (a walk sigma of 0: the pose cannot move) are held at it, so that the
+// normal equations stay factorable.
+constexpr double kMinVariance = 1e-12;
+
+// A point's parameters about its anchor from its world point: the inverse of world_point().
+Eigen::Vector3d anchor_params(const Eigen::Vector3d& origin, const Eigen::Matrix3d& basis,
+                              const Eigen::Vector3d& X) {
+  const Eigen::Vector3d ray = X - origin;
+  const double along = basis.col(0).dot(ray);
+  return {basis.col(1).dot(ray) / along, basis.col(2).dot(ray) / along,
+          1 / (ray.norm())};
+}
+
+}  // namespace
+
+void OnlineFilter::smooth_start() {
+  smoothing_start_ = false;
+  std::vector<StartFrame> frames;
+  frames.swap(start_frames_);
+  std::map<int, Anchor> anchors;
+  anchors.swap(start_anchors_);
+  const int num_frames = static_cast<int>(frames.size());
+  if (num_frames < 2) return;
+
+  // Every point of the window at the filter's estimate.
+  std::map<int, Eigen::Vector3d> params;
+  for (const auto& f : frames)
+    for (const auto& o : f.observations) {
+      if (params.count(o.track) || !anchors.count(o.track)) continue;
+      const auto slot = track_slot_.find(o.track);
+      const auto ended = ended_points_.find(o.track);
+      if (slot != track_slot_.end())
+        params[o.track] = points_.segment<3>(3 * slot->second);
+      else if (ended != ended_points_.end())
+        params[o.track] = anchor_params(anchors[o.track].origin, anchors[o.track].basis,
+                                        ended->second);
+    }
+  std::vector<Eigen::Matrix3d> R(num_frames);
+  std::vector<Eigen::Vector3d> t(num_frames);
+  for (int i = 0; i < num_frames; ++i) {
+    R[i] = frames[i].R;
+    t[i] = frames[i].t;
+  }
+  std::vector<Eigen::Matrix<double, 6, 6>> motion_weight(num_frames);
+  for (int i = 1; i < num_frames; ++i) {
+    Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+    if (frames[i].random_walk) {
+      covariance.diagonal().head<3>().setConstant(std::pow(settings_.rotation_walk_sigma, 2));
+      covariance.diagonal().tail<3>().setConstant(std::pow(settings_.translation_walk_sigma, 2));
+    } else {
+      covariance = frames[i].motion.covariance;
+    }
+    covariance.diagonal() = covariance.diagonal().cwiseMax(kMinVariance);
+    motion_weight[i] = covariance.inverse();
+  }
+  const double pixel_weight = 1 / (settings_.pixel_sigma * settings_.pixel_sigma);
+  const double depth_weight = 1 / (settings_.inverse_depth_sigma * settings_.inverse_depth_sigma);
+  const double prior_depth = 1 / settings_.initial_depth;
+  // Vision alone fixes the scale only weakly (through the mirror's size), and the posterior's
+  // scale moves as frames come: a scale the start changed would stretch the trajectory between
+  // what it outputs and what the filter outputs after. So the filter's scale is kept - the
+  // farthest camera of the window stays as far from the first - unless the vehicle's motion
+  // sensors measured the motion, which fixes the scale on its own.
+  bool motion_measured = false;
+  for (int i = 1; i < num_frames; ++i) motion_measured = motion_measured || !frames[i].random_walk;
+  int far = 1;
+  for (int i = 1; i < num_frames; ++i)
+    if (t[i].norm() > t[far].norm()) far = i;
+  const double far_distance = motion_measured ? 0 : t[far].norm();
+  const double scale_weight = 1 / std::pow(1e-4 * far_distance + 1e-12, 2);
+
+  // Unknowns: the poses of frames 1.. (the first fixes the gauge), then the points.
+  std::map<int, int> index;
+  const int pose_columns = 6 * (num_frames - 1);
+  auto pose_column = [&](int i) { return 6 * (i - 1); };
+  auto point_column = [&](int track) { return pose_columns + 3 * index.at(track); };
+
+  // chi-square at (R, t, params), and with `A` the normal equations' matrix and gradient there.
+  // Infinite where a point does not project.
+  struct Worst {
+    double pixels = 0;
+    int track = -1, frame = 0;
+  };
+  auto evaluate = [&](const std::vector<Eigen::Matrix3d>& Rs, const std::vector<Eigen::Vector3d>& ts,
+                      const std::map<int, Eigen::Vector3d>& x, Eigen::MatrixXd* A,
+                      Eigen::VectorXd* g, Worst* worst) -> double {
+    double cost = 0;
+    for (int i = 0; i < num_frames; ++i)
+      for (const auto& o : frames[i].observations) {
+        if (!index.count(o.track)) continue;
+        Linearisation lin;
+        if (!linearise(anchors.at(o.track), Rs[i], ts[i], x.at(o.track), A != nullptr, &lin))
+          return INFINITY;
+        const Eigen::Vector2d f = lin.pixel - o.pixel;
+        cost += pixel_weight * f.squaredNorm();
+        if (worst && f.norm() > worst->pixels) *worst = {f.norm(), o.track, frames[i].frame};
+        if (!A) continue;
+        const int c = point_column(o.track);
+        A->block<3, 3>(c, c) += pixel_weight * lin.point.transpose() * lin.point;
+        g->segment<3>(c) += pixel_weight * lin.point.transpose() * f;
+        if (i == 0) continue;
+        const int p = pose_column(i);
+        A->block<6, 6>(p, p) += pixel_weight * lin.pose.transpose() * lin.pose;
+        A->block<6, 3>(p, c) += pixel_weight * lin.pose.transpose() * lin.point;
+        A->block<3, 6>(c, p) = A->block<6, 3>(p, c).transpose();
+        g->segment<6>(p) += pixel_weight * lin.pose.transpose() * f;
+      }
+    for (int i = 1; i < num_frames; ++i) {
+      const MotionPriorResidual r = motion_prior_residual(
+          Rs[i - 1], ts[i - 1], Rs[i], ts[i], frames[i].random_walk ? nullptr : &frames[i].motion);
+      cost += r.e.dot(motion_weight[i] * r.e);
+      if (!A) continue;
+      const int p = pose_column(i);
+      A->block<6, 6>(p, p) += r.J_current.transpose() * motion_weight[i] * r.J_current;
+      g->segment<6>(p) += r.J_current.transpose() * motion_weight[i] * r.e;
+      if (i == 1) continue;
+      const int q = pose_column(i - 1);
+      A->block<6, 6>(q, q) += r.J_previous.transpose() * motion_weight[i] * r.J_previous;
+      A->block<6, 6>(q, p) += r.J_previous.transpose() * motion_weight[i] * r.J_current;
+      A->block<6, 6>(p, q) = A->block<6, 6>(q, p).transpose();
+      g->segment<6>(q) += r.J_previous.transpose() * motion_weight[i] * r.e;
+    }
+    if (far_distance > 0) {
+      const double f = ts[far].norm() - far_distance;
+      cost += scale_weight * f * f;
+      if (A) {
+        const Eigen::Vector3d J = ts[far] / ts[far].norm();
+        const int p = pose_column(far) + 3;
+        A->block<3, 3>(p, p) += scale_weight * J * J.transpose();
+        g->segment<3>(p) += scale_weight * J * f;
+      }
+    }
+    for (const auto& [track, column] : index) {
+      const double f = x.at(track).z() - prior_depth;
+      cost += depth_weight * f * f;
+      if (!A) continue;
+      (*A)(point_column(track) + 2, point_column(track) + 2) += depth_weight;
+      (*g)(point_column(track) + 2) += depth_weight * f;
+    }
+    return cost;
+  };
+
+  Eigen::MatrixXd A;
+  Eigen::VectorXd g;
+  auto normal_equations = [&]() {
+    const int n = pose_columns + 3 * static_cast<int>(index.size());
+    A = Eigen::MatrixXd::Zero(n, n);
+    g = Eigen::VectorXd::Zero(n);
+    return evaluate(R, t, params, &A, &g, nullptr);
+  };
+
+  // Levenberg-Marquardt, then the paper's rejection on the window: while the worst residual
+  // exceeds the threshold, that track goes and the rest is solved again.
+  for (;;) {
+    index.clear();
+    for (const auto& [track, x] : params)
+      if (!excluded_.count(track)) index.emplace(track, static_cast<int>(index.size()));
+    double cost = normal_equations();
+    if (!std::isfinite(cost)) return;  // the filter's own estimate does not project: keep it
+    double lambda = 1e-6;
+    for (int iteration = 0; iteration < kMaxIterations && lambda < 1e8; ++iteration) {
+      Eigen::MatrixXd damped = A;
+      damped.diagonal() *= 1 + lambda;
+      const Eigen::LLT<Eigen::MatrixXd> llt(damped);
+      if (llt.info() != Eigen::Success) {
+        lambda *= 10;
+        continue;
+      }
+      const Eigen::VectorXd step = -llt.solve(g);
+      std::vector<Eigen::Matrix3d> R_next = R;
+      std::vector<Eigen::Vector3d> t_next = t;
+      std::map<int, Eigen::Vector3d> params_next = params;
+      for (int i = 1; i < num_frames; ++i) {
+        R_next[i] = so3::exp(step.segment<3>(pose_column(i))) * R[i];
+        t_next[i] += step.segment<3>(pose_column(i) + 3);
+      }
+      for (const auto& [track, column] : index) {
+        Eigen::Vector3d& x = params_next[track];
+        x += step.segment<3>(point_column(track));
+        x.z() = std::max(x.z(), kMinInverseDepth);
+      }
+      const double next_cost = evaluate(R_next, t_next, params_next, nullptr, nullptr, nullptr);
+      if (!(next_cost < cost)) {
+        lambda *= 10;
+        continue;
+      }
+      R.swap(R_next);
+      t.swap(t_next);
+      params.swap(params_next);
+      lambda = std::max(lambda / 10, 1e-9);
+      const double decrease = cost - next_cost;
+      cost = normal_equations();
+      if (decrease < kChiSquareTolerance) break;
+    }
+    Worst worst;
+    evaluate(R, t, params, nullptr, nullptr, &worst);
+    if (!(worst.pixels > settings_.outlier_threshold_px)) break;
+    excluded_[worst.track] = true;
+    rejected_.push_back({worst.track, worst.frame});
+    const auto slot = track_slot_.find(worst.track);
+    if (slot != track_slot_.end()) {
+      const int s = slot->second;
+      track_slot_.erase(slot);
+      remove_slot(s);
+    }
+    ended_points_.erase(worst.track);
+  }
+
+  // The covariance of the last pose and the live points: those columns of A's inverse.
+  const Eigen::LLT<Eigen::MatrixXd> llt(A);
+  if (llt.info() != Eigen::Success) return;
+  const int live = static_cast<int>(slot_track_.size());
+  std::vector<int> columns;
+  for (int k = 0; k < 6; ++k) columns.push_back(pose_column(num_frames - 1) + k);
+  for (int s = 0; s < live; ++s)
+    for (int k = 0; k < 3; ++k) columns.push_back(point_column(slot_track_[s]) + k);
+  Eigen::MatrixXd selection = Eigen::MatrixXd::Zero(A.rows(), columns.size());
+  for (size_t k = 0; k < columns.size(); ++k) selection(columns[k], k) = 1;
+  const Eigen::MatrixXd inverse_columns = llt.solve(selection);
+  P_.resize(columns.size(), columns.size());
+  for (size_t k = 0; k < columns.size(); ++k) P_.row(k) = inverse_columns.row(columns[k]);
+
+  R_ = R.back();
+  t_ = t.back();
+  for (int s = 0; s < live; ++s) points_.segment<3>(3 * s) = params.at(slot_track_[s]);
+  for (const auto& [track, column] : index)
+    if (ended_points_.count(track)) ended_points_[track] = world_point(anchors.at(track), params.at(track));
+  for (int i = 0; i < num_frames; ++i) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = R[i];
+    T.translation() = t[i];
+    smoothed_start_[frames[i].frame] = T;
+  }
+}
+
+}  // namespace omnisfm::sfm
