@@ -52,23 +52,25 @@ FilterInput rover_frames(int count) {
   return input;
 }
 
-// Time per frame of the filter over frames [first, first + 20), every point in the state from
+// Time per frame of the filter over `count` frames from `first`, every point in the state from
 // frame 0, with the default settings or with `update_iterations` changed. The frames before
-// `first` run untimed.
-void filter_frames(benchmark::State& state, int update_iterations, int first) {
+// `first` run untimed. The smoothed start (after frame 19) runs only in the frames 40-59 case,
+// before the timing.
+void filter_frames(benchmark::State& state, int update_iterations, int first, int count = 20) {
   const FilterInput input = rover_frames(static_cast<int>(state.range(0)));
   sfm::FilterSettings settings;
   if (update_iterations > 0) settings.update_iterations = update_iterations;
+  if (first < settings.smoothed_start_frames) settings.smoothed_start_frames = 0;
   for (auto _ : state) {
     state.PauseTiming();
     sfm::OnlineFilter filter(input.camera, settings);
     for (int f = 0; f < first; ++f) filter.process_frame(f, input.frames[f]);
     state.ResumeTiming();
-    for (int f = first; f < first + 20; ++f) filter.process_frame(f, input.frames[f]);
+    for (int f = first; f < first + count; ++f) filter.process_frame(f, input.frames[f]);
   }
-  // Seconds per frame: 20 frames per iteration.
   state.counters["s_per_frame"] = benchmark::Counter(
-      20.0 * state.iterations(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+      count * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 // Frames 1-20: every point is new, its depth known only to the prior; the hardest updates.
@@ -79,6 +81,24 @@ BENCHMARK(BM_FilterFrame)->Arg(30)->Arg(60)->Arg(112)->Arg(200)->Unit(benchmark:
 void BM_FilterFrameSettled(benchmark::State& state) { filter_frames(state, 0, 40); }
 BENCHMARK(BM_FilterFrameSettled)->Arg(30)->Arg(60)->Arg(112)->Arg(200)
     ->Unit(benchmark::kMillisecond);
+
+// The 20th frame with the smoothed start that ends it: the update and the exact solution of the
+// first 20 frames' poses and points, once per sequence.
+void BM_FilterSmoothedStart(benchmark::State& state) {
+  const FilterInput input = rover_frames(static_cast<int>(state.range(0)));
+  sfm::FilterSettings settings;
+  for (auto _ : state) {
+    state.PauseTiming();
+    sfm::OnlineFilter filter(input.camera, settings);
+    for (int f = 0; f + 1 < settings.smoothed_start_frames; ++f)
+      filter.process_frame(f, input.frames[f]);
+    state.ResumeTiming();
+    filter.process_frame(settings.smoothed_start_frames - 1,
+                         input.frames[settings.smoothed_start_frames - 1]);
+    benchmark::DoNotOptimize(filter.smoothed_start().size());
+  }
+}
+BENCHMARK(BM_FilterSmoothedStart)->Arg(30)->Arg(112)->Unit(benchmark::kMillisecond);
 
 // The classic EKF: one linearisation per frame instead of the iterated update.
 void BM_FilterFrameOneIteration(benchmark::State& state) { filter_frames(state, 1, 1); }
