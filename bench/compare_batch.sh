@@ -20,7 +20,7 @@ for scenario in lab crane rover; do
       [ $build = after ] && program=$2
       "$program" sfm --camera "$data/camera.ini" --tracks "$data/tracks.vnl" --out "$work/out" \
         --ground-truth "$data/ground_truth.tum" >/dev/null
-      summary=$(sed -n 's/^batch: converged in \([0-9]*\) iterations.*RMS [0-9.]* -> \([0-9.]*\) px.*/\1 iterations, RMS \2 px/p' "$work/out/report.txt")
+      summary=$(sed -n 's/^batch: \(converged\|did not converge\) in \([0-9]*\) iterations.*RMS [0-9.]* -> \([0-9.]*\) px.*/\1 in \2 iterations, RMS \3 px/p' "$work/out/report.txt")
       errors=$(sed -n 's/^batch *translation [0-9.]* m mean (\([0-9.]*\)% .*rotation \([0-9.]*\) deg, yaw \([0-9.]*\) deg.*/\1 %, rotation \2 deg, yaw \3 deg/p' "$work/out/report.txt")
       outliers=$(sed -n 's/.*outlier tracks \([0-9]*\).*/\1/p' "$work/out/report.txt")
       echo "$scenario$seed $build: $summary; $errors; $outliers outlier tracks"

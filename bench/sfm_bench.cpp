@@ -52,11 +52,11 @@ FilterInput rover_frames(int count) {
   return input;
 }
 
-// Time per frame of the filter over `count` frames from `first`, every point in the state from
+// Time per frame of the filter over 20 frames from `first`, every point in the state from
 // frame 0, with the default settings or with `update_iterations` changed. The frames before
 // `first` run untimed. The smoothed start (after frame 19) runs only in the frames 40-59 case,
 // before the timing.
-void filter_frames(benchmark::State& state, int update_iterations, int first, int count = 20) {
+void filter_frames(benchmark::State& state, int update_iterations, int first) {
   const FilterInput input = rover_frames(static_cast<int>(state.range(0)));
   sfm::FilterSettings settings;
   if (update_iterations > 0) settings.update_iterations = update_iterations;
@@ -66,10 +66,10 @@ void filter_frames(benchmark::State& state, int update_iterations, int first, in
     sfm::OnlineFilter filter(input.camera, settings);
     for (int f = 0; f < first; ++f) filter.process_frame(f, input.frames[f]);
     state.ResumeTiming();
-    for (int f = first; f < first + count; ++f) filter.process_frame(f, input.frames[f]);
+    for (int f = first; f < first + 20; ++f) filter.process_frame(f, input.frames[f]);
   }
   state.counters["s_per_frame"] = benchmark::Counter(
-      count * static_cast<double>(state.iterations()),
+      20.0 * static_cast<double>(state.iterations()),
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 

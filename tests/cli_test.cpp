@@ -434,6 +434,12 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
   write("few.vnl", "# frame track u v\n0 0 500 400\n1 0 501 401\n");
   EXPECT_EQ(omnisfm("sfm --camera lab/camera.ini --tracks few.vnl --out result").status, 2);
   EXPECT_FALSE(fs::exists(dir_ / "result"));
+  write("start.ini", "[sfm]\nsmoothed_start_frames = 1\n");
+  const Outcome start = omnisfm(
+      "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result --config start.ini");
+  EXPECT_EQ(start.status, 2);
+  EXPECT_NE(start.err.find("start.ini:2:"), std::string::npos) << start.err;
+  EXPECT_FALSE(fs::exists(dir_ / "result"));
 }
 
 }  // namespace
@@ -690,6 +696,8 @@ TEST_F(CliTest, RunReplaysTheOutdoorRoverWithGps) {
   EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 7u);
   // "batch   translation 0.0005 m mean (0.013% of 3.91 m) ...": the paper's figure is 1.02 %.
   EXPECT_LT(figure_after(run.out, "batch   translation "), 0.04) << run.out;
+  // The fixes against the estimate: their own noise, sqrt(2 * 2^2 + 4^2) = 4.9 cm.
+  EXPECT_NEAR(figure_after(run.out, " fixes, RMS "), 0.049, 0.012) << run.out;
   // The scene is MRPT's gzip-compressed archive (plugin tests load it back in MRPT).
   const std::string scene = read_all(dir_ / "result/scene.3Dscene");
   ASSERT_GT(scene.size(), 2u);

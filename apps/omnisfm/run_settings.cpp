@@ -37,7 +37,7 @@ void read_run_section(const io::IniSection& s, RunSettings* settings) {
   g.noise_density = s.get_positive("gyro_noise_density", g.noise_density);
   g.bias_sigma = s.get_positive("gyro_bias_sigma", g.bias_sigma);
   g.bias_walk = s.get_positive("gyro_bias_walk", g.bias_walk);
-  r.tracker.max_tracks = static_cast<int>(s.get_positive("max_tracks", r.tracker.max_tracks));
+  r.tracker.max_tracks = s.get_positive_int("max_tracks", r.tracker.max_tracks);
   r.tracker.min_ncc = s.get_positive("min_ncc", r.tracker.min_ncc);
   if (r.tracker.min_ncc > 1) s.fail("min_ncc", "must be at most 1");
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [run]");

@@ -1,6 +1,5 @@
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <sstream>
 
 #include "geodetic_output.h"
@@ -132,11 +131,13 @@ void add_run_verb(CLI::App& app) {
     const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(
         batch_ran ? result.batch.cam_from_world : result.online_cam_from_world);
     // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
-    std::optional<GpsFit> gps_fit;
-    if (in.gps_origin && result.world_is_enu) {
-      gps_fit = gps_fit_of(trajectory, in.frame_times, in.sensors);
-      report << "GPS: the estimate is in ENU; " << gps_fit->fixes << " fixes, RMS "
-             << gps_fit->rms_m << " m against it\n";
+    const bool geodetic = in.gps_origin && result.world_is_enu;
+    if (geodetic) {
+      const sfm::GpsResiduals gps = sfm::gps_residuals(
+          batch_ran ? result.batch.cam_from_world : result.online_cam_from_world, in.frame_times,
+          in.sensors);
+      report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
+             << " m against it\n";
     }
     TruthComparison comparison;
     if (!truth.empty()) {
@@ -147,7 +148,7 @@ void add_run_verb(CLI::App& app) {
     write_folder(o->out, [&](const std::string& dir) {
       write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
       mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
-      if (gps_fit)
+      if (geodetic)
         write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times,
                                   mrpt_plugin::LocalEnuFrame(*in.gps_origin));
       write_sfm_plots(dir, *in.camera, in.tracks, result, batch_ran, comparison);

@@ -319,16 +319,11 @@ ReprojectionError reprojection_error(const CentralMrcalModel& model,
   ReprojectionError error;
   error.distance_m = distance_m;
   double sum_squares = 0;
-  const mrcal_lensmodel_t lensmodel = camera::mrcal_lensmodel_named(model.lensmodel);
   for (const PixelRay& ray : rays) {
     Eigen::Vector2d pixel;
-    // A direction (infinity) or a point, in the model's frame.
-    const Eigen::Vector3d in_model =
-        std::isinf(distance_m)
-            ? Eigen::Vector3d(model.R_model_from_C * ray.direction)
-            : Eigen::Vector3d(model.R_model_from_C * (ray.origin + distance_m * ray.direction) +
-                              model.t_model_from_C);
-    const bool projected = project_in_model_frame(lensmodel, model.intrinsics, in_model, &pixel);
+    const bool projected = std::isinf(distance_m)
+                               ? model.project_direction(ray.direction, &pixel)
+                               : model.project(ray.origin + distance_m * ray.direction, &pixel);
     if (!projected) {
       ++error.num_failed;
       continue;

@@ -1,5 +1,6 @@
 #include "omnisfm/io/ini_file.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <istream>
@@ -104,6 +105,13 @@ std::vector<double> IniSection::get_doubles(const std::string& key,
 
 double IniSection::get_positive(const std::string& key, double fallback, bool zero_ok) const {
   const double v = get_double(key, fallback);
+  if (!std::isfinite(v)) fail(key, "must be a finite number");
+  if (!(zero_ok ? v >= 0 : v > 0)) fail(key, zero_ok ? "must be >= 0" : "must be > 0");
+  return v;
+}
+
+int IniSection::get_positive_int(const std::string& key, int fallback, bool zero_ok) const {
+  const int v = has(key) ? get_int(key) : fallback;
   if (!(zero_ok ? v >= 0 : v > 0)) fail(key, zero_ok ? "must be >= 0" : "must be > 0");
   return v;
 }

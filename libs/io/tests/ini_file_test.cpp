@@ -124,6 +124,20 @@ TEST(IniFile, TypedGettersNameFileKeyAndLine) {
   EXPECT_NE(message.find("[a]"), std::string::npos) << message;
 }
 
+TEST(IniFile, PositiveGettersRefuseZeroInfinityAndFractions) {
+  const IniFile ini = parsed("[a]\nzero = 0\nfar = inf\nhalf = 2.5\ncount = 3\n");
+  const IniSection& a = ini.section("a");
+  EXPECT_NE(error_of([&] { a.get_positive("zero", 1); }).find("test.ini:2:"), std::string::npos);
+  EXPECT_EQ(a.get_positive("zero", 1, true), 0);
+  EXPECT_NE(error_of([&] { a.get_positive("far", 1); }).find("test.ini:3:"), std::string::npos);
+  EXPECT_NE(error_of([&] { a.get_positive_int("half", 1); }).find("test.ini:4:"),
+            std::string::npos);
+  EXPECT_EQ(a.get_positive_int("count", 1), 3);
+  EXPECT_EQ(a.get_positive_int("absent", 7), 7);
+  EXPECT_NE(error_of([&] { a.get_positive_int("zero", 1); }).find("test.ini:2:"),
+            std::string::npos);
+}
+
 TEST(IniFile, MissingSectionAndFileAreErrors) {
   const IniFile ini = parsed("[a]\n");
   const std::string message = error_of([&] { ini.section("b"); });

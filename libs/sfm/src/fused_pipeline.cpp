@@ -40,6 +40,17 @@ Eigen::Vector3d antenna_in_cam(const MotionSensors& sensors) {
   return sensors.body_from_cam.inverse() * sensors.antenna_in_body;
 }
 
+// The antenna's world position at a placed fix, interpolated linearly between the frames around
+// it (as the batch's GPS terms do).
+Eigen::Vector3d antenna_at(const std::vector<Eigen::Isometry3d>& cam_from_world,
+                           const FixPlacement& placed, const Eigen::Vector3d& antenna) {
+  const auto position = [&](int k) {
+    const Eigen::Isometry3d& T = cam_from_world[k];
+    return Eigen::Vector3d(T.linear().transpose() * (antenna - T.translation()));
+  };
+  return (1 - placed.alpha) * position(placed.k) + placed.alpha * position(placed.k + 1);
+}
+
 // The residuals of the vehicle's sensors for the batch; its own blocks are the odometry's scale
 // and the gyro's bias, which it re-integrates the gyro about each time it enters a problem.
 class MotionTerms : public ExtraTerms {
@@ -138,11 +149,7 @@ void move_into_enu(const MotionSensors& sensors, const std::vector<double>& time
   const Eigen::Vector3d antenna = antenna_in_cam(sensors);
   Eigen::Matrix3Xd from(3, placed.size()), to(3, placed.size());
   for (size_t i = 0; i < placed.size(); ++i) {
-    const auto position = [&](int k) {
-      const Eigen::Isometry3d& T = result->online_cam_from_world[k];
-      return Eigen::Vector3d(T.linear().transpose() * (antenna - T.translation()));
-    };
-    from.col(i) = (1 - placed[i].alpha) * position(placed[i].k) + placed[i].alpha * position(placed[i].k + 1);
+    from.col(i) = antenna_at(result->online_cam_from_world, placed[i], antenna);
     to.col(i) = placed[i].fix->enu;
   }
   if (placed.size() < 3)
@@ -211,6 +218,21 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   result.odometry_scale = terms.scale();
   result.gyro_bias = terms.bias();
   return result;
+}
+
+GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& cam_from_world,
+                          const std::vector<double>& frame_timestamps,
+                          const MotionSensors& sensors) {
+  GpsResiduals r;
+  if (frame_timestamps.size() < 2) return r;
+  const Eigen::Vector3d antenna = antenna_in_cam(sensors);
+  double sum = 0;
+  for (const auto& p : place_fixes(sensors.gps, frame_timestamps)) {
+    sum += (antenna_at(cam_from_world, p, antenna) - p.fix->enu).squaredNorm();
+    ++r.fixes;
+  }
+  if (r.fixes > 0) r.rms_m = std::sqrt(sum / r.fixes);
+  return r;
 }
 
 }  // namespace omnisfm::sfm

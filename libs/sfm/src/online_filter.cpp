@@ -56,6 +56,7 @@ void OnlineFilter::propagate() {
 }
 
 void OnlineFilter::remove_slot(int slot) {
+  track_slot_.erase(slot_track_[slot]);
   const int last = static_cast<int>(slot_track_.size()) - 1;
   const int n = 6 + 3 * last;  // size after removal
   if (slot != last) {
@@ -71,6 +72,14 @@ void OnlineFilter::remove_slot(int slot) {
   anchors_.pop_back();
   points_.conservativeResize(3 * last);
   P_.conservativeResize(n, n);
+}
+
+void OnlineFilter::reject(int track, int frame) {
+  excluded_[track] = true;
+  rejected_.push_back({track, frame});
+  const auto slot = track_slot_.find(track);
+  if (slot != track_slot_.end()) remove_slot(slot->second);
+  ended_points_.erase(track);
 }
 
 void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
@@ -349,7 +358,6 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   for (int s = static_cast<int>(slot_track_.size()) - 1; s >= 0; --s)
     if (!seen.count(slot_track_[s])) {
       ended_points_[slot_track_[s]] = world_point(anchors_[s], points_.segment<3>(3 * s));
-      track_slot_.erase(slot_track_[s]);
       remove_slot(s);
     }
 
@@ -406,14 +414,10 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     updated = true;
     break;
   }
-  // Rejected tracks leave the state for good (highest slot first: removal moves the last slot).
-  for (auto it = rejected_slots.rbegin(); it != rejected_slots.rend(); ++it) {
-    const int track = slot_track_[*it];
-    excluded_[track] = true;
-    rejected_.push_back({track, frame});
-    track_slot_.erase(track);
-    remove_slot(*it);
-  }
+  // Named by track: removing a slot moves another into its place.
+  std::vector<int> rejected_tracks;
+  for (int slot : rejected_slots) rejected_tracks.push_back(slot_track_[slot]);
+  for (int track : rejected_tracks) reject(track, frame);
 
   for (const auto& [track, pixel] : seen)
     if (!track_slot_.count(track) && !excluded_.count(track)) add_point(track, pixel);

@@ -26,7 +26,7 @@ Eigen::Vector3d anchor_params(const Eigen::Vector3d& origin, const Eigen::Matrix
   const Eigen::Vector3d ray = X - origin;
   const double along = basis.col(0).dot(ray);
   return {basis.col(1).dot(ray) / along, basis.col(2).dot(ray) / along,
-          1 / (ray.norm())};
+          1 / ray.norm()};
 }
 
 }  // namespace
@@ -213,15 +213,7 @@ void OnlineFilter::smooth_start() {
     Worst worst;
     evaluate(R, t, params, nullptr, nullptr, &worst);
     if (!(worst.pixels > settings_.outlier_threshold_px)) break;
-    excluded_[worst.track] = true;
-    rejected_.push_back({worst.track, worst.frame});
-    const auto slot = track_slot_.find(worst.track);
-    if (slot != track_slot_.end()) {
-      const int s = slot->second;
-      track_slot_.erase(slot);
-      remove_slot(s);
-    }
-    ended_points_.erase(worst.track);
+    reject(worst.track, worst.frame);
   }
 
   // The covariance of the last pose and the live points: those columns of A's inverse.

@@ -29,10 +29,9 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   f.inverse_depth_sigma = s.get_positive("inverse_depth_sigma", f.inverse_depth_sigma);
   f.outlier_threshold_px = s.get_positive("outlier_threshold_px", f.outlier_threshold_px);
   f.innovation_gate_chi2 = s.get_positive("innovation_gate_chi2", f.innovation_gate_chi2, true);
-  f.update_iterations =
-      static_cast<int>(s.get_positive("update_iterations", f.update_iterations));
-  f.smoothed_start_frames = static_cast<int>(
-      s.get_positive("smoothed_start_frames", f.smoothed_start_frames, true));
+  f.update_iterations = s.get_positive_int("update_iterations", f.update_iterations);
+  f.smoothed_start_frames =
+      s.get_positive_int("smoothed_start_frames", f.smoothed_start_frames, true);
   if (f.smoothed_start_frames == 1) s.fail("smoothed_start_frames", "must be 0 (off) or at least 2");
   settings.run_batch = flag(s, "batch", settings.run_batch);
   settings.batch_outlier_threshold_px =
@@ -40,7 +39,7 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   settings.batch.huber_px = s.get_positive("huber_px", settings.batch.huber_px, true);
   settings.batch.covariances = flag(s, "covariances", settings.batch.covariances);
   settings.batch.max_iterations =
-      static_cast<int>(s.get_positive("max_iterations", settings.batch.max_iterations));
+      s.get_positive_int("max_iterations", settings.batch.max_iterations);
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [sfm]");
   return settings;
 }

@@ -44,6 +44,14 @@ class ReplayPass {
     return damage->empty();
   }
 
+  // A damaged image met while the images might not be the vision (kAuto before any tracked
+  // features): it stops the tracking, and counts as damage only if the images are the vision.
+  struct ImageDamage {
+    std::size_t index;
+    std::string problem;
+  };
+  const std::optional<ImageDamage>& image_damage() const { return image_damage_; }
+
   void finish() {
     ReplayInput& in = *input_;
     in.sensors = collector_.sensors();
@@ -52,18 +60,17 @@ class ReplayPass {
       in.gps_origin = collector_.enu_frame()->origin();
     in.out_of_order = collector_.out_of_order();
     if (!in.camera) in.camera = first_model_;
-    if (options_.vision == ReplayVision::kImages ||
-        (options_.vision == ReplayVision::kAuto && feature_times_.empty() && images_ > 0)) {
+    if (images_are_vision() && (options_.vision == ReplayVision::kImages || images_ > 0)) {
       if (!untracked_.empty()) throw io::InputError(path_, 0, untracked_);
       in.vision = "images";
-      in.frame_times = image_times_;
+      in.frame_times = std::move(image_times_);
       in.frames_with_images = tracker_ ? tracker_->frames() : 0;
       if (tracker_) in.tracks = tracker_->finish().observations;
       return;
     }
     in.vision = "tracked features";
     in.tracks = std::move(features_);
-    in.frame_times = feature_times_;
+    in.frame_times = std::move(feature_times_);
     std::stable_sort(in.tracks.begin(), in.tracks.end(),
                      [](const io::TrackObservation& a, const io::TrackObservation& b) {
                        return a.frame != b.frame ? a.frame < b.frame : a.track < b.track;
@@ -80,14 +87,15 @@ class ReplayPass {
            std::string* damage) {
     if (collector_.add(*observation) || !has_label(*observation, options_.camera_label)) return;
     if (const auto* features = dynamic_cast<const CObservationTrackedFeatures*>(observation.get())) {
+      note_camera(features->sensorPose, features->model);
       if (options_.vision == ReplayVision::kImages) return;
       const int frame = static_cast<int>(feature_times_.size());
       feature_times_.push_back(mrpt::Clock::toDouble(features->timestamp));
       append_tracked_features(*features, frame, &features_);
-      note_camera(features->sensorPose, features->model);
       // With kAuto, the images tracked so far are not the vision.
       tracker_.reset();
       image_times_.clear();
+      image_damage_.reset();
       return;
     }
     const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation);
@@ -97,7 +105,15 @@ class ReplayPass {
       note_camera(image->cameraPose, omni->model);
     else if (!body_from_cam_)
       body_from_cam_ = isometry_of(image->cameraPose);
-    if (images_are_vision()) track(*image, index, damage);
+    if (!images_are_vision() || image_damage_) return;
+    if (options_.vision == ReplayVision::kImages) return track(*image, index, damage);
+    std::string problem;
+    try {
+      track(*image, index, &problem);
+    } catch (const io::InputError& e) {
+      problem = e.what();
+    }
+    if (!problem.empty()) image_damage_ = ImageDamage{index, problem};
   }
 
   void track(mrpt::obs::CObservationImage& observation, std::size_t index, std::string* damage) {
@@ -143,6 +159,7 @@ class ReplayPass {
   std::unique_ptr<track::SequenceTracker> tracker_;
   std::vector<double> image_times_;
   std::string untracked_;  // why the images could not be tracked
+  std::optional<ImageDamage> image_damage_;
 };
 
 }  // namespace
@@ -160,6 +177,10 @@ ReplayInput read_replay_input(const std::string& path, const ReplayOptions& opti
   input.read.objects = damage.empty() ? reader.index() : reader.index() - 1;
   input.read.problem = damage.empty() ? reader.problem() : damage;
   pass.finish();
+  if (pass.image_damage() && input.vision == "images") {
+    input.read.objects = pass.image_damage()->index;
+    input.read.problem = pass.image_damage()->problem;
+  }
   input.read.used = input.frame_times.size();
   return input;
 }

@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 #include <mrpt/obs/CObservationGPS.h>
+#include <mrpt/obs/CObservationImage.h>
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 
 #include "omnisfm/io/tum_trajectory.h"
@@ -223,9 +225,45 @@ TEST(ReplayVision, AutoTakesTheTracksAndImagesModeTracksTheImages) {
   // The picture stands still: every track stays where it started, in every frame.
   EXPECT_GE(tracked.tracks.size(), 41u * 15);
   EXPECT_EQ(tracked.tracks.back().frame, 40);
+  std::map<int, Eigen::Vector2d> first;
+  for (const auto& o : tracked.tracks)
+    EXPECT_LT((o.pixel - first.try_emplace(o.track, o.pixel).first->second).norm(), 0.01)
+        << "track " << o.track << " frame " << o.frame;
   // The motion sensors come with either.
   EXPECT_EQ(tracked.sensors.odometry.size(), automatic.sensors.odometry.size());
   EXPECT_GT(tracked.sensors.odometry.size(), 0u);
+}
+
+// An image that cannot be loaded, before the tracked features: with kAuto the images were not the
+// vision, so the replay goes on to the tracks; with kImages it is damage at that object.
+TEST(ReplayVision, AnUnloadableImageIsDamageOnlyWhenImagesAreTheVision) {
+  mrpt::obs::CObservationImage image;
+  image.image.setExternalStorage("no_such_image.png");
+  CObservationTrackedFeatures features;
+  for (int track = 0; track < 8; ++track) features.features.push_back({track, 100.0 + track, 200.0});
+  const std::string path = testing::temporary_path("unloadable_image_then_tracks.rawlog");
+  testing::write_plain_rawlog(path, {&image, &features});
+  ReplayOptions options;
+  options.camera = sim::default_rig(1024, 768);
+
+  const ReplayInput automatic = read_replay_input(path, options);
+  EXPECT_TRUE(automatic.read.complete()) << automatic.read.problem;
+  EXPECT_EQ(automatic.vision, "tracked features");
+  EXPECT_EQ(automatic.tracks.size(), 8u);
+
+  options.vision = ReplayVision::kImages;
+  const ReplayInput images = read_replay_input(path, options);
+  EXPECT_EQ(images.read.objects, 0u);
+  EXPECT_NE(images.read.problem.find("object 0"), std::string::npos) << images.read.problem;
+  EXPECT_TRUE(images.tracks.empty());
+
+  // With kAuto and no tracks after it, the images are the vision: the same damage.
+  testing::write_plain_rawlog(path, {&image});
+  options.vision = ReplayVision::kAuto;
+  const ReplayInput only_image = read_replay_input(path, options);
+  EXPECT_EQ(only_image.vision, "images");
+  EXPECT_EQ(only_image.read.objects, 0u);
+  EXPECT_NE(only_image.read.problem.find("object 0"), std::string::npos) << only_image.read.problem;
 }
 
 TEST(DamagedReplay, TheValidPartIsReplayedAndTheObjectNamed) {

@@ -46,8 +46,10 @@ class IniSection {
   double get_double(const std::string& key, double fallback) const;
   std::vector<double> get_doubles(const std::string& key,
                                   const std::vector<double>& fallback) const;
-  // A number > 0 (>= 0 with zero_ok), or the fallback when absent; fails naming the key otherwise.
+  // A finite number > 0 (>= 0 with zero_ok), or the fallback when absent; fails naming the key
+  // otherwise. The _int form takes whole numbers only.
   double get_positive(const std::string& key, double fallback, bool zero_ok = false) const;
+  int get_positive_int(const std::string& key, int fallback, bool zero_ok = false) const;
 
   // Entries no getter has read, in file order: what the caller did not expect.
   std::vector<IniEntry> unread() const;

@@ -33,4 +33,14 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
                         const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
                         const SfmSettings& settings, const Progress& progress = nullptr);
 
+// The GPS fixes within the frames' time span against an estimate in their ENU frame: each fix
+// against the antenna's position between the frames around it, as the batch's GPS terms see it.
+struct GpsResiduals {
+  int fixes = 0;
+  double rms_m = 0;
+};
+GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& cam_from_world,
+                          const std::vector<double>& frame_timestamps,
+                          const MotionSensors& sensors);
+
 }  // namespace omnisfm::sfm

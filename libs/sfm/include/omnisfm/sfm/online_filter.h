@@ -137,6 +137,8 @@ class OnlineFilter {
   void propagate();
   void propagate(const MotionPrediction& motion);
   void remove_slot(int slot);
+  // An outlier: out of the state and the results for good, listed in rejected().
+  void reject(int track, int frame);
   // The iterated update from the current (propagated) state.
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
   void accept(Candidate* candidate);

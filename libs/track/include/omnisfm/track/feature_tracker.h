@@ -2,8 +2,9 @@
 // The tracker: features followed from image to image, as the paper's first stage.
 //
 // Per image: pyramidal Lucas-Kanade (OpenCV) from the previous image predicts every live track,
-// starting from its last image velocity, down to half resolution; tracking that prediction back must return to the old
-// position (the forward-backward check). The track's reference patch, taken where the track
+// starting from its last image velocity, down to half resolution (full resolution without the
+// refinement); tracking that prediction back must return to the old position (the
+// forward-backward check). The track's reference patch, taken where the track
 // started, is then aligned affinely at the prediction (patch_alignment.h): the track's position
 // comes from that alignment, so it does not drift, and a poor correlation or a large correction
 // ends the track (the appearance check). Tracks leaving the trackable region end; of two tracks
