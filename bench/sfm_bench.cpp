@@ -30,25 +30,9 @@ struct FilterInput {
 
 FilterInput rover_frames(int count) {
   FilterInput input;
-  sim::Dataset d{"rover", input.camera, {}, sim::rover_trajectory(0.6), {}, {}, {}, {}, {}, {}};
+  const sim::Dataset d{"rover", input.camera, {}, sim::rover_trajectory(0.6), {}, {}, {}, {}, {}, {}};
   std::mt19937_64 rng(7);
-  std::vector<Eigen::Vector3d> points;
-  while (static_cast<int>(points.size()) < count) {
-    const Eigen::Vector3d p(sim::uniform(rng, -2, 6), sim::uniform(rng, -4, 4), 0.0);
-    Eigen::Vector2d pixel;
-    bool always = true;
-    for (size_t f = 0; f < d.world_from_cam.size() && always; ++f)
-      always = sim::true_pixel(d, static_cast<int>(f), p, &pixel, 3.0);
-    if (always) points.push_back(p);
-  }
-  input.frames.resize(d.world_from_cam.size());
-  for (size_t f = 0; f < d.world_from_cam.size(); ++f)
-    for (int i = 0; i < count; ++i) {
-      Eigen::Vector2d pixel;
-      sim::true_pixel(d, static_cast<int>(f), points[i], &pixel);
-      pixel += 0.2 * Eigen::Vector2d(sim::standard_normal(rng), sim::standard_normal(rng));
-      input.frames[f].push_back({i, pixel});
-    }
+  input.frames = sfm::observations_by_frame(sim::steady_ground_tracks(d, count, 0.2, rng));
   return input;
 }
 

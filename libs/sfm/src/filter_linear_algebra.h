@@ -5,6 +5,7 @@
 // are most of a frame's work.
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace omnisfm::sfm {
 
@@ -20,5 +21,17 @@ bool cholesky_lower_in_place(Eigen::MatrixXd* S);
 // P := P - PHt S^-1 PHt^T, with L the lower Cholesky factor of S; P stays symmetric. PHt is
 // overwritten (with PHt L^-T).
 void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::MatrixXd& L);
+
+// The point columns of H, measurement k's two rows touching only P's columns first_column[k]
+// .. first_column[k] + 2 through H_point[k]:
+// PHt.middleCols<2>(2k) += P.middleCols<3>(first_column[k]) H_point[k]^T for every k.
+void add_point_columns(const Eigen::MatrixXd& P, const std::vector<int>& first_column,
+                       const std::vector<Eigen::Matrix<double, 2, 3>>& H_point,
+                       Eigen::MatrixXd* PHt);
+
+// S += H_points PHt on S's lower triangle, H_points as in add_point_columns.
+void add_point_rows_lower(const Eigen::MatrixXd& PHt, const std::vector<int>& first_column,
+                          const std::vector<Eigen::Matrix<double, 2, 3>>& H_point,
+                          Eigen::MatrixXd* S);
 
 }  // namespace omnisfm::sfm

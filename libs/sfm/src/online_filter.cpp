@@ -176,10 +176,13 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   // and drag the pose along (predicted pixels moving tens of pixels between iterates). The first
   // linearisation point is therefore the update by the established points alone (the new
   // points' rows of H zero), which places the pose; the iterations then start from there.
+  // Without new points, the first linearisation point is instead the posterior's minimum along
+  // the pose's direction of the prior, where one full linearisation usually settles.
   std::vector<int> new_points;
   for (int k = 0; k < m; ++k)
     if (anchors_[meas[k].slot].updates < kEstablishedUpdates) new_points.push_back(k);
   const int linearisations = std::max(1, settings_.update_iterations);
+  if (new_points.empty() && linearisations > 1) start_on_pose_subspace(meas, &at);
   bool warm_step =
       !new_points.empty() && static_cast<int>(new_points.size()) < m && linearisations > 2;
   if (warm_step)
@@ -195,6 +198,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   PHt.resize(n, 2 * m);
   S.resize(2 * m, 2 * m);
   Eigen::MatrixXd HPHt;
+  std::vector<int> point_columns(m);
+  for (int k = 0; k < m; ++k) point_columns[k] = 6 + 3 * meas[k].slot;
   const double settled_px = 0.03 * settings_.pixel_sigma;
   // Levenberg's damping in the prior's metric, mu |x - x_i|^2_P^-1 added to the posterior cost:
   // the step is the iterated EKF's with P / (1 + mu) and the offset x_i - x_prior shrunk by
@@ -205,18 +210,16 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   // oscillate along a curved valley, and refusing such steps crawls along it instead.
   double mu = 0;
   bool damped = false;  // whether the candidate came from a damped step
+  c->linearisations = 0;
   for (int linearisation = 0;; ++linearisation) {
+    ++c->linearisations;
     const double shrink = 1 / (1 + mu);
     // P H^T and S = H P H^T / (1 + mu) + R from the blocks of H; the Cholesky factorisation
     // reads S's lower triangle only.
     multiply(P_.leftCols<6>(), false, at.H_pose, true, PHt);
-    for (int k = 0; k < m; ++k)
-      PHt.middleCols<2>(2 * k).noalias() +=
-          P_.middleCols<3>(6 + 3 * meas[k].slot) * at.H_point[k].transpose();
+    add_point_columns(P_, point_columns, at.H_point, &PHt);
     multiply(at.H_pose, false, PHt.topRows<6>(), false, S);
-    for (int k = 0; k < m; ++k)
-      S.block(2 * k, 0, 2, 2 * k + 2).noalias() +=
-          at.H_point[k] * PHt.block(6 + 3 * meas[k].slot, 0, 3, 2 * k + 2);
+    add_point_rows_lower(PHt, point_columns, at.H_point, &S);
     if (mu > 0) {
       HPHt = S;  // for the undamped factor the covariance needs
       S *= shrink;
@@ -253,9 +256,9 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     next.offset.tail(n - 6) = X - points_;
 
     // Project the new iterate (its pixels are the outlier test's residuals). Settled when its
-    // predicted pixels moved by less than 3 % of the pixel noise: linearising there again would
-    // change nothing measurable, and P H^T and S stay this linearisation's, which the iterate
-    // came from.
+    // predicted pixels moved by less than 3 % of the pixel noise, or a damped step by less than
+    // that shrunk as the step was: linearising there again would change nothing measurable,
+    // and P H^T and S stay this linearisation's, which the iterate came from.
     const bool may_relinearise = linearisation + 1 < linearisations;
     const Eigen::Matrix3d chart = so3::left_jacobian(next.offset.head<3>());
     bool settled = true, projected = true;
@@ -282,7 +285,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
         projected = false;
         continue;
       }
-      if ((lin.pixel - at.pixels.segment<2>(2 * k)).cwiseAbs().maxCoeff() >= settled_px)
+      if ((lin.pixel - at.pixels.segment<2>(2 * k)).cwiseAbs().maxCoeff() >= settled_px * shrink)
         settled = false;
       const Eigen::Vector2d linear_pixel =
           at.pixels.segment<2>(2 * k) +
@@ -315,7 +318,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     c->points.swap(X);
     for (int k = 0; k < m; ++k) c->residuals[k] = at.residual.segment<2>(2 * k).norm();
     damped = mu > 0;
-    if (!may_relinearise || (settled && !damped)) break;
+    if (!may_relinearise || settled) break;
     if (!damped && projected && linearisation_error < settled_px) break;
     if (gain > 0.75)
       mu = mu < 0.25 ? 0 : mu / 4;
@@ -401,6 +404,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   Candidate candidate;
   while (!measurements.empty()) {
     update(measurements, &candidate);
+    linearisations_ += candidate.linearisations;
     const auto worst = std::max_element(candidate.residuals.begin(), candidate.residuals.end());
     if (!(*worst <= settings_.outlier_threshold_px)) {
       // The paper's rejection: drop the worst track, redo the update from the prediction.

@@ -9,11 +9,6 @@
 
 namespace omnisfm::sfm {
 
-// Each frame's observations (frames 0 .. last observed). Throws std::invalid_argument as run_sfm
-// documents.
-std::vector<std::vector<TrackPixel>> observations_by_frame(
-    const std::vector<io::TrackObservation>& tracks);
-
 // The filter over every frame, into result's online estimate and outliers; predicted_motion, when
 // set, gives the motion into frame f (f >= 1) in place of the random walk.
 void run_filter(const camera::CatadioptricCamera& camera,

@@ -18,6 +18,28 @@ double standard_normal(std::mt19937_64& rng) {
   return std::sqrt(-2 * std::log(1 - u)) * std::cos(2 * M_PI * v);
 }
 
+std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
+                                                       double noise_px, std::mt19937_64& rng) {
+  std::vector<Eigen::Vector3d> points;
+  while (static_cast<int>(points.size()) < count) {
+    const Eigen::Vector3d p(uniform(rng, -2, 6), uniform(rng, -4, 4), 0.0);
+    Eigen::Vector2d pixel;
+    bool always = true;
+    for (size_t f = 0; f < dataset.world_from_cam.size() && always; ++f)
+      always = true_pixel(dataset, static_cast<int>(f), p, &pixel, 3.0);
+    if (always) points.push_back(p);
+  }
+  std::vector<io::TrackObservation> tracks;
+  for (size_t f = 0; f < dataset.world_from_cam.size(); ++f)
+    for (int i = 0; i < count; ++i) {
+      Eigen::Vector2d pixel;
+      true_pixel(dataset, static_cast<int>(f), points[i], &pixel);
+      pixel += noise_px * Eigen::Vector2d(standard_normal(rng), standard_normal(rng));
+      tracks.push_back({static_cast<int>(f), i, pixel});
+    }
+  return tracks;
+}
+
 bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_W,
                 Eigen::Vector2d* pixel, double border_px) {
   const Eigen::Vector3d X_C = dataset.world_from_cam[frame].inverse() * point_W;

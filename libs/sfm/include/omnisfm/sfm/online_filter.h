@@ -12,7 +12,8 @@
 // barely known stays well approximated by a Gaussian and never crosses behind the camera. The
 // measurement update uses the noncentral projection's analytic Jacobians, iterated (a damped
 // Gauss-Newton on the posterior cost, started from the established points' update when new
-// points are measured); afterwards, if the largest residual exceeds the outlier threshold, that
+// points are measured, else, once depths have settled, from the posterior's minimum along the
+// pose's direction of the prior); afterwards, if the largest residual exceeds the outlier threshold, that
 // track is discarded and the update re-run from the propagated estimate, until none does. A track
 // that is not observed in a frame has ended and leaves the state, so the per-frame cost stays
 // bounded however long the sequence.
@@ -47,7 +48,10 @@ struct FilterSettings {
   // an iterate's predicted pixels move, or differ from the last linearisation's prediction, by
   // less than 3 % of pixel_sigma. New points' depths make the first updates strongly nonlinear:
   // with more than 2, frames with new points start from the established points' update, and
-  // steps are damped when the posterior cost falls short of the linear model's prediction.
+  // steps are damped when the posterior cost falls short of the linear model's prediction. In
+  // frames without new points whose depths are known to 10 %, the first linearisation point is
+  // the posterior's minimum along the pose (one Gauss-Newton step in six parameters), where one
+  // linearisation usually settles.
   int update_iterations = 8;
   // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
   int smoothed_start_frames = 20;
@@ -93,6 +97,9 @@ class OnlineFilter {
   // empty until it has run.
   const std::map<int, Eigen::Isometry3d>& smoothed_start() const { return smoothed_start_; }
   int num_live_points() const { return static_cast<int>(slot_track_.size()); }
+  // Linearisations of the measurements (each a P H^T, S and its factor) over all updates so far,
+  // outlier re-runs included: the measure of the iterated update's work.
+  long linearisations() const { return linearisations_; }
 
  private:
   // A measurement's predicted pixel at some state, and its Jacobians there.
@@ -115,6 +122,7 @@ class OnlineFilter {
     std::vector<double> residuals;  // per measurement, after the update
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
     Eigen::MatrixXd S_factor;       // the innovation covariance's Cholesky factor (lower)
+    int linearisations = 0;         // that the update took
   };
   // An iterate of the update, x_i. Offsets x - x_prior hold the rotation in the prior's chart,
   // R = exp(theta) R_prior, so H's rotation columns are the left perturbation's times the chart's
@@ -139,6 +147,10 @@ class OnlineFilter {
   void remove_slot(int slot);
   // An outlier: out of the state and the results for good, listed in rejected().
   void reject(int track, int frame);
+  // Moves the update's first iterate from the prediction to the posterior's minimum along the
+  // pose's direction of the prior (see online_filter_pose_start.cpp). False, leaving it, when too
+  // few points have settled or a point does not project there.
+  bool start_on_pose_subspace(const std::vector<Measurement>& measurements, Iterate* prior) const;
   // The iterated update from the current (propagated) state.
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
   void accept(Candidate* candidate);
@@ -191,6 +203,7 @@ class OnlineFilter {
   std::map<int, Eigen::Vector3d> ended_points_;
   std::map<int, bool> excluded_;  // rejected tracks, ignored from then on
   std::vector<RejectedTrack> rejected_;
+  long linearisations_ = 0;
   bool smoothing_start_ = false;           // until the smoothed start has run
   std::vector<StartFrame> start_frames_;
 

@@ -44,4 +44,9 @@ SfmResult run_sfm(const camera::CatadioptricCamera& camera,
                   const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
                   const Progress& progress = nullptr);
 
+// Each frame's observations (frames 0 .. last observed), as OnlineFilter::process_frame takes
+// them. Throws std::invalid_argument as run_sfm does.
+std::vector<std::vector<TrackPixel>> observations_by_frame(
+    const std::vector<io::TrackObservation>& tracks);
+
 }  // namespace omnisfm::sfm

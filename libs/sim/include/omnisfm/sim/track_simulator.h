@@ -23,6 +23,12 @@ struct TrackSimulationOptions {
 void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
                      const TrackSimulationOptions& options, std::mt19937_64& rng, Dataset* dataset);
 
+// `count` points on the ground (z = 0, x in [-2, 6] m, y in [-4, 4] m) that dataset's rig sees
+// in every frame, drawn from rng, and their pixels in every frame with noise_px Gaussian noise:
+// tracks that never end, for timing and testing the filter on settled points.
+std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
+                                                       double noise_px, std::mt19937_64& rng);
+
 // The true pixel of a world point at a frame, or false when the rig cannot see it.
 bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_W,
                 Eigen::Vector2d* pixel, double border_px = 0.0);

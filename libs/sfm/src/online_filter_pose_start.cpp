@@ -1,0 +1,108 @@
+// The iterated update's first linearisation point when the frame's points have settled: the
+// posterior's minimum along the pose's direction of the prior.
+//
+// The prediction can be centimetres and degrees from where the frame was taken, and an update
+// linearised there leaves errors of a tenth of a pixel, so a second full linearisation (P H^T, S
+// and its factor: most of a frame's work after the covariance downdate) followed in nearly every
+// frame. Here the state moves only as x(delta) = x_prior + P_{x,pose} P_pose^-1 delta: the pose
+// by delta and every point by what the prior says it does when the pose does (its mean given
+// the pose). One Gauss-Newton step on the posterior cost in delta uses the measurements' own
+// Jacobians at the prior, so it costs one projection of the points; from there a single full
+// update usually settles. While depths are still uncertain the cost is far from quadratic in
+// the pose alone and this start only adds work, so it waits for them.
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "omnisfm/sfm/online_filter.h"
+#include "so3.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+// A point's depth has settled when its inverse depth is known to this fraction (one sigma).
+constexpr double kSettledInverseDepth = 0.1;
+// Fewer points than this leave the pose to the full update.
+constexpr int kMinPoints = 3;
+// Huber's threshold in multiples of the median residual (and at least the outlier threshold):
+// a track that slid to a nearby feature must not drag the pose, and the outlier test deals with
+// it after the update.
+constexpr double kRobustMedians = 3;
+
+}  // namespace
+
+bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
+                                          Iterate* prior) const {
+  const int m = static_cast<int>(meas.size());
+  const int n = static_cast<int>(P_.rows());
+  if (m < kMinPoints) return false;
+  for (const Measurement& measurement : meas) {
+    const int slot = measurement.slot;
+    const double inverse_depth_sigma = std::sqrt(P_(8 + 3 * slot, 8 + 3 * slot));
+    if (!(inverse_depth_sigma < kSettledInverseDepth * points_[3 * slot + 2])) return false;
+  }
+
+  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> pose_prior(P_.topLeftCorner<6, 6>());
+  if (pose_prior.info() != Eigen::Success) return false;
+  // Column j: how the state moves per unit of the pose's j-th coordinate.
+  const Eigen::MatrixXd along = pose_prior.solve(P_.topRows<6>()).transpose();  // n x 6
+  const Eigen::Matrix<double, 6, 6> pose_information =
+      pose_prior.solve(Eigen::Matrix<double, 6, 6>::Identity());
+  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+
+  std::vector<double> residual_norms(m);
+  for (int k = 0; k < m; ++k) residual_norms[k] = prior->residual.segment<2>(2 * k).norm();
+  std::nth_element(residual_norms.begin(), residual_norms.begin() + m / 2, residual_norms.end());
+  const double huber =
+      std::max(settings_.outlier_threshold_px, kRobustMedians * residual_norms[m / 2]);
+
+  // One Gauss-Newton step from delta = 0, where the prior's part of the gradient vanishes.
+  Eigen::Matrix<double, 6, 6> A = pose_information;
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int k = 0; k < m; ++k) {
+    const Eigen::Matrix<double, 2, 6> J =
+        prior->H_pose.middleRows<2>(2 * k) +
+        prior->H_point[k] * along.middleRows<3>(6 + 3 * meas[k].slot);
+    const Eigen::Vector2d r = prior->residual.segment<2>(2 * k);
+    const double w = (r.norm() <= huber ? 1.0 : huber / r.norm()) / variance;
+    A.noalias() += w * J.transpose() * J;
+    b.noalias() += w * J.transpose() * r;
+  }
+  const Eigen::Matrix<double, 6, 1> delta = A.ldlt().solve(b);
+
+  // The iterate x_0 = x_prior + P g, g being P_pose^-1 delta on the pose and zero elsewhere.
+  Iterate start = *prior;
+  const Eigen::Matrix3d R = so3::exp(delta.head<3>()) * R_;
+  const Eigen::Vector3d t = t_ + delta.tail<3>();
+  Eigen::VectorXd X = points_ + along.bottomRows(n - 6) * delta;
+  for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
+  start.offset.resize(n);
+  start.offset.head<6>() = delta;
+  start.offset.tail(n - 6) = X - points_;
+  start.g = Eigen::VectorXd::Zero(n);
+  start.g.head<6>() = pose_information * delta;
+  start.cost = start.g.head<6>().dot(delta);
+  const Eigen::Matrix3d chart = so3::left_jacobian(delta.head<3>());
+  for (int k = 0; k < m; ++k) {
+    const int s = meas[k].slot;
+    Linearisation lin;
+    if (!linearise(anchors_[s], R, t, X.segment<3>(3 * s), true, &lin)) return false;
+    start.H_pose.block<2, 3>(2 * k, 0) = lin.pose.leftCols<3>() * chart;
+    start.H_pose.block<2, 3>(2 * k, 3) = lin.pose.rightCols<3>();
+    start.H_point[k] = lin.point;
+    start.pixels.segment<2>(2 * k) = lin.pixel;
+    start.residual.segment<2>(2 * k) = meas[k].pixel - lin.pixel;
+    start.H_offset.segment<2>(2 * k) = start.H_pose.middleRows<2>(2 * k) * delta +
+                                       lin.point * start.offset.segment<3>(6 + 3 * s);
+    start.innovation.segment<2>(2 * k) =
+        start.residual.segment<2>(2 * k) + start.H_offset.segment<2>(2 * k);
+    start.cost += start.residual.segment<2>(2 * k).squaredNorm() / variance;
+  }
+  // Only a start nearer the posterior's minimum than the prediction is worth taking.
+  if (!(start.cost < prior->cost)) return false;
+  std::swap(*prior, start);
+  return true;
+}
+
+}  // namespace omnisfm::sfm

@@ -1,0 +1,34 @@
+// The online filter's update on a long stretch of settled points: the work it takes per frame.
+
+#include "omnisfm/sfm/online_filter.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/scenario.h"
+#include "omnisfm/sim/track_simulator.h"
+#include "omnisfm/sim/trajectories.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+// Once the depths have settled, the update starts from the posterior's minimum along the pose
+// and one linearisation settles it; started from the prediction it took two or more.
+TEST(OnlineFilter, SettledFramesTakeOneLinearisation) {
+  const sim::Dataset d{"rover", sim::default_rig(1024, 768), {}, sim::rover_trajectory(0.6),
+                       {}, {}, {}, {}, {}, {}};
+  std::mt19937_64 rng(7);
+  const auto frames = observations_by_frame(sim::steady_ground_tracks(d, 60, 0.2, rng));
+  OnlineFilter filter(d.camera, FilterSettings{});
+  for (int f = 0; f < 40; ++f) ASSERT_TRUE(filter.process_frame(f, frames[f]));
+  const long before = filter.linearisations();
+  for (int f = 40; f < 80; ++f) ASSERT_TRUE(filter.process_frame(f, frames[f]));
+  const double per_frame = (filter.linearisations() - before) / 40.0;
+  EXPECT_LE(per_frame, 1.2);
+  EXPECT_EQ(filter.rejected().size(), 0u);
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
