@@ -1,15 +1,19 @@
 // The batch adjustment on a long drive, where frames share points with their neighbours only:
 // the banded reduced system goes to sparse Cholesky, and Levenberg-Marquardt must converge in a
-// few iterations instead of creeping along the drive's slow deformations.
+// few iterations instead of creeping along the drive's slow deformations. On the rover, steps
+// that carry a point's reflection past the mirror's rim.
 
 #include "omnisfm/sfm/batch_adjustment.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/long_drive.h"
+#include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "world_from_cam.h"
 
@@ -56,6 +60,33 @@ TEST(BatchAdjustment, LongDriveConvergesWithSparseCholesky) {
   EXPECT_LT(errors.mean_translation_error_m, 0.5 * start_errors.mean_translation_error_m)
       << start_errors.mean_translation_error_m;
   EXPECT_LT(errors.translation_error_percent, 0.05);
+}
+
+// Rover seed 2 from the filter: one point's reflection sits at the rim, and steps toward the true
+// scale carry it past. They used to be refused (11 of 16 iterations), leaving the batch at the
+// filter's scale with 0.038 deg of rotation error; measured now: 9 iterations, 0.017 deg.
+TEST(BatchAdjustment, StepsPastTheRimAreTaken) {
+  sim::SimulationOptions options;
+  options.scenario = "rover";
+  options.seed = 2;
+  const sim::Dataset d = sim::simulate(options);
+  SfmSettings online;
+  online.run_batch = false;
+  const SfmResult start = run_sfm(d.camera, d.observations, online);
+  std::set<int> outliers;
+  for (const auto& o : start.outliers) outliers.insert(o.track);
+  std::vector<io::TrackObservation> inliers;
+  for (const auto& o : d.observations)
+    if (!outliers.count(o.track)) inliers.push_back(o);
+  BatchSettings settings;
+  settings.covariances = false;
+  const BatchResult result = batch_adjust(d.camera, inliers, start.online_cam_from_world,
+                                          start.online_points, settings);
+  ASSERT_TRUE(result.converged) << result.message;
+  EXPECT_LE(result.iterations, 12);
+  const eval::TrajectoryErrors errors =
+      eval::trajectory_errors(inverted(result.cam_from_world), d.world_from_cam, true);
+  EXPECT_LT(errors.mean_rotation_error_deg, 0.025);
 }
 
 }  // namespace
