@@ -50,14 +50,11 @@ double reduced_system_fill(const std::vector<io::TrackObservation>& observations
   return frames > 0 ? pairs / (0.5 * frames * (frames + 1.0)) : 0;
 }
 
-// The camera the adjustment optimises with: the mirror's valid patch widened by a tenth of its
-// width each way, where the profile allows. A step can push a point whose reflection lies near
-// the rim just past it; with the exact patch its residual is then undefined, the whole step is
-// refused and Levenberg-Marquardt shrinks its trust region until no point crosses (on the rover,
-// seed 2, 11 of 16 iterations were refused so, and the estimate stayed at the filter's scale).
-// The mirror's surface continues smoothly past the rim, and so does the residual; the
-// observations themselves all lie on the patch.
-camera::CatadioptricCamera with_widened_patch(const camera::CatadioptricCamera& camera) {
+}  // namespace
+
+// On the rover, seed 2, one point's reflection sits at the rim: with the exact patch 11 of 16
+// iterations were refused, and the estimate stayed at the filter's scale.
+camera::CatadioptricCamera batch_camera(const camera::CatadioptricCamera& camera) {
   constexpr double kWidening = 0.1;
   std::unique_ptr<camera::MirrorProfile> mirror = camera.mirror().clone();
   const double margin = kWidening * (mirror->s_max() - mirror->s_min());
@@ -67,8 +64,6 @@ camera::CatadioptricCamera with_widened_patch(const camera::CatadioptricCamera& 
                                     camera.mirror_pose(), camera.image_width(),
                                     camera.image_height());
 }
-
-}  // namespace
 
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<io::TrackObservation>& observations,
@@ -90,7 +85,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   for (const auto& T : cam_from_world) poses.push_back(to_vector(T));
   std::map<int, Eigen::Vector3d> points = start_points;
 
-  const camera::CatadioptricCamera optimised = with_widened_patch(camera);
+  const camera::CatadioptricCamera optimised = batch_camera(camera);
   ceres::Problem problem;
   std::vector<ceres::ResidualBlockId> projections;
   std::vector<io::TrackObservation> used_observations;

@@ -84,13 +84,14 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (settings.batch_outlier_threshold_px <= 0) return;
 
   // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail.
+  const camera::CatadioptricCamera optimised = batch_camera(camera);
   std::map<int, int> failing;
   for (const auto& o : inliers) {
     const auto point = result->batch.points.find(o.track);
     Eigen::Vector2d pixel;
     const bool fits =
         point != result->batch.points.end() &&
-        camera.project(result->batch.cam_from_world[o.frame] * point->second, &pixel) &&
+        optimised.project(result->batch.cam_from_world[o.frame] * point->second, &pixel) &&
         (pixel - o.pixel).norm() <= settings.batch_outlier_threshold_px;
     if (!fits && !failing.count(o.track)) failing[o.track] = o.frame;
   }

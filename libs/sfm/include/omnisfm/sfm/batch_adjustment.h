@@ -50,6 +50,12 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);
 
+// The camera the batch optimises with: `camera` with its mirror's valid patch widened by a tenth
+// of its width each way, where the profile allows. A step that carries a point's reflection just
+// past the rim then keeps a finite, smooth residual instead of being refused, and a point that
+// converges there (within its noise) still fits. Residuals of the batch's result are judged with it.
+camera::CatadioptricCamera batch_camera(const camera::CatadioptricCamera& camera);
+
 // The batch's reprojection residual of a world point from a pose (angle-axis, translation), with
 // analytic Jacobians; the caller owns it. For benchmarks and other problems built on the same
 // residual.
