@@ -1,6 +1,7 @@
-// Speed of the estimators: the online filter per frame at several numbers of points, the batch
-// adjustment on the simulated rover and on long sequences (up to 2,000 images), with analytic
-// Jacobians and, as the peer, Ceres' numeric differentiation of the same model.
+// Speed of the estimators: the online filter per frame at several numbers of points and over the
+// simulated rover sequence, the batch adjustment on the simulated rover and on long sequences (up
+// to 2,000 images), with analytic Jacobians and, as the peer, Ceres' numeric differentiation of
+// the same model.
 
 #include <benchmark/benchmark.h>
 #include <ceres/ceres.h>
@@ -88,6 +89,28 @@ BENCHMARK(BM_FilterSmoothedStart)->Arg(30)->Arg(112)->Unit(benchmark::kMilliseco
 void BM_FilterFrameOneIteration(benchmark::State& state) { filter_frames(state, 1, 1); }
 BENCHMARK(BM_FilterFrameOneIteration)->Arg(30)->Arg(60)->Arg(112)->Arg(200)
     ->Unit(benchmark::kMillisecond);
+
+// The filter over the whole simulated rover sequence (seed 1): tracks that end and start, the
+// seven mistracked ones rejected, the smoothed start included; per frame.
+void BM_FilterRoverSequence(benchmark::State& state) {
+  sim::SimulationOptions options;
+  options.scenario = "rover";
+  const sim::Dataset d = sim::simulate(options);
+  const auto frames = sfm::observations_by_frame(d.observations);
+  long linearisations = 0;
+  for (auto _ : state) {
+    sfm::OnlineFilter filter(d.camera, sfm::FilterSettings{});
+    for (size_t f = 0; f < frames.size(); ++f)
+      filter.process_frame(static_cast<int>(f), frames[f]);
+    linearisations = filter.linearisations();
+  }
+  const double n = static_cast<double>(frames.size());
+  state.counters["s_per_frame"] = benchmark::Counter(
+      n * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["linearisations_per_frame"] = static_cast<double>(linearisations) / n;
+}
+BENCHMARK(BM_FilterRoverSequence)->Unit(benchmark::kMillisecond);
 
 struct BatchInput {
   camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
