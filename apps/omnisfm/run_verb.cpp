@@ -128,14 +128,13 @@ void add_run_verb(CLI::App& app) {
              << result.batch.iterations << " iterations; RMS " << result.batch.final_rms_px
              << " px per coordinate\n";
 
-    const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(
-        batch_ran ? result.batch.cam_from_world : result.online_cam_from_world);
+    const std::vector<Eigen::Isometry3d>& estimate =
+        batch_ran ? result.batch.cam_from_world : result.online_cam_from_world;
+    const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(estimate);
     // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
     const bool geodetic = in.gps_origin && result.world_is_enu;
     if (geodetic) {
-      const sfm::GpsResiduals gps = sfm::gps_residuals(
-          batch_ran ? result.batch.cam_from_world : result.online_cam_from_world, in.frame_times,
-          in.sensors);
+      const sfm::GpsResiduals gps = sfm::gps_residuals(estimate, in.frame_times, in.sensors);
       report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
              << " m against it\n";
     }

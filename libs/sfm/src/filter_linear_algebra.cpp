@@ -115,10 +115,10 @@ void add_point_columns(const Eigen::MatrixXd& P, const std::vector<int>& first_c
   for (size_t k = 0; k < H_point.size(); ++k) {
     const Eigen::Matrix<double, 2, 3>& h = H_point[k];
     const double* p0 = P.col(first_column[k]).data();
-    const double* p1 = p0 + n;
-    const double* p2 = p1 + n;
+    const double* p1 = P.col(first_column[k] + 1).data();
+    const double* p2 = P.col(first_column[k] + 2).data();
     double* out0 = PHt->col(2 * k).data();
-    double* out1 = out0 + n;
+    double* out1 = PHt->col(2 * k + 1).data();
     for (Eigen::Index i = 0; i < n; ++i) {
       out0[i] += h(0, 0) * p0[i] + h(0, 1) * p1[i] + h(0, 2) * p2[i];
       out1[i] += h(1, 0) * p0[i] + h(1, 1) * p1[i] + h(1, 2) * p2[i];

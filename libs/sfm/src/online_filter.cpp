@@ -157,17 +157,13 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     it->innovation.resize(2 * m);
     it->H_offset.resize(2 * m);
   }
-  for (int k = 0; k < m; ++k) {
-    at.H_pose.middleRows<2>(2 * k) = meas[k].at_prior.pose;
-    at.H_point[k] = meas[k].at_prior.point;
-    at.pixels.segment<2>(2 * k) = meas[k].at_prior.pixel;
-    at.residual.segment<2>(2 * k) = meas[k].pixel - meas[k].at_prior.pixel;
-  }
-  at.innovation = at.residual;
-  at.H_offset = Eigen::VectorXd::Zero(2 * m);
   at.offset = Eigen::VectorXd::Zero(n);
   at.g = Eigen::VectorXd::Zero(n);
-  at.cost = at.residual.squaredNorm() / variance;
+  at.cost = 0;
+  for (int k = 0; k < m; ++k)
+    at.cost += at.take(k, meas[k].at_prior, meas[k].pixel, 6 + 3 * meas[k].slot,
+                       Eigen::Matrix3d::Identity(), true) /
+               variance;
   c->residuals.resize(m);
 
   // A point that has taken part in fewer than kEstablishedUpdates updates knows its depth only
@@ -293,17 +289,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
           at.H_point[k] * (next.offset.segment<3>(6 + 3 * s) - at.offset.segment<3>(6 + 3 * s));
       linearisation_error =
           std::max(linearisation_error, (lin.pixel - linear_pixel).cwiseAbs().maxCoeff());
-      next.pixels.segment<2>(2 * k) = lin.pixel;
-      next.residual.segment<2>(2 * k) = meas[k].pixel - lin.pixel;
-      next.cost += next.residual.segment<2>(2 * k).squaredNorm() / variance;
-      if (!may_relinearise) continue;
-      next.H_pose.block<2, 3>(2 * k, 0) = lin.pose.leftCols<3>() * chart;
-      next.H_pose.block<2, 3>(2 * k, 3) = lin.pose.rightCols<3>();
-      next.H_point[k] = lin.point;
-      next.H_offset.segment<2>(2 * k) = next.H_pose.middleRows<2>(2 * k) * next.offset.head<6>() +
-                                        lin.point * next.offset.segment<3>(6 + 3 * s);
-      next.innovation.segment<2>(2 * k) =
-          next.residual.segment<2>(2 * k) + next.H_offset.segment<2>(2 * k);
+      next.cost += next.take(k, lin, meas[k].pixel, 6 + 3 * s, chart, may_relinearise) / variance;
     }
     if (!projected) next.cost = INFINITY;
     const double gain = (at.cost - next.cost) / std::max(at.cost - model_cost, 1e-12);
@@ -331,6 +317,21 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     S.diagonal().array() += variance;
     if (!cholesky_lower_in_place(&S)) PHt.resize(0, 0);
   }
+}
+
+double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen::Vector2d& observed,
+                                   int point_column, const Eigen::Matrix3d& chart, bool jacobians) {
+  pixels.segment<2>(2 * k) = lin.pixel;
+  residual.segment<2>(2 * k) = observed - lin.pixel;
+  if (jacobians) {
+    H_pose.block<2, 3>(2 * k, 0) = lin.pose.leftCols<3>() * chart;
+    H_pose.block<2, 3>(2 * k, 3) = lin.pose.rightCols<3>();
+    H_point[k] = lin.point;
+    H_offset.segment<2>(2 * k) = H_pose.middleRows<2>(2 * k) * offset.head<6>() +
+                                 lin.point * offset.segment<3>(point_column);
+    innovation.segment<2>(2 * k) = residual.segment<2>(2 * k) + H_offset.segment<2>(2 * k);
+  }
+  return residual.segment<2>(2 * k).squaredNorm();
 }
 
 void OnlineFilter::accept(Candidate* c) {

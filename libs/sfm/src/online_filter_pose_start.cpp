@@ -39,7 +39,8 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   if (m < kMinPoints) return false;
   for (const Measurement& measurement : meas) {
     const int slot = measurement.slot;
-    const double inverse_depth_sigma = std::sqrt(P_(8 + 3 * slot, 8 + 3 * slot));
+    const int inverse_depth = 6 + 3 * slot + 2;
+    const double inverse_depth_sigma = std::sqrt(P_(inverse_depth, inverse_depth));
     if (!(inverse_depth_sigma < kSettledInverseDepth * points_[3 * slot + 2])) return false;
   }
 
@@ -88,16 +89,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
     const int s = meas[k].slot;
     Linearisation lin;
     if (!linearise(anchors_[s], R, t, X.segment<3>(3 * s), true, &lin)) return false;
-    start.H_pose.block<2, 3>(2 * k, 0) = lin.pose.leftCols<3>() * chart;
-    start.H_pose.block<2, 3>(2 * k, 3) = lin.pose.rightCols<3>();
-    start.H_point[k] = lin.point;
-    start.pixels.segment<2>(2 * k) = lin.pixel;
-    start.residual.segment<2>(2 * k) = meas[k].pixel - lin.pixel;
-    start.H_offset.segment<2>(2 * k) = start.H_pose.middleRows<2>(2 * k) * delta +
-                                       lin.point * start.offset.segment<3>(6 + 3 * s);
-    start.innovation.segment<2>(2 * k) =
-        start.residual.segment<2>(2 * k) + start.H_offset.segment<2>(2 * k);
-    start.cost += start.residual.segment<2>(2 * k).squaredNorm() / variance;
+    start.cost += start.take(k, lin, meas[k].pixel, 6 + 3 * s, chart, true) / variance;
   }
   // Only a start nearer the posterior's minimum than the prediction is worth taking.
   if (!(start.cost < prior->cost)) return false;

@@ -138,6 +138,13 @@ class OnlineFilter {
     Eigen::VectorXd offset;  // x_i - x_prior = P g
     Eigen::VectorXd g;
     double cost = 0;         // the posterior cost at x_i (infinite where a point did not project)
+
+    // Measurement k linearised at this iterate (its offset set), `observed` its pixel and its
+    // point's parameters at `point_column` of the state: h(x_i) and z - h(x_i), and with
+    // `jacobians` also H's rows (the rotation's times `chart`), H_i (x_i - x_prior) and the
+    // innovation. Returns |z - h(x_i)|^2.
+    double take(int k, const Linearisation& lin, const Eigen::Vector2d& observed,
+                int point_column, const Eigen::Matrix3d& chart, bool jacobians);
   };
   // Both process_frame overloads: propagated by `motion` when given, else by the random walk.
   bool process(int frame, const std::vector<TrackPixel>& observations,
