@@ -40,6 +40,7 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   settings.batch.covariances = flag(s, "covariances", settings.batch.covariances);
   settings.batch.max_iterations =
       s.get_positive_int("max_iterations", settings.batch.max_iterations);
+  settings.batch.scale_start = flag(s, "batch_scale_start", settings.batch.scale_start);
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [sfm]");
   return settings;
 }

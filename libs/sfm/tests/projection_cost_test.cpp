@@ -53,5 +53,27 @@ TEST(ProjectionCost, JacobiansMatchCentralDifferences) {
   }
 }
 
+TEST(ScaledProjectionCost, JacobiansMatchCentralDifferences) {
+  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  for (const Observation& o : observations(camera, 50)) {
+    // The same camera-frame point with the scene 1.3x larger and u = 1.3.
+    Observation scaled = o;
+    for (int k = 3; k < 6; ++k) scaled.pose[k] *= 1.3;
+    for (double& x : scaled.point) x *= 1.3;
+    ScaledProjectionCost cost(&camera, o.pixel);
+    expect_jacobians_match(cost, {scaled.pose, scaled.point, {1.3}}, kDerivativeTolerance);
+    // And the residual is the unscaled one's.
+    ProjectionCost plain(&camera, o.pixel);
+    double r_plain[2], r_scaled[2];
+    const double u = 1.3;
+    const double* plain_blocks[] = {o.pose.data(), o.point.data()};
+    const double* scaled_blocks[] = {scaled.pose.data(), scaled.point.data(), &u};
+    ASSERT_TRUE(plain.Evaluate(plain_blocks, r_plain, nullptr));
+    ASSERT_TRUE(cost.Evaluate(scaled_blocks, r_scaled, nullptr));
+    EXPECT_NEAR(r_scaled[0], r_plain[0], 1e-9);
+    EXPECT_NEAR(r_scaled[1], r_plain[1], 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace omnisfm::sfm

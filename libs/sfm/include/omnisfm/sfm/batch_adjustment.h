@@ -22,6 +22,10 @@ struct BatchSettings {
   double huber_px = 0;        // a Huber loss of this width; 0 for plain least squares
   int max_iterations = 200;
   bool covariances = true;    // pose and point covariances (dense, for problems of moderate size)
+  // Solve with the scene's inverse scale as a parameter of its own first: the scale is weakly
+  // observed and the filter's can be far off, which the plain problem takes many iterations to
+  // walk. Not with the motion sensors' terms, which fix the scale themselves.
+  bool scale_start = true;
 };
 
 struct BatchResult {
@@ -30,7 +34,8 @@ struct BatchResult {
   int iterations = 0;
   double initial_rms_px = 0, final_rms_px = 0;  // per coordinate
   double seconds = 0;        // in all, covariances included
-  double solve_seconds = 0;  // the Levenberg-Marquardt solve alone
+  double solve_seconds = 0;
+  double start_scale = 1;    // the scale the start was given before the solve  // the Levenberg-Marquardt solve alone
   // Ceres's name of the reduced camera system's solver: ITERATIVE_SCHUR when most frames share
   // points, SPARSE_SCHUR when the system is banded (long sequences).
   std::string linear_solver;
