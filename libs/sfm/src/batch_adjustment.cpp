@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "batch_terms.h"
 #include "projection_cost.h"
@@ -31,23 +32,60 @@ Eigen::Isometry3d to_pose(const PoseVector& v) {
 }
 
 // The share of frame pairs that observe a common point: the fill of the reduced camera system.
+// Each frame's row is the union of its tracks' frame sets, as bit sets.
 double reduced_system_fill(const std::vector<io::TrackObservation>& observations, int frames) {
-  std::map<int, std::vector<int>> frames_of_track;
+  if (frames <= 0) return 0;
+  const size_t words = (static_cast<size_t>(frames) + 63) / 64;
+  std::map<int, int> track_index;
+  for (const auto& o : observations)
+    track_index.emplace(o.track, static_cast<int>(track_index.size()));
+  std::vector<uint64_t> frames_of_track(track_index.size() * words, 0);
   std::vector<std::vector<int>> tracks_of_frame(frames);
   for (const auto& o : observations) {
-    frames_of_track[o.track].push_back(o.frame);
-    tracks_of_frame[o.frame].push_back(o.track);
+    const int track = track_index.at(o.track);
+    frames_of_track[track * words + o.frame / 64] |= uint64_t{1} << (o.frame % 64);
+    tracks_of_frame[o.frame].push_back(track);
   }
-  std::vector<int> counted_for(frames, -1);
+  std::vector<uint64_t> row(words);
   double pairs = 0;
-  for (int f = 0; f < frames; ++f)
+  for (int f = 0; f < frames; ++f) {
+    std::fill(row.begin(), row.end(), 0);
     for (int track : tracks_of_frame[f])
-      for (int g : frames_of_track[track])
-        if (g <= f && counted_for[g] != f) {
-          counted_for[g] = f;
-          ++pairs;
-        }
-  return frames > 0 ? pairs / (0.5 * frames * (frames + 1.0)) : 0;
+      for (size_t w = 0; w < words; ++w) row[w] |= frames_of_track[track * words + w];
+    // Frames g <= f only: the pairs of the lower triangle.
+    for (size_t w = 0; w <= static_cast<size_t>(f) / 64; ++w) {
+      const int last_bit = w == static_cast<size_t>(f) / 64 ? f % 64 : 63;
+      const uint64_t mask = last_bit == 63 ? ~uint64_t{0} : (uint64_t{1} << (last_bit + 1)) - 1;
+      pairs += __builtin_popcountll(row[w] & mask);
+    }
+  }
+  return pairs / (0.5 * frames * (frames + 1.0));
+}
+
+// Which observations project from the start (the others are left out of the problem): a
+// projection each, on two threads.
+std::vector<char> projectable(const camera::CatadioptricCamera& camera,
+                              const std::vector<io::TrackObservation>& observations,
+                              const std::vector<PoseVector>& poses,
+                              const std::map<int, Eigen::Vector3d>& points) {
+  std::vector<char> ok(observations.size(), 0);
+  const auto check = [&](size_t begin, size_t end) {
+    const ProjectionCost unused(&camera, Eigen::Vector2d::Zero());
+    for (size_t i = begin; i < end; ++i) {
+      const auto& o = observations[i];
+      auto point = points.find(o.track);
+      if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size()))
+        continue;
+      double residual[2];
+      const double* blocks[2] = {poses[o.frame].data(), point->second.data()};
+      ok[i] = unused.Evaluate(blocks, residual, nullptr);
+    }
+  };
+  const size_t half = observations.size() / 2;
+  std::thread helper(check, 0, half);
+  check(half, observations.size());
+  helper.join();
+  return ok;
 }
 
 // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels): they never share a residual,
@@ -171,24 +209,18 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   std::map<int, Eigen::Vector3d> points = start_points;
 
   const camera::CatadioptricCamera optimised = batch_camera(camera);
+  const std::vector<char> ok = projectable(optimised, observations, poses, points);
+  std::vector<io::TrackObservation> used_observations;
+  for (size_t i = 0; i < observations.size(); ++i)
+    if (ok[i]) used_observations.push_back(observations[i]);
   ceres::Problem problem;
   std::vector<ceres::ResidualBlockId> projections;
-  std::vector<io::TrackObservation> used_observations;
-  for (const auto& o : observations) {
-    auto point = points.find(o.track);
-    if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size())) continue;
-    auto* cost = new ProjectionCost(&optimised, o.pixel);
-    double residual[2];
-    const double* blocks[2] = {poses[o.frame].data(), point->second.data()};
-    if (!cost->Evaluate(blocks, residual, nullptr)) {
-      delete cost;  // cannot be projected from the start: left out
-      continue;
-    }
+  for (const auto& o : used_observations) {
     ceres::LossFunction* loss =
         settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
-    projections.push_back(
-        problem.AddResidualBlock(cost, loss, poses[o.frame].data(), point->second.data()));
-    used_observations.push_back(o);
+    projections.push_back(problem.AddResidualBlock(new ProjectionCost(&optimised, o.pixel), loss,
+                                                   poses[o.frame].data(),
+                                                   points.at(o.track).data()));
   }
   const double used = static_cast<double>(used_observations.size());
   if (used == 0 || poses.empty()) {
