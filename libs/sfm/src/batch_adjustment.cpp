@@ -108,69 +108,63 @@ std::shared_ptr<ceres::ParameterBlockOrdering> points_eliminated_first(
 // the translations and points the residuals are far from linear in the scale, and Levenberg-
 // Marquardt walked it for most of its iterations (5 of 8), each step held back by the trust region
 // or refused; in u they are nearly linear (scaling the scene by s is scaling the mirror by 1/s),
-// and the rover converges in 2 steps. The gauge: the first pose held, and also the translation
-// coordinate farthest from it on any other pose, which u then scales.
+// and the rover converges in 2 steps. The gauge: the first pose held (by the caller), and also the
+// translation coordinate farthest from it on any other pose, which u then scales. On return u is
+// 1 and held constant, and `problem` is the plain one again: with the solve's minimum, written
+// with the first pose unchanged, when it moved the estimate; with the start otherwise.
 struct ScaleSolve {
+  bool solved = false;     // it ran Ceres (summary is its)
   bool moved = false;      // poses and points took its estimate
   bool converged = false;  // and it is the plain problem's minimum too
 };
 
-ScaleSolve solve_with_scale(const camera::CatadioptricCamera& camera,
-                            const std::vector<io::TrackObservation>& observations,
-                            const BatchSettings& settings, ceres::Solver::Options options,
+ScaleSolve solve_with_scale(ceres::Problem* problem, ceres::Solver::Options options,
                             std::vector<PoseVector>* poses,
-                            std::map<int, Eigen::Vector3d>* points,
+                            std::map<int, Eigen::Vector3d>* points, double* u,
                             ceres::Solver::Summary* summary) {
   // Beyond it the scene has run toward infinity or collapsed: the data hold no scale.
   constexpr double kScaleRange = 1000;
-  if (poses->size() < 2) return {};
-  std::vector<PoseVector> scaled_poses = *poses;
-  std::map<int, Eigen::Vector3d> scaled_points = *points;
-  double u = 1;
-  ceres::Problem problem;
-  for (const auto& o : observations) {
-    ceres::LossFunction* loss =
-        settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
-    problem.AddResidualBlock(new ScaledProjectionCost(&camera, o.pixel), loss,
-                             scaled_poses[o.frame].data(), scaled_points.at(o.track).data(), &u);
-  }
-  if (!problem.HasParameterBlock(scaled_poses[0].data())) return {};
-  problem.SetParameterBlockConstant(scaled_poses[0].data());
   int held_frame = -1, held_coordinate = 0;
   double farthest = 0;
-  for (size_t f = 1; f < scaled_poses.size(); ++f)
+  for (size_t f = 1; f < poses->size(); ++f)
     for (int k = 3; k < 6; ++k)
-      if (problem.HasParameterBlock(scaled_poses[f].data()) &&
-          std::abs(scaled_poses[f][k] - scaled_poses[0][k]) > farthest) {
-        farthest = std::abs(scaled_poses[f][k] - scaled_poses[0][k]);
+      if (problem->HasParameterBlock((*poses)[f].data()) &&
+          std::abs((*poses)[f][k] - (*poses)[0][k]) > farthest) {
+        farthest = std::abs((*poses)[f][k] - (*poses)[0][k]);
         held_frame = static_cast<int>(f);
         held_coordinate = k;
       }
   if (held_frame < 0) return {};  // no motion: no scale to find
-  problem.SetManifold(scaled_poses[held_frame].data(),
-                      new ceres::SubsetManifold(6, {held_coordinate}));
-  options.linear_solver_ordering = points_eliminated_first(problem, &scaled_points);
+  const std::vector<PoseVector> start_poses = *poses;
+  const std::map<int, Eigen::Vector3d> start_points = *points;
+  double* held = (*poses)[held_frame].data();
+  problem->SetManifold(held, new ceres::SubsetManifold(6, {held_coordinate}));
+  problem->SetParameterBlockVariable(u);
   // The plain problem's forcing term is for its slow scale direction. With the scale a parameter,
   // 1e-3 takes as many steps to the same cost, with 15-20 conjugate gradient iterations, not 25.
   options.eta = 1e-3;
-  ceres::Solve(options, &problem, summary);
+  ceres::Solve(options, problem, summary);
+  problem->SetManifold(held, nullptr);
+  problem->SetParameterBlockConstant(u);
+  const double scale = *u;
+  *u = 1;
   if (!summary->IsSolutionUsable() || !(summary->final_cost < summary->initial_cost) ||
-      !(u > 1 / kScaleRange && u < kScaleRange))
-    return {};
+      !(scale > 1 / kScaleRange && scale < kScaleRange)) {
+    *poses = start_poses;
+    *points = start_points;
+    return {true, false, false};
+  }
   // The world scaled by 1/u about the first camera's centre c0: p' = c0 + (p - c0) / u and
   // t' = t / u + R c0 (1 / u - 1), which keeps the first pose and every camera-frame point.
-  const Eigen::Isometry3d first = to_pose(scaled_poses[0]);
+  const Eigen::Isometry3d first = to_pose((*poses)[0]);
   const Eigen::Vector3d c0 = -first.linear().transpose() * first.translation();
   for (size_t f = 1; f < poses->size(); ++f) {
-    Eigen::Isometry3d T = to_pose(scaled_poses[f]);
-    T.translation() = T.translation() / u + T.linear() * c0 * (1 / u - 1);
+    Eigen::Isometry3d T = to_pose((*poses)[f]);
+    T.translation() = T.translation() / scale + T.linear() * c0 * (1 / scale - 1);
     (*poses)[f] = to_vector(T);
   }
-  for (auto& [track, p] : *points) {
-    auto scaled = scaled_points.find(track);
-    if (scaled != scaled_points.end()) p = c0 + (scaled->second - c0) / u;
-  }
-  return {true, summary->termination_type == ceres::CONVERGENCE};
+  for (auto& [track, p] : *points) p = c0 + (p - c0) / scale;
+  return {true, true, summary->termination_type == ceres::CONVERGENCE};
 }
 
 }  // namespace
@@ -213,15 +207,18 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   std::vector<io::TrackObservation> used_observations;
   for (size_t i = 0; i < observations.size(); ++i)
     if (ok[i]) used_observations.push_back(observations[i]);
+  // The scene's inverse scale: a parameter only while solve_with_scale runs, 1 and held otherwise.
+  double inverse_scale = 1;
   ceres::Problem problem;
   std::vector<ceres::ResidualBlockId> projections;
   for (const auto& o : used_observations) {
     ceres::LossFunction* loss =
         settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
-    projections.push_back(problem.AddResidualBlock(new ProjectionCost(&optimised, o.pixel), loss,
-                                                   poses[o.frame].data(),
-                                                   points.at(o.track).data()));
+    projections.push_back(problem.AddResidualBlock(
+        new ScaledProjectionCost(&optimised, o.pixel), loss, poses[o.frame].data(),
+        points.at(o.track).data(), &inverse_scale));
   }
+  problem.SetParameterBlockConstant(&inverse_scale);
   const double used = static_cast<double>(used_observations.size());
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
@@ -259,7 +256,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   // relative tolerance instead lets Levenberg-Marquardt creep for hundreds of iterations along a
   // long drive's slow, curved deformations without changing anything that can be measured.
   // Degrees of freedom: residuals less free parameters (NumParameters counts a held first pose).
-  const double held = gauge_fixed ? 0 : 6;
+  const double held = (gauge_fixed ? 0 : 6) + 1;  // and the inverse scale
   const double dof = std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
   options.function_tolerance = std::max(1e-10, 0.01 / dof);
   options.parameter_tolerance = 1e-10;
@@ -274,28 +271,27 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   const double initial_reprojection_cost = extra ? reprojection_cost() : 0;
   ceres::Solver::Summary summary;
   int iterations = 0;
-  double solve_seconds = 0;
-  // The motion sensors' terms fix the scale themselves.
-  const bool find_scale = !extra && settings.scale_start;
-  const ScaleSolve scaled = find_scale ? solve_with_scale(optimised, used_observations, settings,
-                                                          options, &poses, &points, &summary)
-                                       : ScaleSolve{};
-  // Both problems start from the same cost.
-  const double initial_cost = find_scale ? summary.initial_cost : 0;
-  if (find_scale) {
-    iterations = static_cast<int>(summary.iterations.size());
-    solve_seconds = summary.total_time_in_seconds;
-  }
-  if (!scaled.converged) {
-    // On with the plain problem: from the scaled estimate when it moved (it is lower in cost).
-    ceres::Solve(options, &problem, &summary);
+  double solve_seconds = 0, initial_cost = -1;
+  const auto count = [&] {
     iterations += static_cast<int>(summary.iterations.size());
     solve_seconds += summary.total_time_in_seconds;
+    if (initial_cost < 0) initial_cost = summary.initial_cost;  // the start's, of the first solve
+  };
+  ScaleSolve scaled;
+  // The motion sensors' terms fix the scale themselves.
+  if (!extra && settings.scale_start && problem.HasParameterBlock(poses[0].data())) {
+    scaled = solve_with_scale(&problem, options, &poses, &points, &inverse_scale, &summary);
+    if (scaled.solved) count();
+  }
+  if (!scaled.converged) {
+    // The plain problem, from the scaled estimate when it moved (it is lower in cost).
+    ceres::Solve(options, &problem, &summary);
+    count();
   }
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.message;
   result.iterations = iterations;
-  result.initial_rms_px = std::sqrt((find_scale ? initial_cost : summary.initial_cost) / used);
+  result.initial_rms_px = std::sqrt(initial_cost / used);
   result.final_rms_px = std::sqrt(summary.final_cost / used);
   if (extra) {
     result.initial_rms_px = std::sqrt(initial_reprojection_cost / used);
