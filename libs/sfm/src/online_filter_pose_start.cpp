@@ -1,5 +1,5 @@
-// The iterated update's first linearisation point when the frame's points have settled: the
-// posterior's minimum along the pose's direction of the prior.
+// The iterated update's first linearisation point in frames without new points: the posterior's
+// minimum along the pose's direction of the prior.
 //
 // The prediction can be centimetres and degrees from where the frame was taken, and an update
 // linearised there leaves errors of a tenth of a pixel, so a second full linearisation (P H^T, S
@@ -8,8 +8,9 @@
 // by delta and every point by what the prior says it does when the pose does (its mean given
 // the pose). One Gauss-Newton step on the posterior cost in delta uses the measurements' own
 // Jacobians at the prior, so it costs one projection of the points; from there a single full
-// update usually settles. While depths are still uncertain the cost is far from quadratic in
-// the pose alone and this start only adds work, so it waits for them.
+// update usually settles. It also serves while depths are still uncertain (on the rover, 1.61
+// linearisations per frame where waiting for every depth to be known to 10 % took 1.84, at the
+// same accuracy); a start that does not lower the posterior cost is not taken.
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -21,8 +22,6 @@
 namespace omnisfm::sfm {
 namespace {
 
-// A point's depth has settled when its inverse depth is known to this fraction (one sigma).
-constexpr double kSettledInverseDepth = 0.1;
 // Fewer points than this leave the pose to the full update.
 constexpr int kMinPoints = 3;
 // Huber's threshold in multiples of the median residual (and at least the outlier threshold):
@@ -37,12 +36,6 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   const int m = static_cast<int>(meas.size());
   const int n = static_cast<int>(P_.rows());
   if (m < kMinPoints) return false;
-  for (const Measurement& measurement : meas) {
-    const int slot = measurement.slot;
-    const int inverse_depth = 6 + 3 * slot + 2;
-    const double inverse_depth_sigma = std::sqrt(P_(inverse_depth, inverse_depth));
-    if (!(inverse_depth_sigma < kSettledInverseDepth * points_[3 * slot + 2])) return false;
-  }
 
   const Eigen::LLT<Eigen::Matrix<double, 6, 6>> pose_prior(P_.topLeftCorner<6, 6>());
   if (pose_prior.info() != Eigen::Success) return false;

@@ -12,9 +12,9 @@
 // barely known stays well approximated by a Gaussian and never crosses behind the camera. The
 // measurement update uses the noncentral projection's analytic Jacobians, iterated (a damped
 // Gauss-Newton on the posterior cost, started from the established points' update when new
-// points are measured, else, once depths have settled, from the posterior's minimum along the
-// pose's direction of the prior); afterwards, if the largest residual exceeds the outlier threshold, that
-// track is discarded and the update re-run from the propagated estimate, until none does. A track
+// points are measured, else from the posterior's minimum along the pose's direction of the
+// prior); afterwards, if the largest residual exceeds the outlier threshold, that track is
+// discarded and the update re-run from the propagated estimate, until none does. A track
 // that is not observed in a frame has ended and leaves the state, so the per-frame cost stays
 // bounded however long the sequence.
 //
@@ -49,9 +49,8 @@ struct FilterSettings {
   // less than 3 % of pixel_sigma. New points' depths make the first updates strongly nonlinear:
   // with more than 2, frames with new points start from the established points' update, and
   // steps are damped when the posterior cost falls short of the linear model's prediction. In
-  // frames without new points whose depths are known to 10 %, the first linearisation point is
-  // the posterior's minimum along the pose (one Gauss-Newton step in six parameters), where one
-  // linearisation usually settles.
+  // frames without new points, the first linearisation point is the posterior's minimum along
+  // the pose (one Gauss-Newton step in six parameters), where one linearisation usually settles.
   int update_iterations = 8;
   // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
   int smoothed_start_frames = 20;
@@ -155,8 +154,8 @@ class OnlineFilter {
   // An outlier: out of the state and the results for good, listed in rejected().
   void reject(int track, int frame);
   // Moves the update's first iterate from the prediction to the posterior's minimum along the
-  // pose's direction of the prior (see online_filter_pose_start.cpp). False, leaving it, when too
-  // few points have settled or a point does not project there.
+  // pose's direction of the prior (see online_filter_pose_start.cpp). False, leaving it, with too
+  // few points, when a point does not project there, or when it does not lower the cost.
   bool start_on_pose_subspace(const std::vector<Measurement>& measurements, Iterate* prior) const;
   // The iterated update from the current (propagated) state.
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
