@@ -258,6 +258,63 @@ void BM_RoverJacobians(benchmark::State& state) {
 }
 BENCHMARK(BM_RoverJacobians)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// Whole Levenberg-Marquardt iterations of the plain rover problem (the first pose held, points
+// eliminated, conjugate gradients on the reduced system as the batch runs it, 2 threads), analytic
+// or numeric: what differentiating numerically costs per iteration once the linear solve, which
+// both share, is counted. Counter: wall seconds per iteration.
+void BM_RoverIterations(benchmark::State& state) {
+  constexpr int kIterations = 4;
+  const bool numeric = state.range(0) == 1;
+  const BatchInput& b = rover_batch();
+  int iterations = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::vector<Eigen::Matrix<double, 6, 1>> poses;
+    for (const auto& T : b.start.online_cam_from_world) {
+      Eigen::Matrix<double, 6, 1> v;
+      const Eigen::Matrix3d R = T.linear();
+      ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
+      v.tail<3>() = T.translation();
+      poses.push_back(v);
+    }
+    std::map<int, Eigen::Vector3d> points = b.start.online_points;
+    ceres::Problem problem;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (const auto& o : b.tracks) {
+      auto p = points.find(o.track);
+      if (p == points.end()) continue;
+      ceres::CostFunction* cost =
+          numeric
+              ? static_cast<ceres::CostFunction*>(
+                    new ceres::NumericDiffCostFunction<NumericProjection, ceres::CENTRAL, 2, 6, 3>(
+                        new NumericProjection{&b.camera, o.pixel}))
+              : sfm::make_projection_cost(&b.camera, o.pixel);
+      problem.AddResidualBlock(cost, nullptr, poses[o.frame].data(), p->second.data());
+      ordering->AddElementToGroup(p->second.data(), 0);
+      ordering->AddElementToGroup(poses[o.frame].data(), 1);
+    }
+    problem.SetParameterBlockConstant(poses[0].data());
+    ceres::Solver::Options options;
+    options.linear_solver_ordering = ordering;
+    options.linear_solver_type = ceres::ITERATIVE_SCHUR;
+    options.preconditioner_type = ceres::SCHUR_JACOBI;
+    options.eta = 1e-6;
+    options.initial_trust_region_radius = 1e7;
+    options.max_num_iterations = kIterations;
+    options.function_tolerance = options.gradient_tolerance = options.parameter_tolerance = 0;
+    options.num_threads = 2;
+    state.ResumeTiming();
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    iterations += static_cast<int>(summary.iterations.size()) - 1;
+    seconds += summary.minimizer_time_in_seconds;
+  }
+  state.counters["s_per_iteration"] = seconds / std::max(1, iterations);
+  state.SetLabel(numeric ? "numeric (central differences)" : "analytic");
+}
+BENCHMARK(BM_RoverIterations)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 }  // namespace
 
 BENCHMARK_MAIN();
