@@ -220,33 +220,45 @@ struct NumericProjection {
   }
 };
 
+// The rover problem from the filter's start: poses as (angle-axis, translation), every residual
+// analytic or numeric; points are put in group 0 of `ordering` (eliminated) and poses in group 1.
+struct RoverProblem {
+  std::vector<Eigen::Matrix<double, 6, 1>> poses;
+  std::map<int, Eigen::Vector3d> points;
+  ceres::Problem problem;
+  std::shared_ptr<ceres::ParameterBlockOrdering> ordering =
+      std::make_shared<ceres::ParameterBlockOrdering>();
+
+  RoverProblem(const BatchInput& b, bool numeric) : points(b.start.online_points) {
+    for (const auto& T : b.start.online_cam_from_world) {
+      Eigen::Matrix<double, 6, 1> v;
+      const Eigen::Matrix3d R = T.linear();
+      ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
+      v.tail<3>() = T.translation();
+      poses.push_back(v);
+    }
+    for (const auto& o : b.tracks) {
+      auto p = points.find(o.track);
+      if (p == points.end()) continue;
+      ceres::CostFunction* cost =
+          numeric ? static_cast<ceres::CostFunction*>(
+                        new ceres::NumericDiffCostFunction<NumericProjection, ceres::CENTRAL, 2,
+                                                           6, 3>(
+                            new NumericProjection{&b.camera, o.pixel}))
+                  : sfm::make_projection_cost(&b.camera, o.pixel);
+      problem.AddResidualBlock(cost, nullptr, poses[o.frame].data(), p->second.data());
+      ordering->AddElementToGroup(p->second.data(), 0);
+      ordering->AddElementToGroup(poses[o.frame].data(), 1);
+    }
+  }
+};
+
 // One linearisation of the whole rover problem (every residual and Jacobian), analytic or
 // numeric: the per-iteration cost that differs between the two.
 void BM_RoverJacobians(benchmark::State& state) {
   const bool numeric = state.range(0) == 1;
-  const BatchInput& b = rover_batch();
-  std::vector<Eigen::Matrix<double, 6, 1>> poses;
-  for (const auto& T : b.start.online_cam_from_world) {
-    Eigen::Matrix<double, 6, 1> v;
-    const Eigen::Matrix3d R = T.linear();
-    ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
-    v.tail<3>() = T.translation();
-    poses.push_back(v);
-  }
-  std::map<int, Eigen::Vector3d> points = b.start.online_points;
-  ceres::Problem::Options options;
-  options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem problem(options);
-  for (const auto& o : b.tracks) {
-    auto p = points.find(o.track);
-    if (p == points.end()) continue;
-    ceres::CostFunction* cost =
-        numeric ? static_cast<ceres::CostFunction*>(
-                      new ceres::NumericDiffCostFunction<NumericProjection, ceres::CENTRAL, 2, 6, 3>(
-                          new NumericProjection{&b.camera, o.pixel}))
-                : sfm::make_projection_cost(&b.camera, o.pixel);
-    problem.AddResidualBlock(cost, nullptr, poses[o.frame].data(), p->second.data());
-  }
+  RoverProblem rover(rover_batch(), numeric);
+  ceres::Problem& problem = rover.problem;
   double cost = 0;
   std::vector<double> residuals;
   ceres::CRSMatrix jacobian;
@@ -270,33 +282,11 @@ void BM_RoverIterations(benchmark::State& state) {
   double seconds = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    std::vector<Eigen::Matrix<double, 6, 1>> poses;
-    for (const auto& T : b.start.online_cam_from_world) {
-      Eigen::Matrix<double, 6, 1> v;
-      const Eigen::Matrix3d R = T.linear();
-      ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
-      v.tail<3>() = T.translation();
-      poses.push_back(v);
-    }
-    std::map<int, Eigen::Vector3d> points = b.start.online_points;
-    ceres::Problem problem;
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (const auto& o : b.tracks) {
-      auto p = points.find(o.track);
-      if (p == points.end()) continue;
-      ceres::CostFunction* cost =
-          numeric
-              ? static_cast<ceres::CostFunction*>(
-                    new ceres::NumericDiffCostFunction<NumericProjection, ceres::CENTRAL, 2, 6, 3>(
-                        new NumericProjection{&b.camera, o.pixel}))
-              : sfm::make_projection_cost(&b.camera, o.pixel);
-      problem.AddResidualBlock(cost, nullptr, poses[o.frame].data(), p->second.data());
-      ordering->AddElementToGroup(p->second.data(), 0);
-      ordering->AddElementToGroup(poses[o.frame].data(), 1);
-    }
-    problem.SetParameterBlockConstant(poses[0].data());
+    RoverProblem rover(b, numeric);
+    ceres::Problem& problem = rover.problem;
+    problem.SetParameterBlockConstant(rover.poses[0].data());
     ceres::Solver::Options options;
-    options.linear_solver_ordering = ordering;
+    options.linear_solver_ordering = rover.ordering;
     options.linear_solver_type = ceres::ITERATIVE_SCHUR;
     options.preconditioner_type = ceres::SCHUR_JACOBI;
     options.eta = 1e-6;
