@@ -4,6 +4,7 @@
 #include <ceres/rotation.h>
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -150,8 +151,9 @@ ScaleSolve solve_with_scale(ceres::Problem* problem, ceres::Solver::Options opti
   *u = 1;
   if (!summary->IsSolutionUsable() || !(summary->final_cost < summary->initial_cost) ||
       !(scale > 1 / kScaleRange && scale < kScaleRange)) {
-    *poses = start_poses;
-    *points = start_points;
+    // Element by element: the problem holds the addresses of these values.
+    std::copy(start_poses.begin(), start_poses.end(), poses->begin());
+    for (auto& [track, p] : *points) p = start_points.at(track);
     return {true, false, false};
   }
   // The world scaled by 1/u about the first camera's centre c0: p' = c0 + (p - c0) / u and
