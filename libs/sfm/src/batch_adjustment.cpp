@@ -71,15 +71,14 @@ std::vector<char> projectable(const camera::CatadioptricCamera& camera,
                               const std::map<int, Eigen::Vector3d>& points) {
   std::vector<char> ok(observations.size(), 0);
   const auto check = [&](size_t begin, size_t end) {
-    const ProjectionCost unused(&camera, Eigen::Vector2d::Zero());
     for (size_t i = begin; i < end; ++i) {
       const auto& o = observations[i];
       auto point = points.find(o.track);
       if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size()))
         continue;
       double residual[2];
-      const double* blocks[2] = {poses[o.frame].data(), point->second.data()};
-      ok[i] = unused.Evaluate(blocks, residual, nullptr);
+      ok[i] = evaluate_projection(camera, o.pixel, poses[o.frame].data(), point->second.data(), 1,
+                                  residual, nullptr, nullptr, nullptr);
     }
   };
   const size_t half = observations.size() / 2;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 #include <set>
 
@@ -151,6 +152,24 @@ TEST(BatchAdjustment, UnfinishedScaleSolveGoesOnInThePlainProblem) {
   const BatchResult converged = batch_from_filter(true);
   EXPECT_NEAR(path_length(one.cam_from_world), path_length(converged.cam_from_world),
               0.03 * path_length(converged.cam_from_world));
+}
+
+// Observations that cannot be projected from the start are left out rather than failing the
+// solve: a track whose start is not a number keeps it, and the rest converge.
+TEST(BatchAdjustment, LeavesOutWhatCannotBeProjectedFromTheStart) {
+  const FilterStart& s = rover_filter_start();
+  std::map<int, Eigen::Vector3d> points = s.online.online_points;
+  const int broken = points.begin()->first;
+  points[broken] = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  BatchSettings settings;
+  settings.covariances = false;
+  const BatchResult result =
+      batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world, points, settings);
+  ASSERT_TRUE(result.converged) << result.message;
+  EXPECT_TRUE(result.points.at(broken).hasNaN());
+  for (const auto& [track, p] : result.points)
+    if (track != broken) EXPECT_TRUE(p.allFinite()) << track;
+  EXPECT_LT(result.final_rms_px, 0.25);
 }
 
 // In the plain problem one point's reflection sits at the rim, and steps toward the true scale

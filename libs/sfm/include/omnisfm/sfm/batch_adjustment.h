@@ -34,8 +34,7 @@ struct BatchResult {
   int iterations = 0;
   double initial_rms_px = 0, final_rms_px = 0;  // per coordinate
   double seconds = 0;        // in all, covariances included
-  double solve_seconds = 0;
-  double start_scale = 1;    // the scale the start was given before the solve  // the Levenberg-Marquardt solve alone
+  double solve_seconds = 0;  // the Levenberg-Marquardt solves alone
   // Ceres's name of the reduced camera system's solver: ITERATIVE_SCHUR when most frames share
   // points, SPARSE_SCHUR when the system is banded (long sequences).
   std::string linear_solver;
