@@ -114,7 +114,6 @@ std::shared_ptr<ceres::ParameterBlockOrdering> points_eliminated_first(
 // with the first pose unchanged, when it moved the estimate; with the start otherwise.
 struct ScaleSolve {
   bool solved = false;     // it ran Ceres (summary is its)
-  bool moved = false;      // poses and points took its estimate
   bool converged = false;  // and it is the plain problem's minimum too
 };
 
@@ -153,7 +152,7 @@ ScaleSolve solve_with_scale(ceres::Problem* problem, ceres::Solver::Options opti
     // Element by element: the problem holds the addresses of these values.
     std::copy(start_poses.begin(), start_poses.end(), poses->begin());
     for (auto& [track, p] : *points) p = start_points.at(track);
-    return {true, false, false};
+    return {true, false};
   }
   // The world scaled by 1/u about the first camera's centre c0: p' = c0 + (p - c0) / u and
   // t' = t / u + R c0 (1 / u - 1), which keeps the first pose and every camera-frame point.
@@ -165,7 +164,7 @@ ScaleSolve solve_with_scale(ceres::Problem* problem, ceres::Solver::Options opti
     (*poses)[f] = to_vector(T);
   }
   for (auto& [track, p] : *points) p = c0 + (p - c0) / scale;
-  return {true, true, summary->termination_type == ceres::CONVERGENCE};
+  return {true, summary->termination_type == ceres::CONVERGENCE};
 }
 
 }  // namespace

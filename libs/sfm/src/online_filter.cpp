@@ -146,6 +146,9 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   const int m = static_cast<int>(meas.size());
   const int n = static_cast<int>(P_.rows());
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  // Where each measured point's three parameters sit in the state.
+  std::vector<int> point_columns(m);
+  for (int k = 0; k < m; ++k) point_columns[k] = 6 + 3 * meas[k].slot;
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
   Iterate at, next;
@@ -161,7 +164,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   at.g = Eigen::VectorXd::Zero(n);
   at.cost = 0;
   for (int k = 0; k < m; ++k)
-    at.cost += at.take(k, meas[k].at_prior, meas[k].pixel, 6 + 3 * meas[k].slot,
+    at.cost += at.take(k, meas[k].at_prior, meas[k].pixel, point_columns[k],
                        Eigen::Matrix3d::Identity(), true) /
                variance;
   c->residuals.resize(m);
@@ -194,8 +197,6 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   PHt.resize(n, 2 * m);
   S.resize(2 * m, 2 * m);
   Eigen::MatrixXd HPHt;
-  std::vector<int> point_columns(m);
-  for (int k = 0; k < m; ++k) point_columns[k] = 6 + 3 * meas[k].slot;
   const double settled_px = 0.03 * settings_.pixel_sigma;
   // Levenberg's damping in the prior's metric, mu |x - x_i|^2_P^-1 added to the posterior cost:
   // the step is the iterated EKF's with P / (1 + mu) and the offset x_i - x_prior shrunk by
@@ -236,7 +237,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     next.g = mu * at.g;
     next.g.head<6>().noalias() += at.H_pose.transpose() * weighted;
     for (int k = 0; k < m; ++k)
-      next.g.segment<3>(6 + 3 * meas[k].slot).noalias() +=
+      next.g.segment<3>(point_columns[k]).noalias() +=
           at.H_point[k].transpose() * weighted.segment<2>(2 * k);
     next.offset = shrink * (next.offset + mu * at.offset);
     next.g *= shrink;
@@ -286,10 +287,12 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
       const Eigen::Vector2d linear_pixel =
           at.pixels.segment<2>(2 * k) +
           at.H_pose.middleRows<2>(2 * k) * (next.offset.head<6>() - at.offset.head<6>()) +
-          at.H_point[k] * (next.offset.segment<3>(6 + 3 * s) - at.offset.segment<3>(6 + 3 * s));
+          at.H_point[k] * (next.offset.segment<3>(point_columns[k]) -
+                           at.offset.segment<3>(point_columns[k]));
       linearisation_error =
           std::max(linearisation_error, (lin.pixel - linear_pixel).cwiseAbs().maxCoeff());
-      next.cost += next.take(k, lin, meas[k].pixel, 6 + 3 * s, chart, may_relinearise) / variance;
+      next.cost +=
+          next.take(k, lin, meas[k].pixel, point_columns[k], chart, may_relinearise) / variance;
     }
     if (!projected) next.cost = INFINITY;
     const double gain = (at.cost - next.cost) / std::max(at.cost - model_cost, 1e-12);

@@ -14,7 +14,6 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <cmath>
 
 #include "omnisfm/sfm/online_filter.h"
 #include "so3.h"

@@ -1,4 +1,5 @@
-// The online filter's update on a long stretch of settled points: the work it takes per frame.
+// The online filter's update: the work it takes per frame, on a long stretch of settled points
+// and over the whole simulated rover sequence.
 
 #include "omnisfm/sfm/online_filter.h"
 
