@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
                            {"vision alone (batch)", {}},
                            {"fused odometry + gyro, online", {}},
                            {"fused odometry + gyro (batch)", {}},
+                           {"fused odometry + gyro (batch), a wheel reading 1.5 % short", {}},
+                           {"fused odometry + gyro (batch), the wheel's scale left free", {}},
                            {"fused odometry + gyro + GPS (batch, ENU)", {}},
                            {"fused odometry (scale from the GPS run) + gyro (batch)", {}}};
   sfm::SfmSettings settings;
@@ -120,6 +122,20 @@ int main(int argc, char** argv) {
     const auto fused = sfm::run_fused_sfm(d.camera, d.observations, d.timestamps, sensors, settings);
     rows[3].runs.push_back(figures(inverted(fused.online_cam_from_world), truth));
     rows[4].runs.push_back(figures(inverted(fused.batch.cam_from_world), truth));
+    // The fused scale errs with the wheel whichever way the wheel errs.
+    sim::DeadReckoningOptions short_options = dr_options;
+    short_options.odometry_scale_error = -dr_options.odometry_scale_error;
+    const sim::DeadReckoning short_dr = sim::simulate_dead_reckoning(d, short_options);
+    const auto short_fused = sfm::run_fused_sfm(d.camera, d.observations, d.timestamps,
+                                                eval::motion_sensors(&short_dr, short_options, nullptr),
+                                                settings);
+    rows[5].runs.push_back(figures(inverted(short_fused.batch.cam_from_world), truth));
+    // What the camera alone says of the scale once the motion sensors hold the shape.
+    sfm::MotionSensors free_scale = sensors;
+    free_scale.odometry_noise.scale_sigma = 1e3;
+    const auto free_fused =
+        sfm::run_fused_sfm(d.camera, d.observations, d.timestamps, free_scale, settings);
+    rows[6].runs.push_back(figures(inverted(free_fused.batch.cam_from_world), truth));
 
     const sfm::MotionSensors with_gps = eval::motion_sensors(&dr, dr_options, &gps);
     const auto enu = sfm::run_fused_sfm(d.camera, d.observations, d.timestamps, with_gps, settings);
@@ -130,7 +146,7 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k < truth.size(); ++k)
       f.enu_m += (enu.batch.cam_from_world[k].inverse().translation() - truth_enu[k].translation()).norm() /
                  truth.size();
-    rows[5].runs.push_back(f);
+    rows[7].runs.push_back(f);
 
     // The next seed's drive takes this one's scale: the same vehicle calibrated on an earlier run.
     sim::SimulationOptions next_options = options;
@@ -143,7 +159,7 @@ int main(int argc, char** argv) {
     calibrated.odometry_scale = enu.odometry_scale;
     calibrated.odometry_noise.scale_sigma = 0.003;
     const auto later = sfm::run_fused_sfm(next.camera, next.observations, next.timestamps, calibrated, settings);
-    rows[6].runs.push_back(figures(inverted(later.batch.cam_from_world), next.world_from_cam));
+    rows[8].runs.push_back(figures(inverted(later.batch.cam_from_world), next.world_from_cam));
     std::fprintf(stderr, "seed %d: odometry scale from GPS %.5f (truth %.5f)\n", seed,
                  enu.odometry_scale, 1 / (1 + dr_options.odometry_scale_error));
   }

@@ -54,7 +54,8 @@ class OdometryCost : public ceres::SizedCostFunction<3, 6, 6, 1> {
     const Eigen::Vector3d u = p_cb_ - next.t;
     const Eigen::Vector3d tau = R_bc_ * (A * u + k.t) + p_bc_;
     const double yaw = std::atan2(Q(1, 0), Q(0, 0));
-    const Eigen::Vector3d e(tau.x() - scale * delta_.x(), tau.y() - scale * delta_.y(),
+    const double inverse_scale = 1 / scale;
+    const Eigen::Vector3d e(inverse_scale * tau.x() - delta_.x(), inverse_scale * tau.y() - delta_.y(),
                             wrap_angle(yaw - delta_.z()));
     Eigen::Vector3d::Map(residuals) = W_ * e;
     if (!jacobians) return true;
@@ -71,10 +72,12 @@ class OdometryCost : public ceres::SizedCostFunction<3, 6, 6, 1> {
     J_phi_next.row(2) = g * Q * so3::skew(Eigen::Vector3d::UnitX()) * R_bc_;
     J_t_k.topRows<2>() = R_bc_.topRows<2>();
     J_t_next.topRows<2>() = (-R_bc_ * A).topRows<2>();
+    for (Eigen::Matrix3d* J : {&J_phi_k, &J_phi_next, &J_t_k, &J_t_next}) J->topRows<2>() *= inverse_scale;
     write_pose_jacobian(jacobians[0], W_, J_phi_k, J_t_k, k);
     write_pose_jacobian(jacobians[1], W_, J_phi_next, J_t_next, next);
     if (jacobians[2])
-      Eigen::Vector3d::Map(jacobians[2]) = W_ * Eigen::Vector3d(-delta_.x(), -delta_.y(), 0);
+      Eigen::Vector3d::Map(jacobians[2]) =
+          W_ * Eigen::Vector3d(-tau.x(), -tau.y(), 0) * (inverse_scale * inverse_scale);
     return true;
   }
 

@@ -52,6 +52,34 @@ TEST(MotionResiduals, OdometryJacobians) {
   }
 }
 
+// The residual is in what the wheel read, so the same drive in other units (the scene, the mount's
+// offset and the wheel's scale all times c) has the same residual. Were it in metres it would
+// shrink with the scene, and the batch would shrink the scene to lower it.
+TEST(MotionResiduals, OdometryResidualDoesNotChangeWithTheSceneUnits) {
+  std::mt19937_64 rng(4);
+  OdometryIncrement increment;
+  increment.delta << 0.12, -0.03, 0.2;
+  increment.covariance = Eigen::Vector3d(1e-4, 2e-4, 3e-4).asDiagonal();
+  const auto a = random_pose(rng), b = nearby(a, rng);
+  const double scale = 1.02;
+  const auto residual = [&](double c) {
+    Eigen::Isometry3d mount = body_from_cam();
+    mount.translation() *= c;
+    std::unique_ptr<ceres::CostFunction> cost(make_odometry_cost(increment, mount));
+    Eigen::Matrix<double, 6, 1> a_c = a, b_c = b;
+    a_c.tail<3>() *= c;
+    b_c.tail<3>() *= c;
+    const double scale_c = c * scale;
+    const double* blocks[] = {a_c.data(), b_c.data(), &scale_c};
+    Eigen::Vector3d r;
+    cost->Evaluate(blocks, r.data(), nullptr);
+    return r;
+  };
+  const Eigen::Vector3d reference = residual(1);
+  ASSERT_GT(reference.head<2>().norm(), 1.0) << "a drive that disagrees with the wheel";
+  for (double c : {0.5, 3.0}) EXPECT_LT((residual(c) - reference).norm(), 1e-9 * reference.norm());
+}
+
 TEST(MotionResiduals, GyroJacobians) {
   std::mt19937_64 rng(2);
   GyroIncrement increment;

@@ -5,9 +5,11 @@
 // return.
 //
 // Odometry between frames k and k+1 (blocks: pose k, pose k+1, odometry scale [1]): the planar
-// part (x, y, yaw) of body_k_from_body_k+1 predicted by the poses, minus the odometry increment
-// with its distances multiplied by the scale (true distance per distance read).
-//   e = (x - s dx, y - s dy, wrap(yaw - dyaw))
+// part (x, y, yaw) of body_k_from_body_k+1 predicted by the poses, with its distances divided by
+// the scale s (true distance per distance read), minus the odometry increment.
+//   e = (x / s - dx, y / s - dy, wrap(yaw - dyaw))
+// It is in what the wheel read, as its noise is: in metres, (x - s dx) would shrink with the
+// scene, and the batch would shrink the scene and the scale together to lower it.
 //
 // Gyro between frames k and k+1 (blocks: pose k, pose k+1, gyro bias [3]): the rotation
 // body_k_from_body_k+1 predicted by the poses against the integrated rates with the bias taken
