@@ -101,6 +101,7 @@ int main(int argc, char** argv) {
                            {"fused odometry (scale from the GPS run) + gyro (batch)", {}}};
   sfm::SfmSettings settings;
   settings.batch.covariances = false;
+  settings.filter.pixel_sigma = 0.2;  // the simulated tracks' noise, as the sensors' are theirs
   for (int seed = 1; seed <= seeds; ++seed) {
     sim::SimulationOptions options;
     options.scenario = "rover";

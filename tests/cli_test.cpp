@@ -763,6 +763,48 @@ TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
   EXPECT_LT(figure_after(sfm.out, "batch   translation "), 0.015) << sfm.out;
 }
 
+// The scale after a similarity alignment, from `run --ground-truth`'s "batch   translation ...
+// scale S" line, as an error: |1/S - 1|.
+double batch_scale_error(const std::string& out) {
+  const size_t line = out.find("batch   translation ");
+  if (line == std::string::npos) return NAN;
+  return std::abs(1 / figure_after(out.substr(line, out.find('\n', line) - line), "scale ") - 1);
+}
+
+// The wheel reads 1.5 % long, and the fused scale is the wheel's. A run with GPS reports the
+// wheel's scale; a later drive of the same vehicle without GPS takes it through run.ini.
+TEST_F(CliTest, RunTakesTheWheelScaleThatAGpsRunEstimated) {
+  ASSERT_EQ(omnisfm("simulate --scenario rover --out outdoor --rawlog --gps").status, 0);
+  const Outcome gps = omnisfm("run outdoor/dataset.rawlog --out gps");
+  ASSERT_EQ(gps.status, 0) << gps.err;
+  const size_t line = gps.out.find("odometry scale ");
+  ASSERT_NE(line, std::string::npos) << gps.out;
+  const std::string scale_line = gps.out.substr(line, gps.out.find('\n', line) - line);
+  const double scale = figure_after(scale_line, "odometry scale ");
+  const double sigma = figure_after(scale_line, "+- ");
+  EXPECT_NEAR(scale, 1 / 1.015, 3 * sigma) << scale_line;
+  EXPECT_LT(sigma, 0.01) << scale_line;
+  EXPECT_NE(gps.out.find("noise models: chi-square per degree of freedom "), std::string::npos)
+      << gps.out;
+
+  ASSERT_EQ(omnisfm("simulate --scenario rover --seed 2 --out later --rawlog").status, 0);
+  const Outcome uncalibrated =
+      omnisfm("run later/dataset.rawlog --out uncalibrated --ground-truth later/ground_truth.tum");
+  ASSERT_EQ(uncalibrated.status, 0) << uncalibrated.err;
+  write("calibrated.ini", "[run]\nodometry_scale = " + std::to_string(scale) +
+                              "\nodometry_scale_sigma = " + std::to_string(sigma / scale) + "\n");
+  const Outcome calibrated = omnisfm(
+      "run later/dataset.rawlog --out calibrated --config calibrated.ini "
+      "--ground-truth later/ground_truth.tum");
+  ASSERT_EQ(calibrated.status, 0) << calibrated.err;
+  // Measured: 1.2 % uncalibrated, 0.01 % calibrated.
+  EXPECT_GT(batch_scale_error(uncalibrated.out), 0.01) << uncalibrated.out;
+  EXPECT_LT(batch_scale_error(calibrated.out), 0.002) << calibrated.out;
+  EXPECT_NE(calibrated.out.find("started at " + std::to_string(scale).substr(0, 6)),
+            std::string::npos)
+      << calibrated.out;
+}
+
 TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
   ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);
   const fs::path rawlog = dir_ / "lab/dataset.rawlog";
@@ -794,6 +836,13 @@ TEST_F(CliTest, RunRejectsBadInputAndWritesNothing) {
   const Outcome typo = omnisfm("run lab/dataset.rawlog --out result --config typo.ini");
   EXPECT_EQ(typo.status, 2);
   EXPECT_NE(typo.err.find("typo.ini:3:"), std::string::npos) << typo.err;
+
+  for (const char* bad : {"odometry_scale = 0", "odometry_scale_sigma = -0.01"}) {
+    write("scale.ini", std::string("[run]\n") + bad + "\n");
+    const Outcome scale = omnisfm("run lab/dataset.rawlog --out result --config scale.ini");
+    EXPECT_EQ(scale.status, 2) << bad;
+    EXPECT_NE(scale.err.find("scale.ini:2:"), std::string::npos) << scale.err;
+  }
 
   write("section.ini", "[smf]\npixel_sigma = 0.3\n");
   const Outcome section = omnisfm("run lab/dataset.rawlog --out result --config section.ini");

@@ -33,6 +33,8 @@ void read_run_section(const io::IniSection& s, RunSettings* settings) {
   sfm::OdometryNoise& o = settings->odometry_noise;
   o.position_sigma = s.get_positive("odometry_position_sigma", o.position_sigma);
   o.heading_sigma = s.get_positive("odometry_heading_sigma", o.heading_sigma);
+  settings->odometry_scale = s.get_positive("odometry_scale", settings->odometry_scale);
+  o.scale_sigma = s.get_positive("odometry_scale_sigma", o.scale_sigma, true);
   sfm::GyroNoise& g = settings->gyro_noise;
   g.noise_density = s.get_positive("gyro_noise_density", g.noise_density);
   g.bias_sigma = s.get_positive("gyro_bias_sigma", g.bias_sigma);

@@ -10,6 +10,9 @@
 //                               # ellipsoid); default: the first GPS fix
 //   odometry_position_sigma = 0.01   # m per sqrt(m travelled)
 //   odometry_heading_sigma = 0.01    # rad per sqrt(m travelled)
+//   odometry_scale = 1               # true distance per distance the wheels read: the
+//                                    # "odometry scale" a run with GPS reports
+//   odometry_scale_sigma = 0.02      # its relative uncertainty; 0 holds it
 //   gyro_noise_density = 2e-4        # rad/s per sqrt(Hz)
 //   gyro_bias_sigma = 5e-3           # rad/s
 //   gyro_bias_walk = 2e-5            # rad/s^2 per sqrt(Hz)
@@ -28,6 +31,7 @@ struct RunSettings {
   sfm::SfmSettings sfm;
   mrpt_plugin::ReplayOptions replay;
   sfm::OdometryNoise odometry_noise;
+  double odometry_scale = 1;
   sfm::GyroNoise gyro_noise;
 };
 

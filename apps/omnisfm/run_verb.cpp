@@ -1,3 +1,5 @@
+#include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -29,6 +31,44 @@ std::string sensors_line(const mrpt_plugin::ReplayInput& in) {
   line << "\n"
        << "fusion: " << (in.sensors.empty() ? "none: vision alone" : "the sensors with vision")
        << "\n";
+  return line.str();
+}
+
+// Whether the stated noise models fit the fused batch's residuals.
+std::string noise_check_line(const sfm::BatchResult& batch) {
+  std::ostringstream line;
+  line << std::setprecision(3) << "noise models: chi-square per degree of freedom "
+       << batch.variance_factor
+       << " (1 when [sfm] pixel_sigma and the [run] sensor noise hold; the covariances take "
+          "them as stated)\n";
+  return line.str();
+}
+
+// What the batch estimated of the sensors themselves: the wheels' scale (for later runs'
+// [run] odometry_scale) and the gyro's bias.
+std::string motion_estimates_line(const sfm::MotionSensors& sensors, const sfm::SfmResult& result) {
+  std::ostringstream line;
+  line << std::setprecision(6);
+  const auto plus_minus = [&](double sigma) {
+    if (std::isfinite(sigma)) line << " +- " << sigma;
+  };
+  if (!sensors.odometry.empty()) {
+    line << "odometry scale " << result.odometry_scale;
+    plus_minus(result.odometry_scale_sigma);
+    line << " (true distance per distance read; started at " << sensors.odometry_scale;
+    if (sensors.odometry_noise.scale_sigma > 0)
+      line << " +- " << 100 * sensors.odometry_noise.scale_sigma << " %)\n";
+    else
+      line << ", held)\n";
+  }
+  if (!sensors.gyro.empty()) {
+    line << "gyro bias " << result.gyro_bias.x() << " " << result.gyro_bias.y() << " "
+         << result.gyro_bias.z() << " rad/s";
+    if (result.gyro_bias_sigma.allFinite())
+      line << " +- " << result.gyro_bias_sigma.x() << " " << result.gyro_bias_sigma.y() << " "
+           << result.gyro_bias_sigma.z();
+    line << " (body axes)\n";
+  }
   return line.str();
 }
 
@@ -100,6 +140,7 @@ void add_run_verb(CLI::App& app) {
       throw io::InputError(o->rawlog, 0,
                            "carries no camera model (stock CObservationImage): give --camera");
     in.sensors.odometry_noise = settings.odometry_noise;
+    in.sensors.odometry_scale = settings.odometry_scale;
     in.sensors.gyro_noise = settings.gyro_noise;
 
     sfm::SfmResult result;
@@ -126,7 +167,9 @@ void add_run_verb(CLI::App& app) {
     if (batch_ran)
       report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "
              << result.batch.iterations << " iterations; RMS " << result.batch.final_rms_px
-             << " px per coordinate\n";
+             << " px per coordinate\n"
+             << (in.sensors.empty() ? "" : noise_check_line(result.batch))
+             << motion_estimates_line(in.sensors, result);
 
     const std::vector<Eigen::Isometry3d>& estimate =
         batch_ran ? result.batch.cam_from_world : result.online_cam_from_world;

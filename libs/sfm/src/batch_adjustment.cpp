@@ -210,10 +210,14 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   // The scene's inverse scale: a parameter only while solve_with_scale runs, 1 and held otherwise.
   double inverse_scale = 1;
   ceres::Problem problem;
+  const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
   std::vector<ceres::ResidualBlockId> projections;
   for (const auto& o : used_observations) {
     ceres::LossFunction* loss =
         settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
+    // Against the sensors' whitened terms the pixels weigh as their noise says; alone, a weight
+    // would change only the cost's units.
+    if (extra) loss = new ceres::ScaledLoss(loss, pixel_weight, ceres::TAKE_OWNERSHIP);
     projections.push_back(problem.AddResidualBlock(
         new ScaledProjectionCost(&optimised, o.pixel), loss, poses[o.frame].data(),
         points.at(o.track).data(), &inverse_scale));
@@ -266,7 +270,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     reprojections.residual_blocks = projections;
     double cost = 0;
     problem.Evaluate(reprojections, &cost, nullptr, nullptr, nullptr);
-    return cost;
+    return cost / pixel_weight;
   };
   const double initial_reprojection_cost = extra ? reprojection_cost() : 0;
   ceres::Solver::Summary summary;
@@ -298,6 +302,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     result.final_rms_px = std::sqrt(reprojection_cost() / used);
   }
   result.solve_seconds = solve_seconds;
+  result.variance_factor = 2 * summary.final_cost / dof;
   result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
   result.points = points;
@@ -314,9 +319,18 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
         blocks.emplace_back(v.data(), v.data());
     for (const auto& [track, p] : points)
       if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
+    std::vector<std::pair<double*, int>> extra_blocks;
+    if (extra)
+      for (const auto& [block, size] : extra->blocks_with_covariance())
+        if (problem.HasParameterBlock(block) && !problem.IsParameterBlockConstant(block)) {
+          extra_blocks.emplace_back(block, size);
+          blocks.emplace_back(block, block);
+        }
     if (covariance.Compute(blocks, &problem)) {
-      // Scaled by the residual variance: the pixel noise is estimated, not assumed.
-      const double variance = 2 * summary.final_cost / dof;
+      // Alone, scaled by the residual variance: the pixel noise is estimated, not assumed. With
+      // the sensors' terms every residual is whitened by its stated noise model, which is taken
+      // as it is (the pixels' from pixel_sigma).
+      const double variance = extra ? 1 : result.variance_factor;
       result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
       for (size_t f = 0; f < poses.size(); ++f) {
         if (!problem.HasParameterBlock(poses[f].data()) ||
@@ -331,6 +345,11 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
         Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c;
         covariance.GetCovarianceBlock(p.data(), p.data(), c.data());
         result.point_covariances[track] = variance * c;
+      }
+      for (const auto& [block, size] : extra_blocks) {
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(size, size);
+        covariance.GetCovarianceBlock(block, block, c.data());
+        extra->take_covariance(block, variance * Eigen::MatrixXd(c));
       }
     }
   }

@@ -4,6 +4,7 @@
 
 #include <ceres/ceres.h>
 
+#include <utility>
 #include <vector>
 
 #include "omnisfm/sfm/batch_adjustment.h"
@@ -20,6 +21,10 @@ class ExtraTerms {
   // must outlive the solve. Returns true when they fix the gauge themselves (absolute positions),
   // so that no pose is held fixed.
   virtual bool add(ceres::Problem* problem, std::vector<PoseVector>* poses) = 0;
+  // Its own blocks whose covariance the batch computes with the poses' and points' (when asked
+  // for), and hands back through take_covariance, scaled as theirs.
+  virtual std::vector<std::pair<double*, int>> blocks_with_covariance() { return {}; }
+  virtual void take_covariance(const double* /*block*/, const Eigen::MatrixXd& /*covariance*/) {}
 };
 
 // As the public batch_adjust, with `extra` (when not null) added to the problem. Points are then

@@ -60,6 +60,8 @@ class MotionTerms : public ExtraTerms {
       : sensors_(sensors), times_(times), scale_(sensors.odometry_scale), bias_(gyro_bias) {}
 
   bool add(ceres::Problem* problem, std::vector<PoseVector>* poses) override {
+    scale_sigma_ = NAN;
+    bias_sigma_.setConstant(NAN);
     const std::vector<FrameMotion> motions = frame_motions(sensors_, times_, bias_);
     bool odometry = false, gyro = false;
     for (size_t k = 0; k < motions.size(); ++k) {
@@ -109,14 +111,26 @@ class MotionTerms : public ExtraTerms {
     return fixes > 0;
   }
 
+  std::vector<std::pair<double*, int>> blocks_with_covariance() override {
+    return {{&scale_, 1}, {bias_.data(), 3}};
+  }
+  void take_covariance(const double* block, const Eigen::MatrixXd& covariance) override {
+    if (block == &scale_) scale_sigma_ = std::sqrt(covariance(0, 0));
+    if (block == bias_.data()) bias_sigma_ = covariance.diagonal().cwiseSqrt();
+  }
+
   double scale() const { return scale_; }
   const Eigen::Vector3d& bias() const { return bias_; }
+  double scale_sigma() const { return scale_sigma_; }
+  const Eigen::Vector3d& bias_sigma() const { return bias_sigma_; }
 
  private:
   const MotionSensors& sensors_;
   const std::vector<double>& times_;
   double scale_;
   Eigen::Vector3d bias_;
+  double scale_sigma_ = NAN;
+  Eigen::Vector3d bias_sigma_ = Eigen::Vector3d::Constant(NAN);
 };
 
 // The constant gyro bias that best explains the filter's rotations between frames, by linear
@@ -214,9 +228,13 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
 
   MotionTerms terms(sensors, times,
                     bias_from_filter(motions, result.online_cam_from_world, sensors.body_from_cam));
-  adjust_on_inliers(camera, tracks, settings, &terms, &result);
+  SfmSettings fused_settings = settings;
+  fused_settings.batch.pixel_sigma = settings.filter.pixel_sigma;
+  adjust_on_inliers(camera, tracks, fused_settings, &terms, &result);
   result.odometry_scale = terms.scale();
   result.gyro_bias = terms.bias();
+  result.odometry_scale_sigma = terms.scale_sigma();
+  result.gyro_bias_sigma = terms.bias_sigma();
   return result;
 }
 

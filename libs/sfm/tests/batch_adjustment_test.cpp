@@ -167,8 +167,11 @@ TEST(BatchAdjustment, LeavesOutWhatCannotBeProjectedFromTheStart) {
       batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world, points, settings);
   ASSERT_TRUE(result.converged) << result.message;
   EXPECT_TRUE(result.points.at(broken).hasNaN());
-  for (const auto& [track, p] : result.points)
-    if (track != broken) EXPECT_TRUE(p.allFinite()) << track;
+  for (const auto& [track, p] : result.points) {
+    if (track != broken) {
+      EXPECT_TRUE(p.allFinite()) << track;
+    }
+  }
   EXPECT_LT(result.final_rms_px, 0.25);
 }
 

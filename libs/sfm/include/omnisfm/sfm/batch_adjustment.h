@@ -5,6 +5,7 @@
 // fixes the gauge, the scale being (weakly) observable through the mirror's size.
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct BatchSettings {
   // observed and the filter's can be far off, which the plain problem takes many iterations to
   // walk. Not with the motion sensors' terms, which fix the scale themselves.
   bool scale_start = true;
+  // The tracks' noise, pixels per coordinate: the reprojections' weight against the motion
+  // sensors' terms, which are whitened by their own noise. Without them it changes nothing.
+  double pixel_sigma = 1;
 };
 
 struct BatchResult {
@@ -33,6 +37,10 @@ struct BatchResult {
   std::string message;
   int iterations = 0;
   double initial_rms_px = 0, final_rms_px = 0;  // per coordinate
+  // 2 x final cost / degrees of freedom. Alone, the pixels' variance (px^2). With the motion
+  // sensors' whitened terms (and the pixels weighed by pixel_sigma), 1 when every stated noise
+  // model holds.
+  double variance_factor = NAN;
   double seconds = 0;        // in all, covariances included
   double solve_seconds = 0;  // the Levenberg-Marquardt solves alone
   // Ceres's name of the reduced camera system's solver: ITERATIVE_SCHUR when most frames share

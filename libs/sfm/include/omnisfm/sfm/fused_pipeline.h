@@ -13,9 +13,11 @@
 //   - otherwise: the first camera's frame, its pose the identity, as run_sfm's. With odometry the
 //     scale is metric (the odometry's, times its estimated scale: see MotionSensors::
 //     odometry_scale); with a gyro alone it is only as good as the noncentral camera makes it.
-// The odometry's scale and the gyro's bias estimated by the batch come back in
+// The batch weighs the reprojections by settings.filter.pixel_sigma, the sensors' terms by their
+// noise models. The odometry's scale and the gyro's bias it estimates come back in
 // result.odometry_scale and result.gyro_bias (the scale is held at MotionSensors::odometry_scale
-// when there is no batch or scale_sigma is 0).
+// when there is no batch or scale_sigma is 0), with their standard deviations when the batch
+// computes covariances.
 
 #include <vector>
 

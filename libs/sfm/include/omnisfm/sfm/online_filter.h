@@ -34,7 +34,9 @@
 namespace omnisfm::sfm {
 
 struct FilterSettings {
-  double pixel_sigma = 0.3;              // measurement noise, pixels per coordinate
+  // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
+  // sensors the fused batch's too (fused_pipeline.h).
+  double pixel_sigma = 0.3;
   double rotation_walk_sigma = 0.05;     // radians per frame
   double translation_walk_sigma = 0.05;  // metres per frame
   double initial_depth = 2.0;            // radius of the initialisation sphere, metres

@@ -2,6 +2,7 @@
 // The paper's pipeline: the online filter over the tracks, frame by frame, then the batch
 // adjustment over all frames, started from the filter and run on its inliers.
 
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct SfmResult {
   bool world_is_enu = false;           // the world is the GPS's local ENU frame, else the first camera's
   double odometry_scale = 1;           // estimated: true distance per distance the odometry read
   Eigen::Vector3d gyro_bias{0, 0, 0};  // estimated, rad/s about the body's axes
+  // Their standard deviations from the batch's covariance; NaN when not computed
+  // (BatchSettings::covariances off) or when the value was held.
+  double odometry_scale_sigma = NAN;
+  Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Constant(NAN);
 };
 
 // Called after each frame the filter processes: (frames done, frames in all).
