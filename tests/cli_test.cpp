@@ -803,6 +803,13 @@ TEST_F(CliTest, RunTakesTheWheelScaleThatAGpsRunEstimated) {
   EXPECT_NE(calibrated.out.find("started at " + std::to_string(scale).substr(0, 6)),
             std::string::npos)
       << calibrated.out;
+
+  // The replay's trajectory is on the rawlog's clock, the simulation's truth on its own: eval,
+  // which pairs by timestamp, says so.
+  const Outcome eval =
+      omnisfm("eval --estimate calibrated/batch.tum --ground-truth later/ground_truth.tum");
+  EXPECT_EQ(eval.status, 2);
+  EXPECT_NE(eval.err.find("against 0 .. 74.5"), std::string::npos) << eval.err;
 }
 
 TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {

@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -126,9 +127,20 @@ void add_eval_verb(CLI::App& app) {
         b.push_back(truth[j].world_from_cam);
       }
     }
-    if (a.size() < 3)
+    if (a.size() < 3) {
+      // Often two clocks: a rawlog replay's (1e9 s on) against a simulation's (0 on).
+      const auto span = [](const std::vector<io::StampedPose>& poses) {
+        std::ostringstream text;
+        text << std::setprecision(12);
+        if (poses.empty()) return std::string("none");
+        text << poses.front().timestamp << " .. " << poses.back().timestamp;
+        return text.str();
+      };
       throw io::InputError(o->estimate, 0,
-                           "fewer than 3 timestamps in common with " + o->ground_truth);
+                           "fewer than 3 timestamps in common with " + o->ground_truth +
+                               " (timestamps " + span(estimate) + " against " + span(truth) +
+                               "; `run --ground-truth` pairs poses by frame instead)");
+    }
     const eval::TrajectoryErrors e = eval::trajectory_errors(a, b, !o->rigid);
     std::cout << "poses " << a.size() << "\n" << figures_line(o->rigid ? "rigid" : "similar", e);
   });
