@@ -1,6 +1,7 @@
 // Fusion results for the README (not a benchmark: one run, one table): on the simulated rover at
-// the default noise, over a few seeds, dead reckoning alone, vision alone and vision fused with
-// the odometry and the gyro (and with GPS), each against the ground truth:
+// the default noise, the estimators' noise models the simulation's, over a few seeds, dead
+// reckoning alone, vision alone and vision fused with the odometry and the gyro (with the wheel
+// reading long, short, or its scale left free; with GPS), each against the ground truth:
 //   - scale error: |1/s - 1| of the similarity that best aligns the estimate (the estimate's own
 //     scale against the truth's);
 //   - translation error after a rigid alignment (no scale), mean, in % of the distance travelled;
