@@ -51,7 +51,12 @@ MotionPrediction predict_camera_motion(const BodyMotion& body,
 MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSensors& sensors,
                                        const FilterSettings& settings) {
   BodyMotion body = predict_body_motion(motion, sensors.gyro_noise, settings);
-  body.previous_body_from_body.translation() *= sensors.odometry_scale;
+  if (motion.odometry.valid) {
+    // Distances read times the scale; their noise with them.
+    const double s = sensors.odometry_scale;
+    body.previous_body_from_body.translation() *= s;
+    body.covariance.block<2, 2>(3, 3) *= s * s;
+  }
   return predict_camera_motion(body, sensors.body_from_cam);
 }
 

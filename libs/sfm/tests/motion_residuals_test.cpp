@@ -148,6 +148,29 @@ TEST(MotionPrediction, CameraCovarianceFollowsTheBodyMotion) {
             1e-6 * expected.cwiseAbs().maxCoeff());
 }
 
+// The wheel's scale multiplies the distances read and their standard deviations.
+TEST(MotionPrediction, OdometryScaleScalesTheTranslationAndItsNoise) {
+  FrameMotion motion;
+  motion.odometry.valid = true;
+  motion.odometry.delta << 0.3, 0.02, 0.1;
+  motion.odometry.covariance = Eigen::Vector3d(1e-4, 2e-4, 3e-4).asDiagonal();
+  MotionSensors sensors;  // the camera is the body
+  const FilterSettings settings;
+  const MotionPrediction one = predict_camera_motion(motion, sensors, settings);
+  sensors.odometry_scale = 2;
+  const MotionPrediction two = predict_camera_motion(motion, sensors, settings);
+  EXPECT_LT((two.cam_from_previous_cam.translation() - 2 * one.cam_from_previous_cam.translation())
+                .norm(),
+            1e-12);
+  EXPECT_LT((two.covariance.block<2, 2>(3, 3) - 4 * one.covariance.block<2, 2>(3, 3))
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-15);
+  const Eigen::Matrix3d rotation_one = one.covariance.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d rotation_two = two.covariance.topLeftCorner<3, 3>();
+  EXPECT_EQ(rotation_two, rotation_one);
+}
+
 std::vector<GyroSample> turning_gyro() {
   std::vector<GyroSample> gyro;
   for (int i = 0; i <= 200; ++i) {
