@@ -107,7 +107,8 @@ void add_run_verb(CLI::App& app) {
       ->required();
   verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
   verb->add_option("--config", o->config,
-                   "Settings: an INI file with [sfm] (as the sfm verb) and [run] sections");
+                   "Settings: an INI file with [sfm] (as the sfm verb) and [run] sections (the "
+                   "shipped config/omnisfm.ini holds every key at its default)");
   verb->add_option("--camera", o->camera,
                    "Camera file; needed for stock CObservationImage, and replaces the models "
                    "the rawlog carries");

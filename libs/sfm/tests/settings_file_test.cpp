@@ -1,10 +1,11 @@
-// The [sfm] settings: every key lands in its field, and a bad value or an unknown key fails
-// naming the file and the line.
+// The [sfm] settings: every key lands in its field, a bad value or an unknown key fails naming
+// the file and the line, and the shipped example holds every key at its default.
 
 #include "omnisfm/sfm/settings_file.h"
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <sstream>
 
 #include "omnisfm/io/ini_file.h"
@@ -53,6 +54,39 @@ TEST(SfmSettings, BadValuesAndUnknownKeysNameTheirLine) {
   EXPECT_NE(error_of("[sfm]\n\nmax_iterations = 2.5\n").find("test.ini:3:"), std::string::npos);
   EXPECT_NE(error_of("[sfm]\nupdate_iterations = 0\n").find("test.ini:2:"), std::string::npos);
   EXPECT_NE(error_of("[sfm]\nbatch_scale = 1\n").find("unknown key"), std::string::npos);
+}
+
+// share/omnisfm/config/omnisfm.ini shows users every key at its default.
+TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
+  const char* source = std::getenv("OMNISFM_SOURCE_DIR");
+  ASSERT_NE(source, nullptr) << "ctest sets OMNISFM_SOURCE_DIR";
+  const io::IniFile ini =
+      io::IniFile::read(std::string(source) + "/share/omnisfm/config/omnisfm.ini");
+  const io::IniSection& section = ini.section("sfm");
+  for (const char* key :
+       {"pixel_sigma", "rotation_walk_sigma", "translation_walk_sigma", "initial_depth",
+        "inverse_depth_sigma", "outlier_threshold_px", "innovation_gate_chi2", "update_iterations",
+        "smoothed_start_frames", "batch", "batch_outlier_threshold_px", "huber_px", "covariances",
+        "max_iterations", "batch_scale_start"})
+    EXPECT_TRUE(section.has(key)) << key;
+  const SfmSettings read = read_sfm_settings(section);
+  const SfmSettings defaults;
+  const FilterSettings& f = read.filter;
+  EXPECT_EQ(f.pixel_sigma, defaults.filter.pixel_sigma);
+  EXPECT_EQ(f.rotation_walk_sigma, defaults.filter.rotation_walk_sigma);
+  EXPECT_EQ(f.translation_walk_sigma, defaults.filter.translation_walk_sigma);
+  EXPECT_EQ(f.initial_depth, defaults.filter.initial_depth);
+  EXPECT_EQ(f.inverse_depth_sigma, defaults.filter.inverse_depth_sigma);
+  EXPECT_EQ(f.outlier_threshold_px, defaults.filter.outlier_threshold_px);
+  EXPECT_EQ(f.innovation_gate_chi2, defaults.filter.innovation_gate_chi2);
+  EXPECT_EQ(f.update_iterations, defaults.filter.update_iterations);
+  EXPECT_EQ(f.smoothed_start_frames, defaults.filter.smoothed_start_frames);
+  EXPECT_EQ(read.run_batch, defaults.run_batch);
+  EXPECT_EQ(read.batch_outlier_threshold_px, defaults.batch_outlier_threshold_px);
+  EXPECT_EQ(read.batch.huber_px, defaults.batch.huber_px);
+  EXPECT_EQ(read.batch.covariances, defaults.batch.covariances);
+  EXPECT_EQ(read.batch.max_iterations, defaults.batch.max_iterations);
+  EXPECT_EQ(read.batch.scale_start, defaults.batch.scale_start);
 }
 
 }  // namespace
