@@ -69,7 +69,12 @@ mrpt::poses::CPose3DPDFGaussian robot_pose_of(const Eigen::Isometry3d& cam_from_
 }
 
 OmniSfmEstimator::OmniSfmEstimator(const OmniSfmEstimatorOptions& options)
-    : options_(options), collector_(options.sensor_labels, options.gps_origin) {}
+    : options_(options), collector_(options.sensor_labels, options.gps_origin) {
+  sfm::MotionSensors& sensors = collector_.sensors();
+  sensors.odometry_noise = options.odometry_noise;
+  sensors.gyro_noise = options.gyro_noise;
+  sensors.odometry_scale = options.odometry_scale;
+}
 
 OmniSfmEstimator::~OmniSfmEstimator() = default;
 

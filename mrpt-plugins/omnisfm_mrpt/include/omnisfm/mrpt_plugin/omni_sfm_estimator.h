@@ -47,6 +47,11 @@ struct OmniSfmEstimatorOptions {
   std::string camera_label;  // the camera's (or its tracks') sensor label; empty: any
   MotionSensorLabels sensor_labels;
   std::optional<GeodeticPoint> gps_origin;
+  // The dead reckoning's noise models, and the wheels' scale (true distance per distance read,
+  // as a run with GPS estimates it: sfm::SfmResult::odometry_scale).
+  sfm::OdometryNoise odometry_noise;
+  sfm::GyroNoise gyro_noise;
+  double odometry_scale = 1;
 };
 
 class OmniSfmEstimator {
