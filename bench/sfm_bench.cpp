@@ -1,7 +1,7 @@
 // Speed of the estimators: the online filter per frame at several numbers of points and over the
 // simulated rover sequence, the batch adjustment on the simulated rover and on long sequences (up
 // to 2,000 images), with analytic Jacobians and, as the peer, Ceres' numeric differentiation of
-// the same model.
+// the same model; and the rover pipeline with and without the motion sensors.
 
 #include <benchmark/benchmark.h>
 #include <ceres/ceres.h>
@@ -10,8 +10,11 @@
 #include <sys/resource.h>
 
 #include <map>
+#include <tuple>
 
+#include "omnisfm/eval/simulated_sensors.h"
 #include "omnisfm/sfm/batch_adjustment.h"
+#include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/long_drive.h"
@@ -152,6 +155,40 @@ void BM_BatchRover(benchmark::State& state) {
       benchmark::Counter(1e3 * solve_seconds, benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_BatchRover)->Unit(benchmark::kMillisecond);
+
+// The whole rover pipeline (filter, then batch): 0 vision alone, 1 fused with the wheel odometry
+// and the gyro, 2 with GPS too; what the motion sensors' propagation and terms cost.
+void BM_FusedRover(benchmark::State& state) {
+  static const auto inputs = [] {
+    sim::SimulationOptions options;
+    options.scenario = "rover";
+    const sim::Dataset d = sim::simulate(options);
+    const sim::DeadReckoningOptions dead_reckoning_options;
+    const sim::DeadReckoning dead_reckoning =
+        sim::simulate_dead_reckoning(d, dead_reckoning_options);
+    const sim::GpsTrack gps = sim::simulate_gps(d, sim::GpsOptions());
+    return std::make_tuple(
+        d, eval::motion_sensors(&dead_reckoning, dead_reckoning_options, nullptr),
+        eval::motion_sensors(&dead_reckoning, dead_reckoning_options, &gps));
+  }();
+  const auto& [d, odometry_and_gyro, with_gps] = inputs;
+  const sfm::MotionSensors none;
+  const sfm::MotionSensors* sensors[] = {&none, &odometry_and_gyro, &with_gps};
+  sfm::SfmSettings settings;
+  settings.batch.covariances = false;
+  int iterations = 0;
+  double batch_seconds = 0;
+  for (auto _ : state) {
+    const auto result = sfm::run_fused_sfm(d.camera, d.observations, d.timestamps,
+                                           *sensors[state.range(0)], settings);
+    iterations = result.batch.iterations;
+    batch_seconds += result.batch.seconds;
+  }
+  state.counters["lm_iterations"] = iterations;
+  state.counters["batch_ms"] =
+      benchmark::Counter(1e3 * batch_seconds, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_FusedRover)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 // A long drive for the batch's scaling (sim::long_drive, 0.2 px noise), started from the truth
 // with centimetre errors, as a filter would give.
