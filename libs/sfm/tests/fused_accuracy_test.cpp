@@ -50,7 +50,7 @@ double signed_scale_error(const eval::TrajectoryErrors& similarity) {
 
 // Uncalibrated, the fused scale is the odometry's: the noncentral camera knows the scale several
 // times less well than the wheel's 2 % prior does. Whichever way the wheel errs, the estimate
-// errs with it and no further (a residual in metres would shrink the scene: 0.5 % more here).
+// errs with it and no further (a residual in metres would shrink the scene: 2.4 % more here).
 // The shape is the camera's, so that even a rigid alignment leaves little error.
 TEST(FusedAccuracy, RoverWithOdometryAndGyroTakesTheWheelsScale) {
   for (double wheel_error : {0.015, -0.015}) {
