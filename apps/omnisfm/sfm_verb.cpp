@@ -56,8 +56,9 @@ void add_sfm_verb(CLI::App& app) {
   verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--tracks", o->tracks, "tracks.vnl (# frame track u v)")->required();
   verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
-  verb->add_option("--config", o->config, "Settings: an INI file with an [sfm] section (the shipped config/omnisfm.ini holds "
-                   "every key at its default)");
+  verb->add_option("--config", o->config,
+                   "Settings: an INI file with an [sfm] section (the shipped config/omnisfm.ini "
+                   "holds every key at its default)");
   verb->add_option("--ground-truth", o->ground_truth,
                    "A TUM trajectory of the truth: adds the paper's error figures to the report");
   verb->callback([o] {

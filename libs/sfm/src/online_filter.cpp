@@ -181,7 +181,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   for (int k = 0; k < m; ++k)
     if (anchors_[meas[k].slot].updates < kEstablishedUpdates) new_points.push_back(k);
   const int linearisations = std::max(1, settings_.update_iterations);
-  if (new_points.empty() && linearisations > 1) start_on_pose_subspace(meas, &at);
+  if (new_points.empty() && linearisations > 1) start_on_pose_subspace(meas, point_columns, &at);
   bool warm_step =
       !new_points.empty() && static_cast<int>(new_points.size()) < m && linearisations > 2;
   if (warm_step)

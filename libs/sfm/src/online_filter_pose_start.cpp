@@ -31,6 +31,7 @@ constexpr double kRobustMedians = 3;
 }  // namespace
 
 bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
+                                          const std::vector<int>& point_columns,
                                           Iterate* prior) const {
   const int m = static_cast<int>(meas.size());
   const int n = static_cast<int>(P_.rows());
@@ -56,7 +57,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   for (int k = 0; k < m; ++k) {
     const Eigen::Matrix<double, 2, 6> J =
         prior->H_pose.middleRows<2>(2 * k) +
-        prior->H_point[k] * along.middleRows<3>(6 + 3 * meas[k].slot);
+        prior->H_point[k] * along.middleRows<3>(point_columns[k]);
     const Eigen::Vector2d r = prior->residual.segment<2>(2 * k);
     const double w = (r.norm() <= huber ? 1.0 : huber / r.norm()) / variance;
     A.noalias() += w * J.transpose() * J;
@@ -81,7 +82,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
     const int s = meas[k].slot;
     Linearisation lin;
     if (!linearise(anchors_[s], R, t, X.segment<3>(3 * s), true, &lin)) return false;
-    start.cost += start.take(k, lin, meas[k].pixel, 6 + 3 * s, chart, true) / variance;
+    start.cost += start.take(k, lin, meas[k].pixel, point_columns[k], chart, true) / variance;
   }
   // Only a start nearer the posterior's minimum than the prediction is worth taking.
   if (!(start.cost < prior->cost)) return false;

@@ -17,6 +17,7 @@
 #include "omnisfm/sim/long_drive.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
+#include "omnisfm/sim/trajectories.h"
 #include "world_from_cam.h"
 
 namespace omnisfm::sfm {
@@ -100,12 +101,7 @@ BatchResult batch_from_filter(bool scale_start) {
 }
 
 double path_length(const std::vector<Eigen::Isometry3d>& cam_from_world) {
-  double length = 0;
-  for (size_t f = 1; f < cam_from_world.size(); ++f)
-    length += (cam_from_world[f].inverse().translation() -
-               cam_from_world[f - 1].inverse().translation())
-                  .norm();
-  return length;
+  return sim::path_length(inverted(cam_from_world));
 }
 
 // With the scene's inverse scale a parameter of its own, the filter's scale (6.8x too large) is

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace omnisfm::sim {
 
@@ -20,8 +22,13 @@ double standard_normal(std::mt19937_64& rng) {
 
 std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
                                                        double noise_px, std::mt19937_64& rng) {
+  // A rig that sees too little of the ground would otherwise be searched for ever.
+  const long max_draws = 1000L * std::max(count, 1);
   std::vector<Eigen::Vector3d> points;
-  while (static_cast<int>(points.size()) < count) {
+  for (long draw = 0; static_cast<int>(points.size()) < count; ++draw) {
+    if (draw == max_draws)
+      throw std::invalid_argument("steady_ground_tracks: the rig sees too little of the ground "
+                                  "in every frame for " + std::to_string(count) + " points");
     const Eigen::Vector3d p(uniform(rng, -2, 6), uniform(rng, -4, 4), 0.0);
     Eigen::Vector2d pixel;
     bool always = true;

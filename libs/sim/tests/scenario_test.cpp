@@ -90,6 +90,21 @@ TEST(Scenario, NoiseHasTheRequestedSpread) {
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.5, 0.02);
 }
 
+// Tracks that never end, on the rover's drive. Lifted 1 km, the rig has the ground patch straight
+// below, in the mirror's blind centre: an error rather than an endless search.
+TEST(SteadyGroundTracks, SeenInEveryFrameOrRefused) {
+  Dataset d{"rover", default_rig(1024, 768), {}, rover_trajectory(0.6), {}, {}, {}, {}, {}, {}};
+  std::mt19937_64 rng(3);
+  const auto tracks = steady_ground_tracks(d, 20, 0.0, rng);
+  ASSERT_EQ(tracks.size(), 20 * d.world_from_cam.size());
+  for (const auto& o : tracks) {
+    EXPECT_TRUE(o.pixel.allFinite());
+    EXPECT_TRUE(o.pixel.x() >= 0 && o.pixel.x() < 1024 && o.pixel.y() >= 0 && o.pixel.y() < 768);
+  }
+  for (auto& T : d.world_from_cam) T.translation().z() = 1000;
+  EXPECT_THROW(steady_ground_tracks(d, 20, 0.0, rng), std::invalid_argument);
+}
+
 TEST(Scenario, RejectsNonsense) {
   SimulationOptions options;
   options.scenario = "moon";

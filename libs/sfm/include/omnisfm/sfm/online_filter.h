@@ -156,9 +156,11 @@ class OnlineFilter {
   // An outlier: out of the state and the results for good, listed in rejected().
   void reject(int track, int frame);
   // Moves the update's first iterate from the prediction to the posterior's minimum along the
-  // pose's direction of the prior (see online_filter_pose_start.cpp). False, leaving it, with too
-  // few points, when a point does not project there, or when it does not lower the cost.
-  bool start_on_pose_subspace(const std::vector<Measurement>& measurements, Iterate* prior) const;
+  // pose's direction of the prior (see online_filter_pose_start.cpp); point_columns[k] is where
+  // measurement k's point sits in the state. False, leaving it, with too few points, when a point
+  // does not project there, or when it does not lower the cost.
+  bool start_on_pose_subspace(const std::vector<Measurement>& measurements,
+                              const std::vector<int>& point_columns, Iterate* prior) const;
   // The iterated update from the current (propagated) state.
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
   void accept(Candidate* candidate);

@@ -25,7 +25,8 @@ void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
 
 // `count` points on the ground (z = 0, x in [-2, 6] m, y in [-4, 4] m) that dataset's rig sees
 // in every frame, drawn from rng, and their pixels in every frame with noise_px Gaussian noise:
-// tracks that never end, for timing and testing the filter on settled points.
+// tracks that never end, for timing and testing the filter on settled points. Throws
+// std::invalid_argument when too few of a thousand draws per point are seen in every frame.
 std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
                                                        double noise_px, std::mt19937_64& rng);
 
