@@ -1,5 +1,6 @@
 #include "omnisfm/io/ini_file.h"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -114,6 +115,15 @@ int IniSection::get_positive_int(const std::string& key, int fallback, bool zero
   const int v = has(key) ? get_int(key) : fallback;
   if (!(zero_ok ? v >= 0 : v > 0)) fail(key, zero_ok ? "must be >= 0" : "must be > 0");
   return v;
+}
+
+bool IniSection::get_flag(const std::string& key, bool fallback) const {
+  if (!has(key)) return fallback;
+  std::string value = get_string(key);
+  for (char& c : value) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (value == "1" || value == "true" || value == "yes" || value == "on") return true;
+  if (value == "0" || value == "false" || value == "no" || value == "off") return false;
+  fail(key, "'" + get_string(key) + "' must be 1 or 0 (true or false, yes or no, on or off)");
 }
 
 std::vector<IniEntry> IniSection::unread() const {

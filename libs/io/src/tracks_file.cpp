@@ -11,53 +11,78 @@
 namespace omnisfm::io {
 namespace {
 
-int integer_field(const VnlogTable& table, size_t row, size_t column, const std::string& name) {
-  const double v = table.number(row, column);
+int integer_field(const VnlogReader& reader, size_t column, const std::string& name) {
+  const double v = reader.number(column);
   if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > 2e9)
-    throw InputError(table.file(), table.line(row),
-                     "column '" + name + "': '" + table.text(row, column) +
+    throw InputError(reader.file(), reader.line(),
+                     "column '" + name + "': '" + reader.text(column) +
                          "' is not a non-negative integer");
   return static_cast<int>(v);
 }
 
 }  // namespace
 
+TrackStream::TrackStream(const std::string& path, int image_width, int image_height)
+    : reader_(path),
+      columns_(reader_.columns({"frame", "track", "u", "v"})),
+      image_width_(image_width),
+      image_height_(image_height) {
+  have_row_ = read_row();
+}
+
+bool TrackStream::read_row() {
+  if (!reader_.next()) return false;
+  row_line_ = reader_.line();
+  row_.frame = integer_field(reader_, columns_[0], "frame");
+  row_.track = integer_field(reader_, columns_[1], "track");
+  row_.pixel << reader_.number(columns_[2]), reader_.number(columns_[3]);
+  if (!row_.pixel.allFinite())
+    throw InputError(file(), row_line_, "the pixel (u, v) must be two finite numbers");
+  if (image_width_ > 0 &&
+      (row_.pixel.x() < -0.5 || row_.pixel.y() < -0.5 || row_.pixel.x() > image_width_ - 0.5 ||
+       row_.pixel.y() > image_height_ - 0.5))
+    throw InputError(file(), row_line_,
+                     "pixel (" + reader_.text(columns_[2]) + ", " + reader_.text(columns_[3]) +
+                         ") lies outside the " + std::to_string(image_width_) + "x" +
+                         std::to_string(image_height_) + " image");
+  return true;
+}
+
+bool TrackStream::next_frame(int* frame, std::vector<TrackObservation>* observations) {
+  observations->clear();
+  lines_.clear();
+  if (!have_row_) return false;
+  *frame = row_.frame;
+  std::set<int> in_frame;
+  while (have_row_ && row_.frame == *frame) {
+    if (!in_frame.insert(row_.track).second)
+      throw InputError(file(), row_line_,
+                       "track " + std::to_string(row_.track) + " appears twice in frame " +
+                           std::to_string(row_.frame));
+    observations->push_back(row_);
+    lines_.push_back(row_line_);
+    have_row_ = read_row();
+  }
+  if (have_row_ && row_.frame < *frame)
+    throw InputError(file(), row_line_,
+                     "frames must not decrease: frame " + std::to_string(row_.frame) +
+                         " after frame " + std::to_string(*frame));
+  return true;
+}
+
 std::vector<TrackObservation> read_tracks(const std::string& path, int image_width,
                                           int image_height) {
-  const VnlogTable table = VnlogTable::read(path);
-  const auto cols = table.columns({"frame", "track", "u", "v"});
+  TrackStream stream(path, image_width, image_height);
   std::vector<TrackObservation> tracks;
   std::map<int, std::pair<int, int>> count_and_line;  // per track
-  std::set<int> in_frame;
-  int current_frame = -1;
-  for (size_t r = 0; r < table.num_rows(); ++r) {
-    TrackObservation o;
-    o.frame = integer_field(table, r, cols[0], "frame");
-    o.track = integer_field(table, r, cols[1], "track");
-    o.pixel << table.number(r, cols[2]), table.number(r, cols[3]);
-    if (!o.pixel.allFinite())
-      throw InputError(path, table.line(r), "the pixel (u, v) must be two finite numbers");
-    if (image_width > 0 &&
-        (o.pixel.x() < -0.5 || o.pixel.y() < -0.5 || o.pixel.x() > image_width - 0.5 ||
-         o.pixel.y() > image_height - 0.5))
-      throw InputError(path, table.line(r),
-                       "pixel (" + table.text(r, cols[2]) + ", " + table.text(r, cols[3]) +
-                           ") lies outside the " + std::to_string(image_width) + "x" +
-                           std::to_string(image_height) + " image");
-    if (o.frame < current_frame)
-      throw InputError(path, table.line(r),
-                       "frames must not decrease: frame " + std::to_string(o.frame) +
-                           " after frame " + std::to_string(current_frame));
-    if (o.frame != current_frame) in_frame.clear();
-    current_frame = o.frame;
-    if (!in_frame.insert(o.track).second)
-      throw InputError(path, table.line(r),
-                       "track " + std::to_string(o.track) + " appears twice in frame " +
-                           std::to_string(o.frame));
-    auto& [count, line] = count_and_line[o.track];
-    if (count++ == 0) line = table.line(r);
-    tracks.push_back(o);
-  }
+  int frame = 0;
+  std::vector<TrackObservation> rows;
+  while (stream.next_frame(&frame, &rows))
+    for (size_t k = 0; k < rows.size(); ++k) {
+      auto& [count, line] = count_and_line[rows[k].track];
+      if (count++ == 0) line = stream.line(k);
+      tracks.push_back(rows[k]);
+    }
   for (const auto& [track, count_line] : count_and_line)
     if (count_line.first < 2)
       throw InputError(path, count_line.second,

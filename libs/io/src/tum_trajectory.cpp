@@ -45,17 +45,23 @@ std::vector<StampedPose> read_tum_trajectory(const std::string& path) {
   return poses;
 }
 
+TumTrajectoryWriter::TumTrajectoryWriter(std::ostream& out) : out_(out) {
+  out_ << "# timestamp tx ty tz qx qy qz qw\n";
+}
+
+void TumTrajectoryWriter::pose(const StampedPose& pose) {
+  const Eigen::Quaterniond q(pose.world_from_cam.linear());
+  const Eigen::Vector3d& t = pose.world_from_cam.translation();
+  out_ << format_double(pose.timestamp) << ' ' << format_double(t.x()) << ' '
+       << format_double(t.y()) << ' ' << format_double(t.z()) << ' ' << format_double(q.x())
+       << ' ' << format_double(q.y()) << ' ' << format_double(q.z()) << ' '
+       << format_double(q.w()) << '\n';
+}
+
 void write_tum_trajectory(const std::string& path, const std::vector<StampedPose>& trajectory) {
   write_text_atomically(path, [&](std::ostream& out) {
-    out << "# timestamp tx ty tz qx qy qz qw\n";
-    for (const auto& pose : trajectory) {
-      const Eigen::Quaterniond q(pose.world_from_cam.linear());
-      const Eigen::Vector3d& t = pose.world_from_cam.translation();
-      out << format_double(pose.timestamp) << ' ' << format_double(t.x()) << ' '
-          << format_double(t.y()) << ' ' << format_double(t.z()) << ' ' << format_double(q.x())
-          << ' ' << format_double(q.y()) << ' ' << format_double(q.z()) << ' '
-          << format_double(q.w()) << '\n';
-    }
+    TumTrajectoryWriter writer(out);
+    for (const auto& pose : trajectory) writer.pose(pose);
   });
 }
 

@@ -34,57 +34,120 @@ std::string from_first_nonblank(const std::string& text) {
   return first == std::string::npos ? "" : text.substr(first);
 }
 
+std::size_t column_index(const std::string& file, const std::vector<std::string>& columns,
+                         const std::string& name) {
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] == name) return i;
+  std::string present;
+  for (const std::string& column_name : columns) present += " " + column_name;
+  throw InputError(file, 0, "no column '" + name + "' (columns:" + present + ")");
+}
+
+std::vector<std::size_t> column_indices(const std::string& file,
+                                        const std::vector<std::string>& columns,
+                                        const std::vector<std::string>& names) {
+  std::vector<std::size_t> indices;
+  for (const std::string& name : names) indices.push_back(column_index(file, columns, name));
+  return indices;
+}
+
+double number_of(const std::string& file, int line, const std::string& column,
+                 const std::string& field) {
+  if (VnlogTable::is_missing(field)) return std::numeric_limits<double>::quiet_NaN();
+  double value = 0;
+  if (!parse_double(field, &value))
+    throw InputError(file, line, "column '" + column + "': '" + field + "' is not a number");
+  return value;
+}
+
 }  // namespace
 
-VnlogTable VnlogTable::read(const std::string& path) {
+VnlogReader::VnlogReader(const std::string& path) : file_(path) {
   std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored)) {
-    throw InputError(path, 0, "is a folder, not a file");
+  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, 0, "is a folder, not a file");
+  owned_ = std::make_unique<std::ifstream>(path);
+  if (!*owned_) throw InputError(path, 0, "cannot open the file");
+  in_ = owned_.get();
+  read_header();
+}
+
+VnlogReader::VnlogReader(std::istream& in, const std::string& display_name)
+    : in_(&in), file_(display_name) {
+  read_header();
+}
+
+VnlogReader::~VnlogReader() = default;
+
+void VnlogReader::read_header() {
+  std::string text;
+  while (std::getline(*in_, text)) {
+    ++line_;
+    if (is_blank(text)) continue;
+    const std::string content = from_first_nonblank(text);
+    if (content.front() != '#')
+      throw InputError(file_, line_, "data before the '# name name ...' header line");
+    if (content.rfind("##", 0) == 0 || content.rfind("#!", 0) == 0) continue;
+    std::vector<std::string> names = split(content.substr(1));
+    if (names.empty()) continue;
+    for (std::size_t i = 0; i < names.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (names[i] == names[j])
+          throw InputError(file_, line_, "column '" + names[i] + "' appears twice");
+    columns_ = std::move(names);
+    return;
   }
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "cannot open the file");
-  return read(in, path);
+  if (in_->bad()) throw InputError(file_, line_, "read error");
+  throw InputError(file_, 0, "no '# name name ...' header line");
+}
+
+bool VnlogReader::next() {
+  std::string text;
+  while (std::getline(*in_, text)) {
+    ++line_;
+    if (is_blank(text)) continue;
+    const std::string content = from_first_nonblank(text);
+    if (content.front() == '#') continue;  // comments, after the header
+    fields_ = split(content);
+    if (fields_.size() != columns_.size())
+      throw InputError(file_, line_,
+                       "expected " + std::to_string(columns_.size()) + " fields, found " +
+                           std::to_string(fields_.size()));
+    return true;
+  }
+  if (in_->bad()) throw InputError(file_, line_, "read error");
+  return false;
+}
+
+std::size_t VnlogReader::column(const std::string& name) const {
+  return column_index(file_, columns_, name);
+}
+
+std::vector<std::size_t> VnlogReader::columns(const std::vector<std::string>& names) const {
+  return column_indices(file_, columns_, names);
+}
+
+double VnlogReader::number(std::size_t column) const {
+  return number_of(file_, line_, columns_[column], fields_[column]);
+}
+
+VnlogTable VnlogTable::read(const std::string& path) {
+  VnlogReader reader(path);
+  return read(&reader);
 }
 
 VnlogTable VnlogTable::read(std::istream& in, const std::string& display_name) {
+  VnlogReader reader(in, display_name);
+  return read(&reader);
+}
+
+VnlogTable VnlogTable::read(VnlogReader* reader) {
   VnlogTable table;
-  table.file_ = display_name;
-  bool have_header = false;
-  std::string text;
-  int line = 0;
-  while (std::getline(in, text)) {
-    ++line;
-    if (is_blank(text)) continue;
-    const std::string content = from_first_nonblank(text);
-    if (content.front() == '#') {
-      if (have_header || content.rfind("##", 0) == 0 || content.rfind("#!", 0) == 0) continue;
-      std::vector<std::string> names = split(content.substr(1));
-      if (names.empty()) continue;
-      for (std::size_t i = 0; i < names.size(); ++i) {
-        for (std::size_t j = 0; j < i; ++j) {
-          if (names[i] == names[j]) {
-            throw InputError(display_name, line, "column '" + names[i] + "' appears twice");
-          }
-        }
-      }
-      table.columns_ = std::move(names);
-      have_header = true;
-      continue;
-    }
-    if (!have_header) {
-      throw InputError(display_name, line, "data before the '# name name ...' header line");
-    }
-    std::vector<std::string> fields = split(content);
-    if (fields.size() != table.columns_.size()) {
-      throw InputError(display_name, line,
-                       "expected " + std::to_string(table.columns_.size()) + " fields, found " +
-                           std::to_string(fields.size()));
-    }
-    for (std::string& field : fields) table.fields_.push_back(std::move(field));
-    table.lines_.push_back(line);
+  table.file_ = reader->file();
+  table.columns_ = reader->column_names();
+  while (reader->next()) {
+    for (const std::string& field : reader->fields()) table.fields_.push_back(field);
+    table.lines_.push_back(reader->line());
   }
-  if (in.bad()) throw InputError(display_name, line, "read error");
-  if (!have_header) throw InputError(display_name, 0, "no '# name name ...' header line");
   return table;
 }
 
@@ -96,18 +159,11 @@ bool VnlogTable::has_column(const std::string& name) const {
 }
 
 std::size_t VnlogTable::column(const std::string& name) const {
-  for (std::size_t i = 0; i < columns_.size(); ++i) {
-    if (columns_[i] == name) return i;
-  }
-  std::string present;
-  for (const std::string& column_name : columns_) present += " " + column_name;
-  throw InputError(file_, 0, "no column '" + name + "' (columns:" + present + ")");
+  return column_index(file_, columns_, name);
 }
 
 std::vector<std::size_t> VnlogTable::columns(const std::vector<std::string>& names) const {
-  std::vector<std::size_t> indices;
-  for (const std::string& name : names) indices.push_back(column(name));
-  return indices;
+  return column_indices(file_, columns_, names);
 }
 
 const std::string& VnlogTable::text(std::size_t row, std::size_t column) const {
@@ -115,14 +171,7 @@ const std::string& VnlogTable::text(std::size_t row, std::size_t column) const {
 }
 
 double VnlogTable::number(std::size_t row, std::size_t column) const {
-  const std::string& field = text(row, column);
-  if (is_missing(field)) return std::numeric_limits<double>::quiet_NaN();
-  double value = 0;
-  if (!parse_double(field, &value)) {
-    throw InputError(file_, lines_[row],
-                     "column '" + columns_[column] + "': '" + field + "' is not a number");
-  }
-  return value;
+  return number_of(file_, lines_[row], columns_[column], text(row, column));
 }
 
 std::vector<double> VnlogTable::numbers(const std::string& column_name) const {

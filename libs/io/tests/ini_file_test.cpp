@@ -138,6 +138,19 @@ TEST(IniFile, PositiveGettersRefuseZeroInfinityAndFractions) {
             std::string::npos);
 }
 
+TEST(IniFile, FlagsReadAsWordsOrDigits) {
+  const IniFile ini = parsed("[a]\nb = false\nc = 1\nd = Yes\ne = off\nf = 2\ng = maybe\n");
+  const IniSection& a = ini.section("a");
+  EXPECT_FALSE(a.get_flag("b", true));
+  EXPECT_TRUE(a.get_flag("c", false));
+  EXPECT_TRUE(a.get_flag("d", false));
+  EXPECT_FALSE(a.get_flag("e", true));
+  EXPECT_TRUE(a.get_flag("absent", true));
+  EXPECT_NE(error_of([&] { a.get_flag("f", true); }).find("test.ini:6:"), std::string::npos);
+  EXPECT_NE(error_of([&] { a.get_flag("g", true); }).find("test.ini:7: key 'g': 'maybe'"),
+            std::string::npos);
+}
+
 TEST(IniFile, MissingSectionAndFileAreErrors) {
   const IniFile ini = parsed("[a]\n");
   const std::string message = error_of([&] { ini.section("b"); });

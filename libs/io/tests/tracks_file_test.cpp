@@ -51,5 +51,31 @@ TEST(TracksFile, MalformedTracksNameTheLine) {
   expect_error("# frame track u\n0 0 5\n", "v", 0);
 }
 
+// One frame at a time, with each row's line, and the same checks as the whole file's.
+TEST(TracksFile, StreamGivesAFrameAtATime) {
+  const std::string path =
+      write_file("# frame track u v\n0 0 5 5\n0 1 6 6\n# note\n2 1 7 7\n2 0 8 8\n1 3 1 1\n");
+  TrackStream stream(path, 640, 480);
+  int frame = -1;
+  std::vector<TrackObservation> rows;
+  ASSERT_TRUE(stream.next_frame(&frame, &rows));
+  EXPECT_EQ(frame, 0);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1].track, 1);
+  EXPECT_EQ(stream.line(1), 3);
+  // Frame 2's rows come whole; the decrease after them is found as the next frame is read ahead.
+  try {
+    stream.next_frame(&frame, &rows);
+    FAIL() << "frame 1 after frame 2 accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 7) << e.what();
+    EXPECT_NE(std::string(e.what()).find("must not decrease"), std::string::npos) << e.what();
+  }
+  TrackStream single(write_file("# frame track u v\n0 0 5 5\n"));
+  ASSERT_TRUE(single.next_frame(&frame, &rows));
+  EXPECT_FALSE(single.next_frame(&frame, &rows));
+  EXPECT_TRUE(rows.empty());
+}
+
 }  // namespace
 }  // namespace omnisfm::io

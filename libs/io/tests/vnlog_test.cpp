@@ -86,6 +86,29 @@ TEST(Vnlog, HeaderProblemsAreErrors) {
   EXPECT_NE(error_of([] { VnlogTable::read("/"); }).find("folder"), std::string::npos);
 }
 
+// Row by row, as the table reads the whole: the same fields, lines and errors, the bad row's only
+// once it is reached.
+TEST(Vnlog, ReaderStreamsRowsWithTheirLines) {
+  std::istringstream in("## comment\n# x y\n1 -\n# later comment\n\n3 abc\n4 5 6\n");
+  VnlogReader reader(in, "table.vnl");
+  EXPECT_EQ(reader.column_names(), (std::vector<std::string>{"x", "y"}));
+  ASSERT_TRUE(reader.next());
+  EXPECT_EQ(reader.line(), 3);
+  EXPECT_EQ(reader.number(reader.column("x")), 1);
+  EXPECT_TRUE(std::isnan(reader.number(1)));
+  ASSERT_TRUE(reader.next());
+  EXPECT_EQ(reader.line(), 6);
+  EXPECT_EQ(error_of([&] { reader.number(1); }), "table.vnl:6: column 'y': 'abc' is not a number");
+  EXPECT_EQ(error_of([&] { reader.next(); }), "table.vnl:7: expected 2 fields, found 3");
+  EXPECT_NE(error_of([&] { reader.columns({"z"}); }).find("no column 'z'"), std::string::npos);
+  std::istringstream empty("# a\n");
+  VnlogReader no_rows(empty, "empty.vnl");
+  EXPECT_FALSE(no_rows.next());
+  std::istringstream headless("1 2\n");
+  EXPECT_EQ(error_of([&] { VnlogReader r(headless, "h.vnl"); }),
+            "h.vnl:1: data before the '# name name ...' header line");
+}
+
 TEST(Vnlog, EmptyTableHasColumnsAndNoRows) {
   const VnlogTable table = parsed("# u v\n");
   EXPECT_EQ(table.num_rows(), 0u);

@@ -3,16 +3,6 @@
 #include "omnisfm/io/ini_file.h"
 
 namespace omnisfm::sfm {
-namespace {
-
-bool flag(const io::IniSection& s, const std::string& key, bool fallback) {
-  const double v = s.get_double(key, fallback ? 1 : 0);
-  if (v != 0 && v != 1) s.fail(key, "must be 0 or 1");
-  return v == 1;
-}
-
-}  // namespace
-
 SfmSettings read_sfm_settings(const std::string& path) {
   const io::IniFile ini = io::IniFile::read(path);
   return ini.has_section("sfm") ? read_sfm_settings(ini.section("sfm")) : SfmSettings();
@@ -33,14 +23,14 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   f.smoothed_start_frames =
       s.get_positive_int("smoothed_start_frames", f.smoothed_start_frames, true);
   if (f.smoothed_start_frames == 1) s.fail("smoothed_start_frames", "must be 0 (off) or at least 2");
-  settings.run_batch = flag(s, "batch", settings.run_batch);
+  settings.run_batch = s.get_flag("batch", settings.run_batch);
   settings.batch_outlier_threshold_px =
       s.get_positive("batch_outlier_threshold_px", settings.batch_outlier_threshold_px, true);
   settings.batch.huber_px = s.get_positive("huber_px", settings.batch.huber_px, true);
-  settings.batch.covariances = flag(s, "covariances", settings.batch.covariances);
+  settings.batch.covariances = s.get_flag("covariances", settings.batch.covariances);
   settings.batch.max_iterations =
       s.get_positive_int("max_iterations", settings.batch.max_iterations);
-  settings.batch.scale_start = flag(s, "batch_scale_start", settings.batch.scale_start);
+  settings.batch.scale_start = s.get_flag("batch_scale_start", settings.batch.scale_start);
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [sfm]");
   return settings;
 }

@@ -50,6 +50,8 @@ class IniSection {
   // otherwise. The _int form takes whole numbers only.
   double get_positive(const std::string& key, double fallback, bool zero_ok = false) const;
   int get_positive_int(const std::string& key, int fallback, bool zero_ok = false) const;
+  // 1 or 0, true or false, yes or no, on or off (any case), or the fallback when absent.
+  bool get_flag(const std::string& key, bool fallback) const;
 
   // Entries no getter has read, in file order: what the caller did not expect.
   std::vector<IniEntry> unread() const;

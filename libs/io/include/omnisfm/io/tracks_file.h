@@ -3,8 +3,12 @@
 // integer id), rows sorted by frame.
 
 #include <Eigen/Core>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
+
+#include "omnisfm/io/vnlog.h"
 
 namespace omnisfm::io {
 
@@ -12,6 +16,31 @@ struct TrackObservation {
   int frame = 0;
   int track = 0;
   Eigen::Vector2d pixel{0, 0};
+};
+
+// tracks.vnl read one frame at a time, for sequences of any length, with read_tracks' checks on
+// each row; a track with a single observation is not refused (that needs the whole file).
+class TrackStream {
+ public:
+  // Throws InputError naming the file when it cannot be read or lacks a column.
+  TrackStream(const std::string& path, int image_width = 0, int image_height = 0);
+  // The next frame that has observations: its index and its rows, in the file's order. False at
+  // the end. Throws InputError naming the file and line for a bad row.
+  bool next_frame(int* frame, std::vector<TrackObservation>* observations);
+  // The file line of the n-th observation next_frame returned last.
+  int line(std::size_t n) const { return lines_[n]; }
+  const std::string& file() const { return reader_.file(); }
+
+ private:
+  bool read_row();  // into row_, false at the end
+
+  VnlogReader reader_;
+  std::vector<std::size_t> columns_;
+  int image_width_, image_height_;
+  bool have_row_ = false;
+  TrackObservation row_;
+  int row_line_ = 0;
+  std::vector<int> lines_;
 };
 
 // Throws InputError naming the file and line for: missing columns, non-integer frame or track,

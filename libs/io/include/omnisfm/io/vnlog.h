@@ -8,10 +8,46 @@
 
 #include <cstddef>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace omnisfm::io {
+
+// A table read one row at a time, for files too long to hold: the same format and errors as
+// VnlogTable.
+class VnlogReader {
+ public:
+  // Opens the file and reads up to its header; throws InputError naming the file (and line).
+  explicit VnlogReader(const std::string& path);
+  // Reads from `in`, which must outlive the reader; `display_name` names it in errors.
+  VnlogReader(std::istream& in, const std::string& display_name);
+  ~VnlogReader();
+
+  const std::string& file() const { return file_; }
+  const std::vector<std::string>& column_names() const { return columns_; }
+  // The column's index; throws InputError naming the file when there is no such column.
+  std::size_t column(const std::string& name) const;
+  std::vector<std::size_t> columns(const std::vector<std::string>& names) const;
+
+  // Moves to the next data row; false at the end. Throws InputError for a malformed line.
+  bool next();
+  const std::string& text(std::size_t column) const { return fields_[column]; }
+  const std::vector<std::string>& fields() const { return fields_; }
+  // The field as a number (NaN when missing); throws InputError "FILE:LINE: column 'c': ...".
+  double number(std::size_t column) const;
+  int line() const { return line_; }
+
+ private:
+  void read_header();
+
+  std::unique_ptr<std::istream> owned_;
+  std::istream* in_;
+  std::string file_;
+  std::vector<std::string> columns_;
+  std::vector<std::string> fields_;
+  int line_ = 0;
+};
 
 class VnlogTable {
  public:
@@ -42,6 +78,8 @@ class VnlogTable {
   std::vector<std::string> texts(const std::string& column_name) const;
 
  private:
+  static VnlogTable read(VnlogReader* reader);
+
   std::string file_;
   std::vector<std::string> columns_;
   std::vector<std::string> fields_;  // row-major, columns_.size() per row
