@@ -17,7 +17,7 @@
 #include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/sfm/pipeline.h"
-#include "omnisfm/sim/long_drive.h"
+#include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"

@@ -25,12 +25,18 @@ void add_simulate_verb(CLI::App& app) {
   auto gps = std::make_shared<bool>(false);
   CLI::App* verb = app.add_subcommand(
       "simulate",
-      "Simulate one of the paper's experiments with ground truth: camera.ini, tracks.vnl, "
-      "frames.vnl, ground_truth.tum, points_gt.vnl, outliers_gt.vnl (and targets.vnl, "
-      "observations.vnl for the lab)");
-  verb->add_option("--scenario", options->scenario, "lab | crane | rover")
+      "Simulate one of the paper's experiments, or a rover drive of any length, with ground "
+      "truth: camera.ini, tracks.vnl, frames.vnl, ground_truth.tum, points_gt.vnl, "
+      "outliers_gt.vnl (and targets.vnl, observations.vnl for the lab)");
+  verb->add_option("--scenario", options->scenario,
+                   "lab | crane | rover (the paper's), or drive: the rover's rig along an endless "
+                   "S, 3 cm and 0.5 s per frame, about 30 live ground tracks, no outliers")
       ->required()
-      ->check(CLI::IsMember({"lab", "crane", "rover"}));
+      ->check(CLI::IsMember({"lab", "crane", "rover", "drive"}));
+  CLI::Option* frames =
+      verb->add_option("--frames", options->frames, "With --scenario drive: how many frames")
+          ->capture_default_str()
+          ->check(CLI::Range(2, 100000000));
   verb->add_option("--out", *out, "Output folder (replaced whole when it exists)")->required();
   verb->add_option("--seed", options->seed, "Random seed (the dataset is deterministic for it)")
       ->capture_default_str();
@@ -54,18 +60,23 @@ void add_simulate_verb(CLI::App& app) {
                  "Also write dataset.rawlog for MRPT (load libomnisfm_mrpt.so to read it): "
                  "tracks, the images with --render, wheel odometry that drifts, a biased gyro");
   verb->add_flag("--gps", *gps,
-                 "With --rawlog and the rover: the outdoor variant, whose rawlog also holds GPS "
+                 "With --rawlog and the rover or the drive: the outdoor variant, whose rawlog also holds GPS "
                  "fixes (NMEA GGA, 1 Hz, 2 cm RTK noise about 40.4435 N 79.9455 W); writes "
                  "ground_truth_enu.tum and ground_truth_geodetic.vnl too");
-  verb->callback([options, out, render, samples, rawlog, gps] {
+  verb->callback([options, out, render, samples, rawlog, gps, frames] {
+    if (frames->count() > 0 && options->scenario != "drive")
+      throw CLI::ValidationError("--frames", "only the drive has a length of your choosing");
+    if (*render && options->scenario == "drive")
+      throw CLI::ValidationError("--render", "the drive has no scene to render: its points are "
+                                             "made as it goes");
     if (*rawlog && !can_write_rawlogs())
       throw CLI::ValidationError("--rawlog", "this omnisfm was built without the MRPT plugin "
                                              "(OMNISFM_BUILD_MRPT_PLUGIN=OFF)");
     if (*gps && !*rawlog)
       throw CLI::ValidationError("--gps", "GPS fixes go in the rawlog: add --rawlog");
-    if (*gps && options->scenario != "rover")
-      throw CLI::ValidationError("--gps", "only the rover has an outdoor variant; the lab and the "
-                                          "crane are indoors");
+    if (*gps && options->scenario != "rover" && options->scenario != "drive")
+      throw CLI::ValidationError("--gps", "only the rover and the drive have an outdoor variant; "
+                                          "the lab and the crane are indoors");
     sim::Dataset dataset = [&] {
       try {
         return sim::simulate(*options);

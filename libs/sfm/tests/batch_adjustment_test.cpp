@@ -14,7 +14,7 @@
 
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
-#include "omnisfm/sim/long_drive.h"
+#include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"

@@ -5,6 +5,7 @@
 
 #include "omnisfm/camera/equiangular_profile.h"
 #include "omnisfm/camera/pinhole_camera.h"
+#include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/procedural_texture.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
@@ -204,7 +205,7 @@ Dataset rover(const SimulationOptions& o, std::mt19937_64& rng) {
 }  // namespace
 
 bool is_known_scenario(const std::string& name) {
-  return name == "lab" || name == "crane" || name == "rover";
+  return name == "lab" || name == "crane" || name == "rover" || name == "drive";
 }
 
 camera::CatadioptricCamera default_rig(int image_width, int image_height) {
@@ -222,7 +223,7 @@ camera::CatadioptricCamera default_rig(int image_width, int image_height) {
 Dataset simulate(const SimulationOptions& options) {
   if (!is_known_scenario(options.scenario))
     throw std::invalid_argument("unknown scenario '" + options.scenario +
-                                "' (expected lab, crane or rover)");
+                                "' (expected lab, crane, rover or drive)");
   if (!(options.tracking_noise_px >= 0) || !std::isfinite(options.tracking_noise_px))
     throw std::invalid_argument("the tracking noise must be a finite number >= 0");
   if (!(options.survey_error_m >= 0) || !std::isfinite(options.survey_error_m))
@@ -233,6 +234,11 @@ Dataset simulate(const SimulationOptions& options) {
   // The default rig's rim images 292 px from the centre at 1024 px wide.
   if (292.0 * options.image_width / 1024.0 > (options.image_height - 1) / 2.0)
     throw std::invalid_argument("the image is too wide for the mirror's circle (height >= 0.58 width)");
+  if (options.scenario == "drive") {
+    if (options.frames < 2) throw std::invalid_argument("a drive needs at least 2 frames");
+    return long_drive(options.frames, options.tracking_noise_px, options.seed,
+                      default_rig(options.image_width, options.image_height));
+  }
   std::mt19937_64 rng(options.seed);
   if (options.scenario == "lab") return lab(options, rng);
   if (options.scenario == "crane") return crane(options, rng);

@@ -47,15 +47,21 @@ std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, i
   return tracks;
 }
 
+bool visible_pixel(const camera::CatadioptricCamera& camera, const Eigen::Isometry3d& world_from_cam,
+                   const Eigen::Vector3d& point_W, Eigen::Vector2d* pixel, double border_px,
+                   camera::Reflection* reflection) {
+  if (!camera.project(world_from_cam.inverse() * point_W, pixel, nullptr, nullptr, reflection))
+    return false;
+  return pixel->x() >= border_px && pixel->y() >= border_px &&
+         pixel->x() <= camera.image_width() - 1 - border_px &&
+         pixel->y() <= camera.image_height() - 1 - border_px;
+}
+
 bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_W,
                 Eigen::Vector2d* pixel, double border_px) {
-  const Eigen::Vector3d X_C = dataset.world_from_cam[frame].inverse() * point_W;
   camera::Reflection reflection;
-  if (!dataset.camera.project(X_C, pixel, nullptr, nullptr, &reflection)) return false;
-  const auto& cam = dataset.camera;
-  if (pixel->x() < border_px || pixel->y() < border_px ||
-      pixel->x() > cam.image_width() - 1 - border_px ||
-      pixel->y() > cam.image_height() - 1 - border_px)
+  if (!visible_pixel(dataset.camera, dataset.world_from_cam[frame], point_W, pixel, border_px,
+                     &reflection))
     return false;
   // The reflected ray from the mirror to the point must be clear of the scene.
   const Eigen::Vector3d mirror_W = dataset.world_from_cam[frame] * reflection.point_C;

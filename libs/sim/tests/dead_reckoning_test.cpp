@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/trajectories.h"
 
@@ -129,6 +130,48 @@ TEST(DeadReckoning, RejectsNonsense) {
   EXPECT_THROW(simulate_dead_reckoning(d, options), std::invalid_argument);
   d.timestamps[3] = d.timestamps[2];
   EXPECT_THROW(simulate_dead_reckoning(d, DeadReckoningOptions{}), std::invalid_argument);
+}
+
+// Streamed frame by frame along an endless drive, the odometry is the one the whole dataset gives
+// (the same draws); the gyro, on a generator of its own, has the same times and its own bias.
+TEST(DeadReckoningStream, ReadsADriveAsTheWholeDatasetWould) {
+  const Dataset d = long_drive(200, 0.2, 3);
+  DeadReckoningOptions options;
+  options.seed = 3;
+  const DeadReckoning whole = simulate_dead_reckoning(d, options);
+  DeadReckoningStream stream(body_from_cam(d), options, true);
+  std::vector<OdometryReading> odometry;
+  std::vector<GyroReading> gyro;
+  for (size_t f = 0; f < d.world_from_cam.size(); ++f) {
+    const size_t before = odometry.size();
+    stream.add_frame(d.timestamps[f], d.world_from_cam[f], &odometry, &gyro);
+    // Each frame brings the readings since the previous one: 10 Hz odometry, 2 fps frames.
+    EXPECT_EQ(odometry.size() - before, f == 0 ? 0u : 5u);
+    if (f > 0) {
+      EXPECT_LT(odometry.back().timestamp, d.timestamps[f]);
+    }
+  }
+  stream.finish(&odometry, &gyro);
+  ASSERT_EQ(odometry.size(), whole.odometry.size());
+  for (size_t k = 0; k < odometry.size(); ++k) {
+    EXPECT_EQ(odometry[k].timestamp, whole.odometry[k].timestamp);
+    EXPECT_EQ(odometry[k].pose, whole.odometry[k].pose);
+  }
+  ASSERT_EQ(gyro.size(), whole.gyro.size());
+  for (size_t k = 0; k < gyro.size(); ++k) EXPECT_EQ(gyro[k].timestamp, whole.gyro[k].timestamp);
+  EXPECT_NE(stream.gyro_bias_at_start(), whole.gyro_bias_at_start);
+  // The gyro's mean error is its bias (the walk moves it by about 2e-5 sqrt(100 s) = 2e-4 rad/s).
+  Eigen::Vector3d error_sum(0, 0, 0);
+  for (size_t k = 0; k < gyro.size(); ++k) {
+    const size_t f = std::min<size_t>(static_cast<size_t>(gyro[k].timestamp / 0.5), 198);
+    const Eigen::AngleAxisd step(d.world_from_cam[f].linear().transpose() *
+                                 d.world_from_cam[f + 1].linear());
+    error_sum += gyro[k].rate - step.angle() * step.axis() / 0.5;
+  }
+  EXPECT_LT((error_sum / gyro.size() - stream.gyro_bias_at_start()).norm(), 1e-3);
+  EXPECT_GT(stream.gyro_bias_at_start().norm(), 1e-4);
+  EXPECT_THROW(stream.add_frame(d.timestamps[0], d.world_from_cam[0], &odometry, &gyro),
+               std::invalid_argument);
 }
 
 }  // namespace

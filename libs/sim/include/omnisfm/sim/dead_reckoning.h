@@ -21,6 +21,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include "omnisfm/sim/dataset.h"
@@ -61,6 +62,49 @@ struct DeadReckoning {
 // Throws std::invalid_argument for a dataset with fewer than two frames or timestamps that do not
 // increase, and for rates that are not positive or noise levels that are negative.
 DeadReckoning simulate_dead_reckoning(const Dataset& dataset, const DeadReckoningOptions& options);
+
+// The same sensors made as the frames come, for drives of any length (sim::EndlessDrive): each
+// frame's pose brings the readings since the previous frame's.
+class DeadReckoningStream {
+ public:
+  // with_odometry: the motion is planar (the body's z vertical, its height constant). Throws
+  // std::invalid_argument for rates that are not positive or noise levels that are negative.
+  DeadReckoningStream(const Eigen::Isometry3d& body_from_cam, const DeadReckoningOptions& options,
+                      bool with_odometry);
+
+  // The next frame (times increasing; throws std::invalid_argument otherwise): appends the
+  // readings timed from the previous frame's time up to, not including, this one's (from this
+  // time on for the first frame, whose readings come with the second).
+  void add_frame(double timestamp, const Eigen::Isometry3d& world_from_cam,
+                 std::vector<OdometryReading>* odometry, std::vector<GyroReading>* gyro);
+  // After the last frame: the readings at its time.
+  void finish(std::vector<OdometryReading>* odometry, std::vector<GyroReading>* gyro);
+  const Eigen::Vector3d& gyro_bias_at_start() const { return bias_at_start_; }
+
+ private:
+  friend DeadReckoning simulate_dead_reckoning(const Dataset&, const DeadReckoningOptions&);
+  // The readings of both sensors timed in [from, to) (to included when `closed`) over the frame
+  // interval from A (at t0) to B (at t1).
+  void sample(double to, bool closed, std::vector<OdometryReading>* odometry,
+              std::vector<GyroReading>* gyro);
+  void odometry_reading(double t, std::vector<OdometryReading>* out);
+  void gyro_reading(double t, std::vector<GyroReading>* out);
+
+  Eigen::Isometry3d cam_from_body_;
+  DeadReckoningOptions options_;
+  bool with_odometry_;
+  std::mt19937_64 odometry_rng_, gyro_rng_;
+  Eigen::Vector3d bias_, bias_at_start_;
+  // The frame interval being sampled: from frame A at t0 to frame B at t1.
+  int frames_ = 0;
+  double t0_ = 0, t1_ = 0;
+  Eigen::Isometry3d A_ = Eigen::Isometry3d::Identity(), B_ = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d body_rate_{0, 0, 0};
+  long next_odometry_ = 0, next_gyro_ = 0;  // sample indices from the first frame's time
+  double start_time_ = 0;
+  Eigen::Vector3d previous_true_{0, 0, 0}, measured_{0, 0, 0};
+  double previous_odometry_time_ = 0;
+};
 
 // world_from_cam at time t, between the frames around it (clamped to the first and last frame).
 Eigen::Isometry3d interpolate_pose(const Dataset& dataset, double t);

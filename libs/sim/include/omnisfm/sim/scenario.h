@@ -7,6 +7,8 @@
 //          the rig's axis on one ground point; 32 tracked points, 10 of them mistracked part way.
 //   rover: a ground rover; planar motion with yaw changes, 150 images, 3.91 m; 112 points, 7 of
 //          them outliers.
+//   drive: a rover drive of any length (endless_drive.h): `frames` frames 3 cm apart, about 30
+//          live tracks, no outliers.
 
 #include <cstdint>
 #include <string>
@@ -16,11 +18,12 @@
 namespace omnisfm::sim {
 
 struct SimulationOptions {
-  std::string scenario = "lab";  // lab | crane | rover
+  std::string scenario = "lab";  // lab | crane | rover | drive
   std::uint64_t seed = 1;
   double tracking_noise_px = 0.2;  // Gaussian, per pixel coordinate
   double survey_error_m = 0.0;     // Gaussian, per target coordinate (lab)
   int image_width = 1024, image_height = 768;
+  int frames = 20000;  // drive only
 };
 
 // The names simulate() accepts.

@@ -30,7 +30,14 @@ void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
 std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
                                                        double noise_px, std::mt19937_64& rng);
 
-// The true pixel of a world point at a frame, or false when the rig cannot see it.
+// The pixel of a world point seen from world_from_cam, or false when it does not project or lies
+// within border_px of the image's edge; with `reflection`, also where it is reflected.
+bool visible_pixel(const camera::CatadioptricCamera& camera, const Eigen::Isometry3d& world_from_cam,
+                   const Eigen::Vector3d& point_W, Eigen::Vector2d* pixel, double border_px = 0.0,
+                   camera::Reflection* reflection = nullptr);
+
+// The true pixel of a world point at a frame, or false when the rig cannot see it (off the image,
+// or hidden by the dataset's scene).
 bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_W,
                 Eigen::Vector2d* pixel, double border_px = 0.0);
 
