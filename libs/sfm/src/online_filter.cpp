@@ -30,7 +30,14 @@ Eigen::Isometry3d OnlineFilter::cam_from_world() const {
 }
 
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
-  std::map<int, Eigen::Vector3d> all = ended_points_;
+  std::map<int, Eigen::Vector3d> all;
+  const std::size_t n = history_.size();
+  // Oldest first, so that a track that ended twice keeps its latest point.
+  for (std::size_t k = 0; k < n; ++k) {
+    const EndedPoint& e = history_[(history_next_ + k) % n];
+    if (!e.rejected) all[e.track] = e.point;
+  }
+  for (const auto& [track, point] : held_points_) all[track] = point;
   for (size_t s = 0; s < slot_track_.size(); ++s)
     all[slot_track_[s]] = world_point(anchors_[s], points_.segment<3>(3 * s));
   return all;
@@ -74,12 +81,41 @@ void OnlineFilter::remove_slot(int slot) {
   P_.conservativeResize(n, n);
 }
 
+void OnlineFilter::end_point(int slot) {
+  const int track = slot_track_[slot];
+  const Eigen::Vector3d point = world_point(anchors_[slot], points_.segment<3>(3 * slot));
+  remove_slot(slot);
+  if (smoothing_start_)
+    held_points_[track] = point;  // the smoothed start revises it, then hands it over
+  else
+    hand_over(track, point);
+}
+
+void OnlineFilter::hand_over(int track, const Eigen::Vector3d& point) {
+  if (point_ended_) point_ended_(track, point);
+  const std::size_t capacity = static_cast<std::size_t>(std::max(settings_.kept_history, 0));
+  if (capacity == 0) return;
+  if (history_.size() < capacity) {
+    history_.push_back({track, false, point});
+  } else {
+    history_[history_next_] = {track, false, point};
+    history_next_ = (history_next_ + 1) % capacity;
+  }
+}
+
 void OnlineFilter::reject(int track, int frame) {
-  excluded_[track] = true;
-  rejected_.push_back({track, frame});
+  excluded_.insert(track);
+  const RejectedTrack rejected{track, frame};
+  if (track_rejected_) track_rejected_(rejected);
+  if (settings_.kept_history > 0) {
+    rejected_.push_back(rejected);
+    if (static_cast<int>(rejected_.size()) > settings_.kept_history) rejected_.pop_front();
+  }
   const auto slot = track_slot_.find(track);
   if (slot != track_slot_.end()) remove_slot(slot->second);
-  ended_points_.erase(track);
+  held_points_.erase(track);
+  for (EndedPoint& e : history_)
+    if (e.track == track) e.rejected = true;
 }
 
 void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
@@ -353,6 +389,13 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   std::map<int, Eigen::Vector2d> seen;
   for (const auto& o : observations)
     if (!excluded_.count(o.track)) seen[o.track] = o.pixel;
+  // A rejected track no longer observed has ended: nothing needs to remember it.
+  if (!smoothing_start_) {
+    std::set<int> still_excluded;
+    for (const auto& o : observations)
+      if (excluded_.count(o.track)) still_excluded.insert(o.track);
+    excluded_.swap(still_excluded);
+  }
 
   if (!started_) {
     started_ = true;
@@ -363,10 +406,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
 
   // Tracks not seen in this frame have ended: their points leave the state.
   for (int s = static_cast<int>(slot_track_.size()) - 1; s >= 0; --s)
-    if (!seen.count(slot_track_[s])) {
-      ended_points_[slot_track_[s]] = world_point(anchors_[s], points_.segment<3>(3 * s));
-      remove_slot(s);
-    }
+    if (!seen.count(slot_track_[s])) end_point(s);
 
   if (motion)
     propagate(*motion);
@@ -431,6 +471,13 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     if (!track_slot_.count(track) && !excluded_.count(track)) add_point(track, pixel);
   record_start_frame(frame, observations, motion);
   return updated;
+}
+
+void OnlineFilter::smooth_start() {
+  solve_start();
+  std::map<int, Eigen::Vector3d> held;
+  held.swap(held_points_);
+  for (const auto& [track, point] : held) hand_over(track, point);
 }
 
 void OnlineFilter::record_start_frame(int frame, const std::vector<TrackPixel>& observations,

@@ -31,7 +31,7 @@ Eigen::Vector3d anchor_params(const Eigen::Vector3d& origin, const Eigen::Matrix
 
 }  // namespace
 
-void OnlineFilter::smooth_start() {
+void OnlineFilter::solve_start() {
   smoothing_start_ = false;
   std::vector<StartFrame> frames;
   frames.swap(start_frames_);
@@ -46,10 +46,10 @@ void OnlineFilter::smooth_start() {
     for (const auto& o : f.observations) {
       if (params.count(o.track) || !anchors.count(o.track)) continue;
       const auto slot = track_slot_.find(o.track);
-      const auto ended = ended_points_.find(o.track);
+      const auto ended = held_points_.find(o.track);
       if (slot != track_slot_.end())
         params[o.track] = points_.segment<3>(3 * slot->second);
-      else if (ended != ended_points_.end())
+      else if (ended != held_points_.end())
         params[o.track] = anchor_params(anchors[o.track].origin, anchors[o.track].basis,
                                         ended->second);
     }
@@ -234,7 +234,7 @@ void OnlineFilter::smooth_start() {
   t_ = t.back();
   for (int s = 0; s < live; ++s) points_.segment<3>(3 * s) = params.at(slot_track_[s]);
   for (const auto& [track, column] : index)
-    if (ended_points_.count(track)) ended_points_[track] = world_point(anchors.at(track), params.at(track));
+    if (held_points_.count(track)) held_points_[track] = world_point(anchors.at(track), params.at(track));
   for (int i = 0; i < num_frames; ++i) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = R[i];

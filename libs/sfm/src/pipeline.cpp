@@ -34,7 +34,15 @@ void run_filter(const camera::CatadioptricCamera& camera,
                 const std::function<MotionPrediction(int)>& predicted_motion,
                 const Progress& progress, SfmResult* result) {
   const auto started = std::chrono::steady_clock::now();
-  OnlineFilter filter(camera, settings);
+  FilterSettings collected = settings;
+  collected.kept_history = 0;  // every ended point and rejection is collected here instead
+  OnlineFilter filter(camera, collected);
+  filter.on_point_ended(
+      [result](int track, const Eigen::Vector3d& point) { result->online_points[track] = point; });
+  filter.on_track_rejected([result](const RejectedTrack& rejected) {
+    result->outliers.push_back(rejected);
+    result->online_points.erase(rejected.track);
+  });
   const int num_frames = static_cast<int>(by_frame.size());
   for (int f = 0; f < num_frames; ++f) {
     if (f > 0 && predicted_motion)
@@ -47,8 +55,7 @@ void run_filter(const camera::CatadioptricCamera& camera,
   result->online_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   for (const auto& [frame, T] : filter.smoothed_start()) result->online_cam_from_world[frame] = T;
-  result->online_points = filter.points();
-  result->outliers = filter.rejected();
+  for (const auto& [track, point] : filter.points()) result->online_points[track] = point;
 }
 
 void refuse_degenerate_motion(const SfmResult& result) {

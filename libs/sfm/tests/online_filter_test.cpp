@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
 #include <random>
 
 #include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
@@ -45,6 +48,40 @@ TEST(OnlineFilter, RoverSequenceTakesFewLinearisations) {
     ASSERT_TRUE(filter.process_frame(static_cast<int>(f), frames[f]));
   EXPECT_LE(static_cast<double>(filter.linearisations()) / frames.size(), 1.7);
   EXPECT_EQ(filter.rejected().size(), 7u);
+}
+
+// On a drive, what leaves the filter is handed over as it goes, and the filter keeps only the
+// latest kept_history of it: its memory does not grow with the drive.
+TEST(OnlineFilter, HandsOverWhatLeavesAndKeepsABoundedHistory) {
+  const sim::Dataset d = sim::long_drive(1500, 0.2, 1);
+  const auto frames = observations_by_frame(d.observations);
+  FilterSettings bounded;
+  bounded.kept_history = 40;
+  FilterSettings unbounded;
+  unbounded.kept_history = 1 << 30;
+  OnlineFilter small(d.camera, bounded), whole(d.camera, unbounded);
+  std::map<int, Eigen::Vector3d> handed;
+  int rejections = 0;
+  small.on_point_ended([&](int track, const Eigen::Vector3d& p) { handed[track] = p; });
+  small.on_track_rejected([&](const RejectedTrack&) { ++rejections; });
+  size_t most_held = 0;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    small.process_frame(static_cast<int>(f), frames[f]);
+    whole.process_frame(static_cast<int>(f), frames[f]);
+    most_held = std::max(most_held, small.points().size() - small.num_live_points());
+    ASSERT_LE(small.rejected().size(), 40u);
+  }
+  EXPECT_LE(most_held, 40u);
+  // The same estimates as a filter that keeps everything: the handed-over points (revised by the
+  // smoothed start where it saw them) and the live ones are all of its points.
+  EXPECT_EQ(static_cast<size_t>(rejections), whole.rejected().size());
+  std::map<int, Eigen::Vector3d> all = handed;
+  for (const auto& [track, p] : small.points()) all[track] = p;
+  for (const RejectedTrack& r : whole.rejected()) all.erase(r.track);
+  const auto expected = whole.points();
+  ASSERT_EQ(all.size(), expected.size());
+  for (const auto& [track, p] : expected) EXPECT_EQ(all.at(track), p) << "track " << track;
+  EXPECT_GT(expected.size(), 1400u);
 }
 
 }  // namespace

@@ -26,7 +26,10 @@
 // information's inverse marginalised onto the current pose and the live points.
 
 #include <Eigen/Geometry>
+#include <deque>
+#include <functional>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
@@ -56,6 +59,9 @@ struct FilterSettings {
   int update_iterations = 8;
   // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
   int smoothed_start_frames = 20;
+  // How many of the latest ended points and rejected tracks points() and rejected() keep; the
+  // callbacks (OnlineFilter::on_point_ended, on_track_rejected) are handed every one.
+  int kept_history = 10000;
 };
 
 // The camera's motion since the previous frame as the vehicle's sensors predict it:
@@ -88,12 +94,23 @@ class OnlineFilter {
   bool process_frame(int frame, const std::vector<TrackPixel>& observations,
                      const MotionPrediction& motion);
 
+  // Called as a point leaves the filter for good, its track ended, with its last estimate (world
+  // frame); while the smoothed start is pending, once it has revised them. A point whose track the
+  // filter still holds at the end of a sequence is in points() only.
+  using PointEnded = std::function<void(int track, const Eigen::Vector3d& point)>;
+  void on_point_ended(PointEnded callback) { point_ended_ = std::move(callback); }
+  // Called as a track is rejected as an outlier.
+  using TrackRejected = std::function<void(const RejectedTrack&)>;
+  void on_track_rejected(TrackRejected callback) { track_rejected_ = std::move(callback); }
+
   Eigen::Isometry3d cam_from_world() const;
   // The 6x6 covariance of the pose error (rotation, then translation).
   Eigen::Matrix<double, 6, 6> pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
-  // The latest estimate of every point the filter has carried (live or ended), outliers excluded.
+  // The latest estimate of the live points and of the ended ones kept (the latest kept_history,
+  // and every one while the smoothed start is pending), outliers excluded.
   std::map<int, Eigen::Vector3d> points() const;
-  const std::vector<RejectedTrack>& rejected() const { return rejected_; }
+  // The latest kept_history rejected tracks, oldest first.
+  const std::deque<RejectedTrack>& rejected() const { return rejected_; }
   // The poses of the first frames as the smoothed start revised them (frame -> cam_from_world);
   // empty until it has run.
   const std::map<int, Eigen::Isometry3d>& smoothed_start() const { return smoothed_start_; }
@@ -153,6 +170,10 @@ class OnlineFilter {
   void propagate();
   void propagate(const MotionPrediction& motion);
   void remove_slot(int slot);
+  // A track's point leaves the state: held while the smoothed start is pending, else handed over.
+  void end_point(int slot);
+  // The ended point to the callback and into the kept history.
+  void hand_over(int track, const Eigen::Vector3d& point);
   // An outlier: out of the state and the results for good, listed in rejected().
   void reject(int track, int frame);
   // Moves the update's first iterate from the prediction to the posterior's minimum along the
@@ -197,8 +218,9 @@ class OnlineFilter {
   };
   void record_start_frame(int frame, const std::vector<TrackPixel>& observations,
                           const MotionPrediction* motion);
-  // online_filter_smoothed_start.cpp
+  // The start solved (online_filter_smoothed_start.cpp), then the points it held handed over.
   void smooth_start();
+  void solve_start();
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
@@ -210,9 +232,23 @@ class OnlineFilter {
   Eigen::MatrixXd P_;          // 6 + 3 * slots
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;
-  std::map<int, Eigen::Vector3d> ended_points_;
-  std::map<int, bool> excluded_;  // rejected tracks, ignored from then on
-  std::vector<RejectedTrack> rejected_;
+  // Ended points: held for the smoothed start while it is pending; then the latest kept_history
+  // handed over, a ring (no allocation once full, however long the run) whose oldest is at
+  // history_next_.
+  std::map<int, Eigen::Vector3d> held_points_;
+  struct EndedPoint {
+    int track;
+    bool rejected;  // later, after its track came back
+    Eigen::Vector3d point;
+  };
+  std::vector<EndedPoint> history_;
+  std::size_t history_next_ = 0;
+  // Rejected tracks, ignored while they are still observed (and throughout the smoothed start's
+  // window, which it solves again).
+  std::set<int> excluded_;
+  std::deque<RejectedTrack> rejected_;
+  PointEnded point_ended_;
+  TrackRejected track_rejected_;
   long linearisations_ = 0;
   bool smoothing_start_ = false;           // until the smoothed start has run
   std::vector<StartFrame> start_frames_;
