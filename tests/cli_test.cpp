@@ -19,6 +19,7 @@
 #include "omnisfm/io/tracks_file.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
+#include "omnisfm/sfm/pipeline.h"
 
 namespace {
 
@@ -422,6 +423,63 @@ TEST_F(CliTest, SfmThenEvalOnASimulatedCrane) {
   const size_t open = figures.out.find("m mean (");
   ASSERT_NE(open, std::string::npos) << figures.out;
   EXPECT_LT(std::stod(figures.out.substr(open + 8)), 0.79) << figures.out;
+}
+
+// The drive scenario, and the filter alone on it: with [sfm] batch = false the tracks are read
+// and the results written frame by frame, the same estimate as the library's pipeline holding
+// everything.
+TEST_F(CliTest, SfmStreamsTheFilterAloneOnADrive) {
+  const Outcome simulated = omnisfm("simulate --scenario drive --frames 600 --seed 2 --out drive");
+  ASSERT_EQ(simulated.status, 0) << simulated.err;
+  EXPECT_EQ(omnisfm::io::read_tum_trajectory((dir_ / "drive/ground_truth.tum").string()).size(),
+            600u);
+  write("online.ini", "[sfm]\nbatch = false\n");
+  const Outcome run = omnisfm(
+      "sfm --camera drive/camera.ini --tracks drive/tracks.vnl --config online.ini "
+      "--ground-truth drive/ground_truth.tum --out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("frames 600,"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("frame by frame"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("online "), std::string::npos) << run.out;
+  EXPECT_FALSE(fs::exists(dir_ / "result/batch.tum"));
+  for (const char* file : {"online.tum", "points.vnl", "points.ply", "outliers.vnl", "report.txt",
+                           "motion.png", "path.png"})
+    EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
+
+  const CatadioptricCamera camera =
+      omnisfm::io::read_camera_file((dir_ / "drive/camera.ini").string());
+  omnisfm::sfm::SfmSettings settings;
+  settings.run_batch = false;
+  const omnisfm::sfm::SfmResult held = omnisfm::sfm::run_sfm(
+      camera, omnisfm::io::read_tracks((dir_ / "drive/tracks.vnl").string()), settings);
+  const auto streamed = omnisfm::io::read_tum_trajectory((dir_ / "result/online.tum").string());
+  ASSERT_EQ(streamed.size(), held.online_cam_from_world.size());
+  for (size_t f = 0; f < streamed.size(); ++f) {
+    const Eigen::Isometry3d expected = held.online_cam_from_world[f].inverse();
+    EXPECT_LT((streamed[f].world_from_cam.translation() - expected.translation()).norm(), 1e-9);
+    EXPECT_LT((streamed[f].world_from_cam.linear() - expected.linear()).norm(), 1e-9);
+  }
+  const VnlogTable points = VnlogTable::read((dir_ / "result/points.vnl").string());
+  ASSERT_EQ(points.num_rows(), held.online_points.size());
+  const auto tracks = points.numbers("track"), x = points.numbers("x");
+  for (size_t r = 0; r < points.num_rows(); ++r)
+    EXPECT_DOUBLE_EQ(x[r], held.online_points.at(static_cast<int>(tracks[r])).x());
+  EXPECT_NE(read_all(dir_ / "result/points.ply")
+                .find("element vertex " + std::to_string(points.num_rows()) + "\n"),
+            std::string::npos);
+  EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(),
+            held.outliers.size());
+
+  // A first frame that cannot start the filter is refused, naming the line, and nothing written.
+  write("late.vnl", "# frame track u v\n1 0 500 400\n2 0 501 401\n");
+  const Outcome late =
+      omnisfm("sfm --camera drive/camera.ini --tracks late.vnl --config online.ini --out late");
+  EXPECT_EQ(late.status, 2);
+  EXPECT_NE(late.err.find("late.vnl:2:"), std::string::npos) << late.err;
+  EXPECT_FALSE(fs::exists(dir_ / "late"));
+  EXPECT_EQ(omnisfm("simulate --scenario rover --frames 10 --out x").status, 2);
+  EXPECT_EQ(omnisfm("simulate --scenario drive --render --out x").status, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
 TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {

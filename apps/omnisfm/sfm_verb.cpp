@@ -1,3 +1,4 @@
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "omnisfm/io/vnlog.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sfm/settings_file.h"
+#include "online_outputs.h"
 #include "output_folder.h"
 #include "sfm_outputs.h"
 #include "verb_inputs.h"
@@ -24,20 +26,111 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Frame times from frames.vnl beside the tracks, else the frame indices.
-std::vector<double> frame_times(const std::string& tracks_path, int num_frames) {
-  std::vector<double> times(num_frames);
-  for (int f = 0; f < num_frames; ++f) times[f] = f;
-  const fs::path frames = fs::path(tracks_path).parent_path() / "frames.vnl";
-  if (!fs::exists(frames)) return times;
-  const io::VnlogTable table = io::VnlogTable::read(frames.string());
-  const auto cols = table.columns({"frame", "timestamp"});
-  for (size_t r = 0; r < table.num_rows(); ++r) {
-    const double f = table.number(r, cols[0]);
-    if (f >= 0 && f < num_frames && f == static_cast<int>(f))
-      times[static_cast<int>(f)] = table.number(r, cols[1]);
+// Frame times from frames.vnl beside the tracks, read in step with the frames (its rows in frame
+// order); a frame's index where there is none.
+class FrameClock {
+ public:
+  explicit FrameClock(const std::string& tracks_path) {
+    const fs::path frames = fs::path(tracks_path).parent_path() / "frames.vnl";
+    if (!fs::exists(frames)) return;
+    reader_ = std::make_unique<io::VnlogReader>(frames.string());
+    columns_ = reader_->columns({"frame", "timestamp"});
+    advance();
   }
-  return times;
+
+  double time(int frame) {
+    while (have_row_ && row_frame_ < frame) advance();
+    return have_row_ && row_frame_ == frame ? row_time_ : frame;
+  }
+
+ private:
+  void advance() {
+    const double previous = row_frame_;
+    have_row_ = reader_->next();
+    if (!have_row_) return;
+    row_frame_ = reader_->number(columns_[0]);
+    row_time_ = reader_->number(columns_[1]);
+    if (!(row_frame_ > previous))
+      throw io::InputError(reader_->file(), reader_->line(),
+                           "frames must increase from row to row");
+  }
+
+  std::unique_ptr<io::VnlogReader> reader_;
+  std::vector<std::size_t> columns_;
+  bool have_row_ = false;
+  double row_frame_ = -1, row_time_ = 0;
+};
+
+using Clock = std::chrono::steady_clock;
+
+// `[sfm] batch = false`: the filter alone, the tracks read and the results written frame by frame
+// into `dir`, in constant memory. Returns the report.
+std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
+                              const std::string& tracks_path, const sfm::SfmSettings& settings,
+                              const std::string& dir) {
+  io::TrackStream stream(tracks_path, camera.image_width(), camera.image_height());
+  FrameClock clock(tracks_path);
+  sfm::FilterSettings filter_settings = settings.filter;
+  filter_settings.kept_history = 0;  // the outputs take what leaves
+  sfm::OnlineFilter filter(camera, filter_settings);
+  OnlineOutputs out(dir);
+  out.attach(&filter);
+  // The smoothed start revises the first frames' poses once it has run: they wait for it.
+  struct Waiting {
+    int frame;
+    double time;
+    Eigen::Isometry3d cam_from_world;
+  };
+  std::vector<Waiting> waiting;
+  const auto write_waiting = [&] {
+    for (const Waiting& w : waiting) {
+      const auto smoothed = filter.smoothed_start().find(w.frame);
+      out.pose(w.time, smoothed == filter.smoothed_start().end() ? w.cam_from_world
+                                                                  : smoothed->second);
+    }
+    waiting.clear();
+  };
+  TerminalProgress progress("filter", "frames");
+  double seconds = 0;
+  long observations = 0;
+  int next = 0;  // the next frame to process
+  const auto process = [&](int f, const std::vector<sfm::TrackPixel>& pixels) {
+    const auto started = Clock::now();
+    filter.process_frame(f, pixels);
+    seconds += std::chrono::duration<double>(Clock::now() - started).count();
+    const double t = clock.time(f);
+    if (f < settings.filter.smoothed_start_frames) {
+      waiting.push_back({f, t, filter.cam_from_world()});
+      if (f + 1 == settings.filter.smoothed_start_frames) write_waiting();
+    } else {
+      out.pose(t, filter.cam_from_world());
+    }
+    progress(f + 1, 0);
+  };
+  int frame = 0;
+  std::vector<io::TrackObservation> rows;
+  std::vector<sfm::TrackPixel> pixels;
+  while (stream.next_frame(&frame, &rows)) {
+    if (next == 0 && (frame != 0 || rows.size() < 6))
+      throw io::InputError(tracks_path, stream.line(0),
+                           "the first frame has " + std::to_string(frame == 0 ? rows.size() : 0) +
+                               " tracks; at least 6 are needed to start");
+    // Frames without observations: the filter only propagates.
+    for (; next < frame; ++next) process(next, {});
+    pixels.clear();
+    for (const auto& o : rows) pixels.push_back({o.track, o.pixel});
+    observations += static_cast<long>(rows.size());
+    process(next++, pixels);
+  }
+  if (next < 2) throw io::InputError(tracks_path, 0, "the tracks span fewer than 2 frames");
+  write_waiting();
+  std::ostringstream report;
+  report << "frames " << next << ", observations " << observations << ", outlier tracks "
+         << out.outliers() << "\n"
+         << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
+         << "online only ([sfm] batch = false): tracks read and results written frame by frame\n";
+  out.finish(filter.points(), report.str());
+  return report.str();
 }
 
 }  // namespace
@@ -52,7 +145,9 @@ void add_sfm_verb(CLI::App& app) {
       "Shape-from-motion from tracks: the online filter then the batch adjustment; writes "
       "online.tum, batch.tum, points.vnl, points.ply, outliers.vnl, report.txt and the residual "
       "plots (residuals.png, residuals_per_frame.png); with --ground-truth also the paper's "
-      "figures and trajectory plots (motion.png, path.png)");
+      "figures and trajectory plots (motion.png, path.png). With [sfm] batch = false, the filter "
+      "alone: the tracks are read and the results written frame by frame, in constant memory "
+      "(no batch.tum and no residual plots)");
   verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--tracks", o->tracks, "tracks.vnl (# frame track u v)")->required();
   verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
@@ -63,11 +158,32 @@ void add_sfm_verb(CLI::App& app) {
                    "A TUM trajectory of the truth: adds the paper's error figures to the report");
   verb->callback([o] {
     const camera::CatadioptricCamera camera = load_camera(o->camera);
-    const auto tracks = io::read_tracks(o->tracks, camera.image_width(), camera.image_height());
     const sfm::SfmSettings settings =
         o->config.empty() ? sfm::SfmSettings() : sfm::read_sfm_settings(o->config);
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
+    if (!settings.run_batch) {
+      std::string report;
+      write_folder(o->out, [&](const std::string& dir) {
+        report = stream_online_sfm(camera, o->tracks, settings, dir);
+        if (!truth.empty()) {
+          // The comparison needs the whole estimate: online.tum read back.
+          sfm::SfmResult result;
+          for (const auto& p : io::read_tum_trajectory(dir + "/online.tum"))
+            result.online_cam_from_world.push_back(p.world_from_cam.inverse());
+          result.num_frames = static_cast<int>(result.online_cam_from_world.size());
+          const TruthComparison comparison =
+              compare_with_truth(result, false, truth, o->ground_truth);
+          report += comparison.report;
+          std::ofstream(dir + "/report.txt", std::ios::app) << comparison.report;
+          if (!write_trajectory_plots(dir, comparison.truth, comparison.plotted))
+            std::cerr << "omnisfm: gnuplot failed: plots missing\n";
+        }
+      });
+      std::cout << report;
+      return;
+    }
+    const auto tracks = io::read_tracks(o->tracks, camera.image_width(), camera.image_height());
 
     sfm::SfmResult result;
     try {
@@ -79,7 +195,9 @@ void add_sfm_verb(CLI::App& app) {
     if (settings.run_batch && !result.batch.converged && result.batch.cam_from_world.empty())
       throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
-    const std::vector<double> times = frame_times(o->tracks, result.num_frames);
+    FrameClock clock(o->tracks);
+    std::vector<double> times;
+    for (int f = 0; f < result.num_frames; ++f) times.push_back(clock.time(f));
     std::ostringstream report;
     report << "frames " << result.num_frames << ", observations " << tracks.size()
            << ", outlier tracks " << result.outliers.size() << "\n"

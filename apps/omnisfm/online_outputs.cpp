@@ -1,0 +1,59 @@
+#include "online_outputs.h"
+
+#include <stdexcept>
+
+namespace omnisfm::app {
+
+OnlineOutputs::OnlineOutputs(const std::string& dir)
+    : dir_(dir),
+      trajectory_file_(dir + "/online.tum"),
+      points_file_(dir + "/points.vnl"),
+      outliers_file_(dir + "/outliers.vnl"),
+      trajectory_(trajectory_file_),
+      points_writer_(points_file_, {"track", "x", "y", "z"}),
+      outliers_writer_(outliers_file_, {"track", "frame"}) {}
+
+void OnlineOutputs::attach(sfm::OnlineFilter* filter) {
+  filter->on_point_ended([this](int track, const Eigen::Vector3d& p) { point(track, p); });
+  filter->on_track_rejected([this](const sfm::RejectedTrack& r) { outlier(r); });
+}
+
+void OnlineOutputs::pose(double timestamp, const Eigen::Isometry3d& cam_from_world) {
+  trajectory_.pose({timestamp, cam_from_world.inverse()});
+  ++poses_;
+}
+
+void OnlineOutputs::point(int track, const Eigen::Vector3d& p) {
+  points_writer_.row({double(track), p.x(), p.y(), p.z()});
+  ++points_;
+}
+
+void OnlineOutputs::outlier(const sfm::RejectedTrack& r) {
+  outliers_writer_.row({double(r.track), double(r.frame)});
+  ++outliers_;
+}
+
+void OnlineOutputs::finish(const std::map<int, Eigen::Vector3d>& held_points,
+                           const std::string& report) {
+  for (const auto& [track, p] : held_points) point(track, p);
+  trajectory_file_.flush();
+  points_file_.flush();
+  outliers_file_.flush();
+  const bool written = trajectory_file_ && points_file_ && outliers_file_;
+  points_file_.close();
+  // The PLY header needs the count: the points are read back from points.vnl, a row at a time.
+  std::ofstream ply(dir_ + "/points.ply");
+  ply << "ply\nformat ascii 1.0\nelement vertex " << points_
+      << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  io::VnlogReader points(dir_ + "/points.vnl");
+  const auto xyz = points.columns({"x", "y", "z"});
+  while (points.next())
+    ply << points.text(xyz[0]) << ' ' << points.text(xyz[1]) << ' ' << points.text(xyz[2]) << '\n';
+  std::ofstream summary(dir_ + "/report.txt");
+  summary << report;
+  ply.flush();
+  summary.flush();
+  if (!written || !ply || !summary) throw std::runtime_error(dir_ + ": write failed");
+}
+
+}  // namespace omnisfm::app

@@ -1,0 +1,47 @@
+#pragma once
+// What an online-only run (`[sfm] batch = false`) writes as it goes, so that a sequence of any
+// length takes constant memory: online.tum a pose per frame, points.vnl a point as its track ends
+// (and the live ones at the end), outliers.vnl a track as it is rejected; at the end points.ply,
+// made from points.vnl, and report.txt.
+
+#include <Eigen/Geometry>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "omnisfm/io/tum_trajectory.h"
+#include "omnisfm/io/vnlog.h"
+#include "omnisfm/sfm/online_filter.h"
+
+namespace omnisfm::app {
+
+class OnlineOutputs {
+ public:
+  // Into the existing folder `dir`.
+  explicit OnlineOutputs(const std::string& dir);
+
+  // The filter's ended points and rejected tracks go straight to the files; set its
+  // kept_history to 0, since nothing needs them kept.
+  void attach(sfm::OnlineFilter* filter);
+  void pose(double timestamp, const Eigen::Isometry3d& cam_from_world);
+  void point(int track, const Eigen::Vector3d& point);
+  void outlier(const sfm::RejectedTrack& rejected);
+
+  // The points still held (the filter's at the end), points.ply and report.txt; throws
+  // std::runtime_error naming the folder when any write failed.
+  void finish(const std::map<int, Eigen::Vector3d>& held_points, const std::string& report);
+
+  long poses() const { return poses_; }
+  long points() const { return points_; }
+  long outliers() const { return outliers_; }
+
+ private:
+  std::string dir_;
+  std::ofstream trajectory_file_, points_file_, outliers_file_;
+  io::TumTrajectoryWriter trajectory_;
+  io::VnlogWriter points_writer_, outliers_writer_;
+  long poses_ = 0, points_ = 0, outliers_ = 0;
+};
+
+}  // namespace omnisfm::app
