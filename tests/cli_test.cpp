@@ -19,6 +19,10 @@
 #include "omnisfm/io/tracks_file.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+#include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
+#endif
+#include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/sfm/pipeline.h"
 
 namespace {
@@ -867,6 +871,44 @@ TEST_F(CliTest, RunTakesTheWheelScaleThatAGpsRunEstimated) {
   EXPECT_EQ(eval.status, 2);
   EXPECT_NE(eval.err.find("against 0 .. 74.5"), std::string::npos) << eval.err;
 }
+
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+// With [sfm] batch = false, run replays the rawlog through the online estimator object by object:
+// the same online estimate as the fused pipeline holding the whole rawlog.
+TEST_F(CliTest, RunStreamsTheOnlineEstimatorOnADriveRawlog) {
+  ASSERT_EQ(omnisfm("simulate --scenario drive --frames 300 --out drive --rawlog").status, 0);
+  write("online.ini", "[sfm]\nbatch = false\n");
+  const Outcome run = omnisfm(
+      "run drive/dataset.rawlog --config online.ini --ground-truth drive/ground_truth.tum "
+      "--out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("object by object"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("1496 odometry"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("online/rigid"), std::string::npos) << run.out;
+  EXPECT_FALSE(fs::exists(dir_ / "result/batch.tum"));
+
+  const std::string rawlog = (dir_ / "drive/dataset.rawlog").string();
+  omnisfm::mrpt_plugin::ReplayInput in =
+      omnisfm::mrpt_plugin::read_replay_input(rawlog, omnisfm::mrpt_plugin::ReplayOptions{});
+  omnisfm::sfm::SfmSettings settings;
+  settings.run_batch = false;
+  const omnisfm::sfm::SfmResult held =
+      omnisfm::sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings);
+  const auto streamed = omnisfm::io::read_tum_trajectory((dir_ / "result/online.tum").string());
+  ASSERT_EQ(streamed.size(), 300u);
+  ASSERT_EQ(held.online_cam_from_world.size(), 300u);
+  double worst = 0;
+  for (size_t f = 0; f < streamed.size(); ++f) {
+    EXPECT_NEAR(streamed[f].timestamp, in.frame_times[f], 1e-6);
+    const Eigen::Isometry3d expected = held.online_cam_from_world[f].inverse();
+    worst = std::max(worst,
+                     (streamed[f].world_from_cam.translation() - expected.translation()).norm());
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_EQ(VnlogTable::read((dir_ / "result/points.vnl").string()).num_rows(),
+            held.online_points.size());
+}
+#endif
 
 TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
   ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);

@@ -18,6 +18,21 @@ void OnlineOutputs::attach(sfm::OnlineFilter* filter) {
   filter->on_track_rejected([this](const sfm::RejectedTrack& r) { outlier(r); });
 }
 
+void OnlineOutputs::frame(const sfm::OnlineFilter& filter, int frame, double time,
+                          int smoothed_start_frames) {
+  if (frame >= smoothed_start_frames) return pose(time, filter.cam_from_world());
+  waiting_.push_back({frame, time, filter.cam_from_world()});
+  if (frame + 1 == smoothed_start_frames) write_waiting(filter);
+}
+
+void OnlineOutputs::write_waiting(const sfm::OnlineFilter& filter) {
+  for (const Waiting& w : waiting_) {
+    const auto smoothed = filter.smoothed_start().find(w.frame);
+    pose(w.time, smoothed == filter.smoothed_start().end() ? w.cam_from_world : smoothed->second);
+  }
+  waiting_.clear();
+}
+
 void OnlineOutputs::pose(double timestamp, const Eigen::Isometry3d& cam_from_world) {
   trajectory_.pose({timestamp, cam_from_world.inverse()});
   ++poses_;
@@ -33,9 +48,9 @@ void OnlineOutputs::outlier(const sfm::RejectedTrack& r) {
   ++outliers_;
 }
 
-void OnlineOutputs::finish(const std::map<int, Eigen::Vector3d>& held_points,
-                           const std::string& report) {
-  for (const auto& [track, p] : held_points) point(track, p);
+void OnlineOutputs::finish(const sfm::OnlineFilter& filter, const std::string& report) {
+  write_waiting(filter);
+  for (const auto& [track, p] : filter.points()) point(track, p);
   trajectory_file_.flush();
   points_file_.flush();
   outliers_file_.flush();

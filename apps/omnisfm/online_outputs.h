@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
@@ -24,13 +25,17 @@ class OnlineOutputs {
   // The filter's ended points and rejected tracks go straight to the files; set its
   // kept_history to 0, since nothing needs them kept.
   void attach(sfm::OnlineFilter* filter);
+  // The filter's pose after it processed `frame` (counting from 0, every frame); the first
+  // smoothed_start_frames wait until the smoothed start has revised them.
+  void frame(const sfm::OnlineFilter& filter, int frame, double time,
+             int smoothed_start_frames);
   void pose(double timestamp, const Eigen::Isometry3d& cam_from_world);
   void point(int track, const Eigen::Vector3d& point);
   void outlier(const sfm::RejectedTrack& rejected);
 
-  // The points still held (the filter's at the end), points.ply and report.txt; throws
-  // std::runtime_error naming the folder when any write failed.
-  void finish(const std::map<int, Eigen::Vector3d>& held_points, const std::string& report);
+  // The poses still waiting and the points still held (the filter's at the end), points.ply and
+  // report.txt; throws std::runtime_error naming the folder when any write failed.
+  void finish(const sfm::OnlineFilter& filter, const std::string& report);
 
   long poses() const { return poses_; }
   long points() const { return points_; }
@@ -41,6 +46,13 @@ class OnlineOutputs {
   std::ofstream trajectory_file_, points_file_, outliers_file_;
   io::TumTrajectoryWriter trajectory_;
   io::VnlogWriter points_writer_, outliers_writer_;
+  struct Waiting {
+    int frame;
+    double time;
+    Eigen::Isometry3d cam_from_world;
+  };
+  std::vector<Waiting> waiting_;
+  void write_waiting(const sfm::OnlineFilter& filter);
   long poses_ = 0, points_ = 0, outliers_ = 0;
 };
 

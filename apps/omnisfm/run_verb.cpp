@@ -1,4 +1,5 @@
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -8,9 +9,11 @@
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tum_trajectory.h"
+#include "omnisfm/mrpt_plugin/online_replay.h"
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
 #include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/mrpt_plugin/scene_file.h"
+#include "online_outputs.h"
 #include "output_folder.h"
 #include "run_settings.h"
 #include "sfm_outputs.h"
@@ -87,6 +90,53 @@ mrpt_plugin::SceneContents scene_of(const sfm::SfmResult& result, bool batch_ran
   return scene;
 }
 
+// `[sfm] batch = false`: the rawlog replayed through the online estimator object by object and
+// the results written as they come, in constant memory. Returns the report.
+std::string stream_online_run(const std::string& rawlog, const RunSettings& settings, bool strict,
+                              const std::string& dir) {
+  OnlineOutputs out(dir);
+  mrpt_plugin::OnlineReplaySettings replay;
+  replay.replay = settings.replay;
+  replay.filter = settings.sfm.filter;
+  replay.filter.kept_history = 0;  // the outputs take what leaves
+  replay.odometry_noise = settings.odometry_noise;
+  replay.gyro_noise = settings.gyro_noise;
+  replay.odometry_scale = settings.odometry_scale;
+  mrpt_plugin::OnlineReplayOutputs outputs;
+  const sfm::OnlineFilter* filter = nullptr;
+  outputs.frame = [&](const sfm::OnlineFilter& f, int frame, double time) {
+    filter = &f;
+    out.frame(f, frame, time, replay.filter.smoothed_start_frames);
+  };
+  outputs.point_ended = [&](int track, const Eigen::Vector3d& p) { out.point(track, p); };
+  outputs.track_rejected = [&](const sfm::RejectedTrack& r) { out.outlier(r); };
+  TerminalProgress progress("filter", "frames");
+  const mrpt_plugin::OnlineReplaySummary summary =
+      mrpt_plugin::replay_online(rawlog, replay, outputs, progress.callback());
+  if (!summary.read.complete()) {
+    if (strict) throw io::InputError(rawlog, 0, summary.read.problem);
+    std::cerr << "omnisfm: warning: " << summary.read.problem << "; replayed the "
+              << summary.frames << " frames before it\n";
+  }
+  if (summary.frames < 2 || !filter)
+    throw io::InputError(rawlog, 0,
+                         "holds " + std::to_string(summary.frames) +
+                             " camera frames (tracked features or images) before its end: "
+                             "nothing to replay");
+  std::ostringstream report;
+  if (!summary.read.complete()) report << "rawlog damaged: " << summary.read.problem << "\n";
+  report << "rawlog " << rawlog << ": " << summary.read.objects << " objects; vision from "
+         << summary.vision << "\n"
+         << "frames " << summary.frames << ", outlier tracks " << out.outliers() << "\n"
+         << "motion sensors: " << summary.odometry << " odometry, " << summary.gyro << " gyro, "
+         << summary.gps << " GPS readings (GPS needs the batch: the filter takes odometry and "
+                           "gyro)\n"
+         << "online only ([sfm] batch = false): the rawlog read and results written object by "
+            "object (no scene.3Dscene, geodetic.vnl or residual plots)\n";
+  out.finish(*filter, report.str());
+  return report.str();
+}
+
 }  // namespace
 
 void add_run_verb(CLI::App& app) {
@@ -102,7 +152,9 @@ void add_run_verb(CLI::App& app) {
       "fixes; writes what the sfm verb writes plus scene.3Dscene (for SceneViewer3D) and, with "
       "GPS, geodetic.vnl. A truncated or corrupt rawlog is replayed up to the damaged object: a "
       "warning names the object's index and what is wrong, and report.txt repeats it "
-      "(--strict: exit 2 instead, writing nothing)");
+      "(--strict: exit 2 instead, writing nothing). With [sfm] batch = false, the online "
+      "estimator alone, the rawlog read and the results written object by object in constant "
+      "memory (online.tum, points, outliers and the report; GPS fixes are not used)");
   verb->add_option("rawlog", o->rawlog, "The rawlog (either format, gzip-compressed or not)")
       ->required();
   verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
@@ -121,6 +173,26 @@ void add_run_verb(CLI::App& app) {
     if (!o->camera.empty()) settings.replay.camera = io::read_camera_file(o->camera);
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
+    if (!settings.sfm.run_batch) {
+      std::string report;
+      write_folder(o->out, [&](const std::string& dir) {
+        report = stream_online_run(o->rawlog, settings, o->strict, dir);
+        if (truth.empty()) return;
+        // The comparison needs the whole estimate: online.tum read back.
+        sfm::SfmResult result;
+        for (const auto& p : io::read_tum_trajectory(dir + "/online.tum"))
+          result.online_cam_from_world.push_back(p.world_from_cam.inverse());
+        result.num_frames = static_cast<int>(result.online_cam_from_world.size());
+        const TruthComparison comparison =
+            compare_with_truth(result, false, truth, o->ground_truth, true);
+        report += comparison.report;
+        std::ofstream(dir + "/report.txt", std::ios::app) << comparison.report;
+        if (!write_trajectory_plots(dir, comparison.truth, comparison.plotted))
+          std::cerr << "omnisfm: gnuplot failed: plots missing\n";
+      });
+      std::cout << report;
+      return;
+    }
 
     mrpt_plugin::ReplayInput in = [&] {
       TerminalProgress progress("tracked", "images");

@@ -75,21 +75,6 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
   sfm::OnlineFilter filter(camera, filter_settings);
   OnlineOutputs out(dir);
   out.attach(&filter);
-  // The smoothed start revises the first frames' poses once it has run: they wait for it.
-  struct Waiting {
-    int frame;
-    double time;
-    Eigen::Isometry3d cam_from_world;
-  };
-  std::vector<Waiting> waiting;
-  const auto write_waiting = [&] {
-    for (const Waiting& w : waiting) {
-      const auto smoothed = filter.smoothed_start().find(w.frame);
-      out.pose(w.time, smoothed == filter.smoothed_start().end() ? w.cam_from_world
-                                                                  : smoothed->second);
-    }
-    waiting.clear();
-  };
   TerminalProgress progress("filter", "frames");
   double seconds = 0;
   long observations = 0;
@@ -98,13 +83,7 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
     const auto started = Clock::now();
     filter.process_frame(f, pixels);
     seconds += std::chrono::duration<double>(Clock::now() - started).count();
-    const double t = clock.time(f);
-    if (f < settings.filter.smoothed_start_frames) {
-      waiting.push_back({f, t, filter.cam_from_world()});
-      if (f + 1 == settings.filter.smoothed_start_frames) write_waiting();
-    } else {
-      out.pose(t, filter.cam_from_world());
-    }
+    out.frame(filter, f, clock.time(f), settings.filter.smoothed_start_frames);
     progress(f + 1, 0);
   };
   int frame = 0;
@@ -123,13 +102,12 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
     process(next++, pixels);
   }
   if (next < 2) throw io::InputError(tracks_path, 0, "the tracks span fewer than 2 frames");
-  write_waiting();
   std::ostringstream report;
   report << "frames " << next << ", observations " << observations << ", outlier tracks "
          << out.outliers() << "\n"
          << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
          << "online only ([sfm] batch = false): tracks read and results written frame by frame\n";
-  out.finish(filter.points(), report.str());
+  out.finish(filter, report.str());
   return report.str();
 }
 

@@ -87,6 +87,8 @@ void OmniSfmEstimator::start(const camera::CatadioptricCamera& camera,
   body_from_cam_ = isometry_of(camera_pose);
   collector_.sensors().body_from_cam = body_from_cam_;
   filter_ = std::make_unique<sfm::OnlineFilter>(camera, options_.filter);
+  if (point_ended_) filter_->on_point_ended(point_ended_);
+  if (track_rejected_) filter_->on_track_rejected(track_rejected_);
 }
 
 void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,

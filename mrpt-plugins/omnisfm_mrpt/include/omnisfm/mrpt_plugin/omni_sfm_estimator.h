@@ -75,6 +75,15 @@ class OmniSfmEstimator {
   void getCurrentPoseEstimation(mrpt::poses::CPose3DPDFGaussian& out) const;
 
   int framesProcessed() const { return frames_; }
+  // What leaves the filter as it goes (sfm::OnlineFilter::on_point_ended, on_track_rejected):
+  // points in the estimator's world, the first camera's frame. Set before the first frame.
+  void onPointEnded(sfm::OnlineFilter::PointEnded callback) { point_ended_ = std::move(callback); }
+  void onTrackRejected(sfm::OnlineFilter::TrackRejected callback) {
+    track_rejected_ = std::move(callback);
+  }
+  // The filter in the camera's terms (cam_from_world, the world the first camera's frame), once
+  // the first camera frame has started it; null before.
+  const sfm::OnlineFilter* filter() const { return filter_.get(); }
   // The points of the tracks so far, in the map frame.
   std::map<int, Eigen::Vector3d> points() const;
   // The dead reckoning and GPS readings still held: from the last frame's on (older ones are
@@ -93,6 +102,8 @@ class OmniSfmEstimator {
   OmniSfmEstimatorOptions options_;
   MotionSensorCollector collector_;
   std::unique_ptr<sfm::OnlineFilter> filter_;
+  sfm::OnlineFilter::PointEnded point_ended_;
+  sfm::OnlineFilter::TrackRejected track_rejected_;
   std::unique_ptr<track::SequenceTracker> tracker_;
   Eigen::Isometry3d body_from_cam_ = Eigen::Isometry3d::Identity();
   int frames_ = 0;
