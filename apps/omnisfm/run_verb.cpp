@@ -178,17 +178,7 @@ void add_run_verb(CLI::App& app) {
       write_folder(o->out, [&](const std::string& dir) {
         report = stream_online_run(o->rawlog, settings, o->strict, dir);
         if (truth.empty()) return;
-        // The comparison needs the whole estimate: online.tum read back.
-        sfm::SfmResult result;
-        for (const auto& p : io::read_tum_trajectory(dir + "/online.tum"))
-          result.online_cam_from_world.push_back(p.world_from_cam.inverse());
-        result.num_frames = static_cast<int>(result.online_cam_from_world.size());
-        const TruthComparison comparison =
-            compare_with_truth(result, false, truth, o->ground_truth, true);
-        report += comparison.report;
-        std::ofstream(dir + "/report.txt", std::ios::app) << comparison.report;
-        if (!write_trajectory_plots(dir, comparison.truth, comparison.plotted))
-          std::cerr << "omnisfm: gnuplot failed: plots missing\n";
+        report += compare_written_online_with_truth(dir, truth, o->ground_truth, true);
       });
       std::cout << report;
       return;

@@ -63,6 +63,22 @@ TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
   return comparison;
 }
 
+std::string compare_written_online_with_truth(const std::string& dir,
+                                              const std::vector<io::StampedPose>& truth,
+                                              const std::string& truth_file, bool rigid_too) {
+  sfm::SfmResult result;
+  for (const auto& p : io::read_tum_trajectory(dir + "/online.tum"))
+    result.online_cam_from_world.push_back(p.world_from_cam.inverse());
+  result.num_frames = static_cast<int>(result.online_cam_from_world.size());
+  const TruthComparison comparison = compare_with_truth(result, false, truth, truth_file, rigid_too);
+  std::ofstream report(dir + "/report.txt", std::ios::app);
+  report << comparison.report;
+  if (!report.flush()) throw std::runtime_error(dir + ": write failed");
+  if (!write_trajectory_plots(dir, comparison.truth, comparison.plotted))
+    std::cerr << "omnisfm: gnuplot failed: plots missing\n";
+  return comparison.report;
+}
+
 void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,
                        const std::vector<double>& times, const std::string& report) {
   io::write_tum_trajectory(dir + "/online.tum", trajectory(result.online_cam_from_world, times));

@@ -34,6 +34,13 @@ TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
                                    const std::vector<io::StampedPose>& truth,
                                    const std::string& truth_file, bool rigid_too = false);
 
+// For a streamed run: DIR/online.tum read back (the comparison needs the whole estimate) and
+// compared with the truth as compare_with_truth does; its figures appended to DIR/report.txt and
+// returned, its trajectory plots written into DIR.
+std::string compare_written_online_with_truth(const std::string& dir,
+                                              const std::vector<io::StampedPose>& truth,
+                                              const std::string& truth_file, bool rigid_too);
+
 // The residual plots of `result` on `tracks`, and the trajectory plots of `comparison` when it
 // has any, into `dir`; says on stderr when gnuplot could not draw them.
 void write_sfm_plots(const std::string& dir, const camera::CatadioptricCamera& camera,

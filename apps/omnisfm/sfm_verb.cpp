@@ -144,19 +144,8 @@ void add_sfm_verb(CLI::App& app) {
       std::string report;
       write_folder(o->out, [&](const std::string& dir) {
         report = stream_online_sfm(camera, o->tracks, settings, dir);
-        if (!truth.empty()) {
-          // The comparison needs the whole estimate: online.tum read back.
-          sfm::SfmResult result;
-          for (const auto& p : io::read_tum_trajectory(dir + "/online.tum"))
-            result.online_cam_from_world.push_back(p.world_from_cam.inverse());
-          result.num_frames = static_cast<int>(result.online_cam_from_world.size());
-          const TruthComparison comparison =
-              compare_with_truth(result, false, truth, o->ground_truth);
-          report += comparison.report;
-          std::ofstream(dir + "/report.txt", std::ios::app) << comparison.report;
-          if (!write_trajectory_plots(dir, comparison.truth, comparison.plotted))
-            std::cerr << "omnisfm: gnuplot failed: plots missing\n";
-        }
+        if (!truth.empty())
+          report += compare_written_online_with_truth(dir, truth, o->ground_truth, false);
       });
       std::cout << report;
       return;
