@@ -218,7 +218,10 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   const std::vector<FrameMotion> motions = frame_motions(sensors, times, Eigen::Vector3d::Zero());
 
   run_filter(camera, by_frame, settings.filter,
-             [&](int f) { return predict_camera_motion(motions[f - 1], sensors, settings.filter); },
+             [&](int f, const Eigen::Vector3d& gyro_bias) {
+               return predict_camera_motion(sensors, times[f - 1], times[f], settings.filter,
+                                            gyro_bias);
+             },
              progress, &result);
   result.odometry_scale = sensors.odometry_scale;
 

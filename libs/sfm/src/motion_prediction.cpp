@@ -13,9 +13,15 @@ BodyMotion predict_body_motion(const FrameMotion& motion, const GyroNoise& gyro_
       Eigen::Vector3d::Constant(translation_walk);
   if (motion.gyro.valid) {
     body.previous_body_from_body.linear() = motion.gyro.rotation;
-    const double bias = gyro_noise.bias_sigma * motion.gyro.dt;
-    body.covariance.topLeftCorner<3, 3>() =
-        motion.gyro.covariance + bias * bias * Eigen::Matrix3d::Identity();
+    body.covariance.topLeftCorner<3, 3>() = motion.gyro.covariance;
+    if (settings.estimate_gyro_bias) {
+      body.bias_jacobian.topRows<3>() = motion.gyro.J_rotation_bias;
+      body.bias_walk_variance = gyro_noise.bias_walk * gyro_noise.bias_walk * motion.gyro.dt;
+      body.bias_prior_variance = gyro_noise.bias_sigma * gyro_noise.bias_sigma;
+    } else {
+      const double bias = gyro_noise.bias_sigma * motion.gyro.dt;
+      body.covariance.topLeftCorner<3, 3>() += bias * bias * Eigen::Matrix3d::Identity();
+    }
   } else if (motion.odometry.valid) {
     body.previous_body_from_body.linear() =
         Eigen::AngleAxisd(motion.odometry.delta.z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -45,6 +51,9 @@ MotionPrediction predict_camera_motion(const BodyMotion& body,
   J.bottomLeftCorner<3, 3>() = R_cb * so3::skew(v);
   J.bottomRightCorner<3, 3>() = -R_cb * D.linear().transpose();
   camera.covariance = J * body.covariance * J.transpose();
+  camera.bias_jacobian = J * body.bias_jacobian;
+  camera.bias_walk_variance = body.bias_walk_variance;
+  camera.bias_prior_variance = body.bias_prior_variance;
   return camera;
 }
 
@@ -61,9 +70,9 @@ MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSe
 }
 
 MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, double t1,
-                                       const FilterSettings& settings) {
-  return predict_camera_motion(frame_motion(sensors, t0, t1, Eigen::Vector3d::Zero()), sensors,
-                               settings);
+                                       const FilterSettings& settings,
+                                       const Eigen::Vector3d& gyro_bias) {
+  return predict_camera_motion(frame_motion(sensors, t0, t1, gyro_bias), sensors, settings);
 }
 
 }  // namespace omnisfm::sfm

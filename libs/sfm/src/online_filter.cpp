@@ -19,7 +19,7 @@ constexpr int kEstablishedUpdates = 2;
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
     : camera_(camera),
       settings_(settings),
-      P_(Eigen::MatrixXd::Zero(6, 6)),
+      P_(Eigen::MatrixXd::Zero(kFirstPointColumn, kFirstPointColumn)),
       smoothing_start_(settings.smoothed_start_frames > 0) {}
 
 Eigen::Isometry3d OnlineFilter::cam_from_world() const {
@@ -65,9 +65,9 @@ void OnlineFilter::propagate() {
 void OnlineFilter::remove_slot(int slot) {
   track_slot_.erase(slot_track_[slot]);
   const int last = static_cast<int>(slot_track_.size()) - 1;
-  const int n = 6 + 3 * last;  // size after removal
+  const int n = point_column(last);  // size after removal
   if (slot != last) {
-    const int from = 6 + 3 * last, to = 6 + 3 * slot;
+    const int from = point_column(last), to = point_column(slot);
     points_.segment<3>(3 * slot) = points_.segment<3>(3 * last);
     anchors_[slot] = anchors_[last];
     P_.middleCols<3>(to) = P_.middleCols<3>(from);
@@ -184,7 +184,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
   // Where each measured point's three parameters sit in the state.
   std::vector<int> point_columns(m);
-  for (int k = 0; k < m; ++k) point_columns[k] = 6 + 3 * meas[k].slot;
+  for (int k = 0; k < m; ++k) point_columns[k] = point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
   Iterate at, next;
@@ -262,6 +262,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
       // P is not positive definite: no update.
       c->R = R_;
       c->t = t_;
+      c->bias = bias_;
       c->points = points_;
       PHt.resize(0, 0);
       return;
@@ -283,10 +284,11 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     const double model_cost = variance * weighted.squaredNorm() + prior_cost;
     const Eigen::Matrix3d R = so3::exp(next.offset.head<3>()) * R_;
     const Eigen::Vector3d t = t_ + next.offset.segment<3>(3);
-    Eigen::VectorXd X = points_ + next.offset.tail(n - 6);
+    const Eigen::Vector3d bias = bias_ + next.offset.segment<3>(kBiasColumn);
+    Eigen::VectorXd X = points_ + next.offset.tail(n - kFirstPointColumn);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
     for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
-    next.offset.tail(n - 6) = X - points_;
+    next.offset.tail(n - kFirstPointColumn) = X - points_;
 
     // Project the new iterate (its pixels are the outlier test's residuals). Settled when its
     // predicted pixels moved by less than 3 % of the pixel noise, or a damped step by less than
@@ -340,6 +342,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     }
     c->R = R;
     c->t = t;
+    c->bias = bias;
     c->points.swap(X);
     for (int k = 0; k < m; ++k) c->residuals[k] = at.residual.segment<2>(2 * k).norm();
     damped = mu > 0;
@@ -376,6 +379,7 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
 void OnlineFilter::accept(Candidate* c) {
   R_ = c->R;
   t_ = c->t;
+  bias_ = c->bias;
   points_.swap(c->points);
   if (c->PHt.size() > 0) downdate_covariance(&P_, &c->PHt, c->S_factor);
 }
@@ -427,7 +431,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   if (settings_.innovation_gate_chi2 > 0) {
     std::vector<Measurement> kept;
     for (const auto& m : measurements) {
-      const int c = 6 + 3 * m.slot;
+      const int c = point_column(m.slot);
       Eigen::Matrix<double, 2, 9> H;
       H << m.at_prior.pose, m.at_prior.point;
       Eigen::Matrix<double, 9, 9> P_local;
@@ -488,7 +492,12 @@ void OnlineFilter::record_start_frame(int frame, const std::vector<TrackPixel>& 
   f.R = R_;
   f.t = t_;
   f.random_walk = motion == nullptr;
-  if (motion) f.motion = *motion;
+  if (motion) {
+    // The start's solve holds the bias at its estimate: its uncertainty goes with the motion's.
+    f.motion = *motion;
+    const Eigen::Matrix<double, 6, 3>& B = motion->bias_jacobian;
+    f.motion.covariance += B * P_.block<3, 3>(kBiasColumn, kBiasColumn) * B.transpose();
+  }
   for (const auto& o : observations)
     if (track_slot_.count(o.track)) f.observations.push_back(o);
   start_frames_.push_back(std::move(f));

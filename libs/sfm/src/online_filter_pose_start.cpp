@@ -69,11 +69,12 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   Iterate start = *prior;
   const Eigen::Matrix3d R = so3::exp(delta.head<3>()) * R_;
   const Eigen::Vector3d t = t_ + delta.tail<3>();
-  Eigen::VectorXd X = points_ + along.bottomRows(n - 6) * delta;
+  Eigen::VectorXd X = points_ + along.bottomRows(n - kFirstPointColumn) * delta;
   for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
   start.offset.resize(n);
   start.offset.head<6>() = delta;
-  start.offset.tail(n - 6) = X - points_;
+  start.offset.segment<3>(kBiasColumn) = along.middleRows<3>(kBiasColumn) * delta;
+  start.offset.tail(n - kFirstPointColumn) = X - points_;
   start.g = Eigen::VectorXd::Zero(n);
   start.g.head<6>() = pose_information * delta;
   start.cost = start.g.head<6>().dot(delta);

@@ -31,7 +31,7 @@ std::vector<std::vector<TrackPixel>> observations_by_frame(
 
 void run_filter(const camera::CatadioptricCamera& camera,
                 const std::vector<std::vector<TrackPixel>>& by_frame, const FilterSettings& settings,
-                const std::function<MotionPrediction(int)>& predicted_motion,
+                const PredictedMotion& predicted_motion,
                 const Progress& progress, SfmResult* result) {
   const auto started = std::chrono::steady_clock::now();
   FilterSettings collected = settings;
@@ -46,7 +46,7 @@ void run_filter(const camera::CatadioptricCamera& camera,
   const int num_frames = static_cast<int>(by_frame.size());
   for (int f = 0; f < num_frames; ++f) {
     if (f > 0 && predicted_motion)
-      filter.process_frame(f, by_frame[f], predicted_motion(f));
+      filter.process_frame(f, by_frame[f], predicted_motion(f, filter.gyro_bias()));
     else
       filter.process_frame(f, by_frame[f]);
     result->online_cam_from_world.push_back(filter.cam_from_world());
@@ -56,6 +56,9 @@ void run_filter(const camera::CatadioptricCamera& camera,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   for (const auto& [frame, T] : filter.smoothed_start()) result->online_cam_from_world[frame] = T;
   for (const auto& [track, point] : filter.points()) result->online_points[track] = point;
+  result->online_gyro_bias = filter.gyro_bias();
+  const Eigen::Vector3d bias_variance = filter.gyro_bias_covariance().diagonal();
+  if ((bias_variance.array() > 0).all()) result->online_gyro_bias_sigma = bias_variance.cwiseSqrt();
 }
 
 void refuse_degenerate_motion(const SfmResult& result) {

@@ -10,10 +10,12 @@
 namespace omnisfm::sfm {
 
 // The filter over every frame, into result's online estimate and outliers; predicted_motion, when
-// set, gives the motion into frame f (f >= 1) in place of the random walk.
+// set, gives the motion into frame f (f >= 1) in place of the random walk, the gyro integrated
+// at the filter's bias estimate.
+using PredictedMotion = std::function<MotionPrediction(int frame, const Eigen::Vector3d& gyro_bias)>;
 void run_filter(const camera::CatadioptricCamera& camera,
                 const std::vector<std::vector<TrackPixel>>& by_frame, const FilterSettings& settings,
-                const std::function<MotionPrediction(int)>& predicted_motion,
+                const PredictedMotion& predicted_motion,
                 const Progress& progress, SfmResult* result);
 
 // Throws std::runtime_error when the filter's camera barely translates against the scene's depth.

@@ -7,6 +7,7 @@
 #include "omnisfm/eval/simulated_sensors.h"
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/fused_pipeline.h"
+#include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/scenario.h"
 #include "world_from_cam.h"
 
@@ -50,7 +51,9 @@ double signed_scale_error(const eval::TrajectoryErrors& similarity) {
 
 // Uncalibrated, the fused scale is the odometry's: the noncentral camera knows the scale several
 // times less well than the wheel's 2 % prior does. Whichever way the wheel errs, the estimate
-// errs with it and no further (a residual in metres would shrink the scene: 2.4 % more here).
+// errs with it and no further (a residual in metres would shrink the scene: 2.4 % more here),
+// within a quarter of that prior of the wheel (the batch's own sigma is 1.95 %: where it ends
+// inside that depends on its start; seeds 1-3 spread by 0.3 %).
 // The shape is the camera's, so that even a rigid alignment leaves little error.
 TEST(FusedAccuracy, RoverWithOdometryAndGyroTakesTheWheelsScale) {
   for (double wheel_error : {0.015, -0.015}) {
@@ -67,13 +70,69 @@ TEST(FusedAccuracy, RoverWithOdometryAndGyroTakesTheWheelsScale) {
     std::printf("rover fused, wheel %+.1f %%: scale error %+.3f %%, rigid %.3f %%, yaw %.4f deg\n",
                 100 * wheel_error, 100 * signed_scale_error(similarity),
                 rigid.translation_error_percent, rigid.mean_yaw_error_deg);
-    EXPECT_NEAR(signed_scale_error(similarity), wheel_error, 0.002);
+    EXPECT_GT(signed_scale_error(similarity) * wheel_error, 0) << "the wheel's way";
+    EXPECT_LT(std::abs(signed_scale_error(similarity)), std::abs(wheel_error) + 0.002);
+    EXPECT_NEAR(signed_scale_error(similarity), wheel_error, 0.005);
     EXPECT_LT(rigid.translation_error_percent, 1.02);
     EXPECT_LT(rigid.mean_yaw_error_deg, 0.48);
     EXPECT_LT(r.batch.final_rms_px, 0.25);
     // The bias drifts (a random walk) about its starting value; the estimate is a constant.
     EXPECT_LT((r.gyro_bias - s.dead_reckoning.gyro_bias_at_start).cwiseAbs().maxCoeff(), 5e-4);
   }
+}
+
+// The filter estimates the gyro's bias as a state: over the rover's 75 s its estimate at the last
+// frame is the bias then to within the standard deviation it states, and on a longer drive the
+// online orientation follows the gyro instead of drifting with its bias.
+TEST(FusedAccuracy, FilterEstimatesTheGyroBias) {
+  SfmSettings online = fast_settings();
+  online.run_batch = false;
+  double sum_z2 = 0;
+  for (std::uint64_t seed : {1, 2, 3}) {
+    const Scenario s = simulate("rover", seed);
+    const MotionSensors sensors = eval::motion_sensors(&s.dead_reckoning, s.options, nullptr);
+    const SfmResult r = run_fused_sfm(s.dataset.camera, s.dataset.observations,
+                                      s.dataset.timestamps, sensors, online);
+    const Eigen::Vector3d z =
+        (r.online_gyro_bias - s.dead_reckoning.gyro_bias_at_end).cwiseQuotient(r.online_gyro_bias_sigma);
+    std::printf("rover seed %d: bias error %.2g %.2g %.2g rad/s, sigma %.2g, z %.2f %.2f %.2f\n",
+                static_cast<int>(seed), (r.online_gyro_bias - s.dead_reckoning.gyro_bias_at_end).x(),
+                (r.online_gyro_bias - s.dead_reckoning.gyro_bias_at_end).y(),
+                (r.online_gyro_bias - s.dead_reckoning.gyro_bias_at_end).z(),
+                r.online_gyro_bias_sigma.x(), z.x(), z.y(), z.z());
+    // Measured: |z| at most 1.17 over the 9 axes.
+    EXPECT_LT(z.cwiseAbs().maxCoeff(), 3) << "seed " << seed;
+    sum_z2 += z.squaredNorm();
+  }
+  // An honest sigma: the errors' RMS in sigmas near 1 (measured 0.75 over the 9 axes).
+  EXPECT_GT(std::sqrt(sum_z2 / 9), 0.3);
+  EXPECT_LT(std::sqrt(sum_z2 / 9), 2.0);
+  double folded_angle = 0, estimated_angle = 0;
+  const sim::Dataset drive = sim::long_drive(3000, 0.2, 1);
+  sim::DeadReckoningOptions options;
+  const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
+  const MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
+  for (bool estimated : {true, false}) {
+    online.filter.estimate_gyro_bias = estimated;
+    const SfmResult r =
+        run_fused_sfm(drive.camera, drive.observations, drive.timestamps, sensors, online);
+    const Eigen::Matrix3d last = drive.world_from_cam.front().linear().transpose() *
+                                 drive.world_from_cam.back().linear();
+    const double angle =
+        Eigen::AngleAxisd(last.transpose() * r.online_cam_from_world.back().inverse().linear()).angle();
+    const auto rigid = eval::trajectory_errors(inverted(r.online_cam_from_world), drive.world_from_cam, false);
+    std::printf("drive, bias %s: orientation error %.3f deg, rigid %.3f %%\n",
+                estimated ? "estimated" : "folded", angle * 180 / M_PI,
+                rigid.translation_error_percent);
+    (estimated ? estimated_angle : folded_angle) = angle * 180 / M_PI;
+    // Measured 0.43 % estimated, 1.28 % folded.
+    if (estimated) {
+      EXPECT_LT(rigid.translation_error_percent, 1.0);
+    }
+  }
+  // Measured 1.7 deg after 90 m with the bias estimated, 11 deg with it folded into the noise.
+  EXPECT_LT(estimated_angle, 3.0);
+  EXPECT_LT(estimated_angle, 0.5 * folded_angle);
 }
 
 // With every noise model the simulation's (tracks 0.2 px, the sensors' own), the whitened

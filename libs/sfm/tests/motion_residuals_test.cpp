@@ -148,6 +148,53 @@ TEST(MotionPrediction, CameraCovarianceFollowsTheBodyMotion) {
             1e-6 * expected.cwiseAbs().maxCoeff());
 }
 
+// The prediction's dependence on the gyro bias the filter estimates: the camera motion at bias
+// b + db is Exp(B db) M(b) (left-perturbed rotation, then translation), B against central
+// differences through the whole prediction (the gyro integrated again at each bias).
+TEST(MotionPrediction, BiasJacobianMatchesCentralDifferences) {
+  MotionSensors sensors;
+  sensors.body_from_cam = body_from_cam();
+  const Eigen::Vector3d rate(0.1, -0.05, 0.3);
+  for (int i = 0; i <= 60; ++i) {
+    const double t = 0.01 * i;
+    sensors.gyro.push_back({t, rate + Eigen::Vector3d(0.01 * std::sin(7 * t), 0, 0.02 * t)});
+    sensors.odometry.push_back({t, Eigen::Vector3d(0.3 * t, 0.02 * t * t, 0.3 * t)});
+  }
+  const FilterSettings settings;
+  const Eigen::Vector3d bias(0.004, -0.002, 0.003);
+  const MotionPrediction at = predict_camera_motion(sensors, 0.05, 0.55, settings, bias);
+  ASSERT_GT(at.bias_jacobian.norm(), 0.1);
+  EXPECT_NEAR(at.bias_walk_variance,
+              std::pow(sensors.gyro_noise.bias_walk, 2) * 0.5, 1e-15);
+  EXPECT_EQ(at.bias_prior_variance, std::pow(sensors.gyro_noise.bias_sigma, 2));
+  const double h = 1e-5;
+  Eigen::Matrix<double, 6, 3> numeric;
+  for (int j = 0; j < 3; ++j) {
+    Eigen::Matrix<double, 6, 1> difference = Eigen::Matrix<double, 6, 1>::Zero();
+    for (double sign : {1.0, -1.0}) {
+      const Eigen::Isometry3d M =
+          predict_camera_motion(sensors, 0.05, 0.55, settings,
+                                bias + sign * h * Eigen::Vector3d::Unit(j))
+              .cam_from_previous_cam;
+      const Eigen::AngleAxisd left(M.linear() * at.cam_from_previous_cam.linear().transpose());
+      Eigen::Matrix<double, 6, 1> error;
+      error << left.angle() * left.axis(), M.translation() - at.cam_from_previous_cam.translation();
+      difference += sign * error;
+    }
+    numeric.col(j) = difference / (2 * h);
+  }
+  EXPECT_LT((at.bias_jacobian - numeric).cwiseAbs().maxCoeff(), 1e-6 * numeric.norm())
+      << at.bias_jacobian << "\n\n" << numeric;
+  // With the bias not estimated, it is the prediction's noise instead.
+  FilterSettings folded = settings;
+  folded.estimate_gyro_bias = false;
+  const MotionPrediction inflated = predict_camera_motion(sensors, 0.05, 0.55, folded, bias);
+  EXPECT_TRUE(inflated.bias_jacobian.isZero());
+  const double rotation_variance = inflated.covariance.topLeftCorner(3, 3).trace() -
+                                   at.covariance.topLeftCorner(3, 3).trace();
+  EXPECT_GT(rotation_variance, 0.9 * 3 * std::pow(0.5 * sensors.gyro_noise.bias_sigma, 2));
+}
+
 // The wheel's scale multiplies the distances read and their standard deviations.
 TEST(MotionPrediction, OdometryScaleScalesTheTranslationAndItsNoise) {
   FrameMotion motion;

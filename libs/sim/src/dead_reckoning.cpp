@@ -218,6 +218,7 @@ DeadReckoning simulate_dead_reckoning(const Dataset& dataset, const DeadReckonin
                      &result.gyro);
   stream.finish(&result.odometry, &result.gyro);
   result.gyro_bias_at_start = stream.gyro_bias_at_start();
+  result.gyro_bias_at_end = stream.gyro_bias();
   return result;
 }
 

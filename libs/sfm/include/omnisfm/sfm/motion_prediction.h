@@ -3,8 +3,9 @@
 // the odometry and the gyro measured (frame_motion.h), with its covariance, as the camera's
 // motion the filter takes (MotionPrediction).
 //
-// The rotation comes from the gyro when there is one (its noise, plus the bias prior over the
-// interval: the filter does not estimate the bias), else from the odometry's yaw; the translation
+// The rotation comes from the gyro when there is one (integrated at the filter's bias estimate,
+// with its noise; with FilterSettings::estimate_gyro_bias off, the bias prior over the interval
+// added to that noise instead), else from the odometry's yaw; the translation
 // from the odometry (planar: x, y in the earlier body frame). Whatever no sensor measures (the
 // translation with a gyro alone, roll and pitch with odometry alone, the height) keeps the
 // filter's random walk.
@@ -19,9 +20,14 @@ namespace omnisfm::sfm {
 
 // previous_body_from_body with the covariance of its error: rotation as a right perturbation
 // (R = R_mean Exp(e_r)), then translation (p = p_mean + e_p).
+// With the bias estimated: the error's dependence on the bias's error, and the bias's walk over
+// the interval and prior, per axis (as MotionPrediction's).
 struct BodyMotion {
   Eigen::Isometry3d previous_body_from_body = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 3> bias_jacobian = Eigen::Matrix<double, 6, 3>::Zero();
+  double bias_walk_variance = 0;
+  double bias_prior_variance = 0;
 };
 
 BodyMotion predict_body_motion(const FrameMotion& motion, const GyroNoise& gyro_noise,
@@ -35,8 +41,10 @@ MotionPrediction predict_camera_motion(const BodyMotion& body, const Eigen::Isom
 MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSensors& sensors,
                                        const FilterSettings& settings);
 
-// The same between two frame times, for a filter fed live (the readings up to t1 must be in).
+// The same between two frame times, for a filter fed live (the readings up to t1 must be in), the
+// gyro integrated at `gyro_bias` (the filter's gyro_bias()).
 MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, double t1,
-                                       const FilterSettings& settings);
+                                       const FilterSettings& settings,
+                                       const Eigen::Vector3d& gyro_bias = Eigen::Vector3d::Zero());
 
 }  // namespace omnisfm::sfm

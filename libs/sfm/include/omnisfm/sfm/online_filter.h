@@ -3,7 +3,9 @@
 // the 3D points of the live tracks.
 //
 // State: cam_from_world (R, t; the rotation's error is a left perturbation R = exp(dtheta) R, so
-// any attitude works) and one 3D world point per live track. The first frame fixes the gauge:
+// any attitude works), the gyro's bias (a random walk, coupled to the pose by the predictions that
+// integrate the gyro; with no gyro it stays out of every product) and one 3D world point per live
+// track. Columns: pose 0-5, bias 6-8, then 3 per point. The first frame fixes the gauge:
 // its pose is the identity, known exactly. Propagation keeps the estimate and inflates the pose
 // covariance by a random walk, or, when the vehicle's sensors predict the motion, moves the pose by
 // that prediction and adds its covariance. A new track's point starts on a sphere around the camera along its
@@ -59,6 +61,9 @@ struct FilterSettings {
   int update_iterations = 8;
   // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
   int smoothed_start_frames = 20;
+  // With a gyro: estimate its bias as a state (else its prior inflates each prediction's rotation
+  // noise, as if the bias were new in every frame; motion_prediction.h).
+  bool estimate_gyro_bias = true;
   // How many of the latest ended points and rejected tracks points() and rejected() keep; the
   // callbacks (OnlineFilter::on_point_ended, on_track_rejected) are handed every one.
   int kept_history = 10000;
@@ -70,6 +75,13 @@ struct FilterSettings {
 struct MotionPrediction {
   Eigen::Isometry3d cam_from_previous_cam = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  // With a gyro integrated at the filter's gyro_bias(): the motion's error per unit of the bias's
+  // error (true bias = estimate + error), the bias's random walk over the interval (variance per
+  // axis), and the bias's prior variance per axis, which the first such prediction sets. All zero
+  // without a gyro, or with the bias folded into `covariance` instead.
+  Eigen::Matrix<double, 6, 3> bias_jacobian = Eigen::Matrix<double, 6, 3>::Zero();
+  double bias_walk_variance = 0;
+  double bias_prior_variance = 0;
 };
 
 struct TrackPixel {
@@ -106,6 +118,10 @@ class OnlineFilter {
   Eigen::Isometry3d cam_from_world() const;
   // The 6x6 covariance of the pose error (rotation, then translation).
   Eigen::Matrix<double, 6, 6> pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
+  // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
+  // covariance.
+  const Eigen::Vector3d& gyro_bias() const { return bias_; }
+  Eigen::Matrix3d gyro_bias_covariance() const { return P_.block<3, 3>(kBiasColumn, kBiasColumn); }
   // The latest estimate of the live points and of the ended ones kept (the latest kept_history,
   // and every one while the smoothed start is pending), outliers excluded.
   std::map<int, Eigen::Vector3d> points() const;
@@ -136,6 +152,7 @@ class OnlineFilter {
   struct Candidate {
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
+    Eigen::Vector3d bias;
     Eigen::VectorXd points;
     std::vector<double> residuals;  // per measurement, after the update
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
@@ -189,6 +206,10 @@ class OnlineFilter {
 
   // One kilometre: far enough to stand for infinity in any scene the rig maps.
   static constexpr double kMinInverseDepth = 1e-3;
+  // Where the state's parts sit in P_.
+  static constexpr int kBiasColumn = 6;
+  static constexpr int kFirstPointColumn = 9;
+  static int point_column(int slot) { return kFirstPointColumn + 3 * slot; }
 
   // A point's fixed reference: where its first ray started, and a basis whose first column is
   // that ray's direction (world frame).
@@ -227,9 +248,11 @@ class OnlineFilter {
   bool started_ = false;
   Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bias_ = Eigen::Vector3d::Zero();
+  bool bias_started_ = false;  // its prior set by the first prediction with a gyro
   Eigen::VectorXd points_;     // 3 per slot: angles across the first ray, inverse depth
   std::vector<Anchor> anchors_;  // per slot
-  Eigen::MatrixXd P_;          // 6 + 3 * slots
+  Eigen::MatrixXd P_;          // kFirstPointColumn + 3 * slots
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;
   // Ended points: held for the smoothed start while it is pending; then the latest kept_history

@@ -33,6 +33,10 @@ struct SfmResult {
   bool world_is_enu = false;           // the world is the GPS's local ENU frame, else the first camera's
   double odometry_scale = 1;           // estimated: true distance per distance the odometry read
   Eigen::Vector3d gyro_bias{0, 0, 0};  // estimated, rad/s about the body's axes
+  // The filter's own estimate of the gyro's bias at the last frame, with its standard deviations
+  // (zero and NaN without a gyro, or with FilterSettings::estimate_gyro_bias off).
+  Eigen::Vector3d online_gyro_bias{0, 0, 0};
+  Eigen::Vector3d online_gyro_bias_sigma = Eigen::Vector3d::Constant(NAN);
   // Their standard deviations from the batch's covariance; NaN when not computed
   // (BatchSettings::covariances off) or when the value was held.
   double odometry_scale_sigma = NAN;

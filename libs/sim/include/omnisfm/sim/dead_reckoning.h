@@ -57,6 +57,7 @@ struct DeadReckoning {
   std::vector<OdometryReading> odometry;  // empty when the motion is not planar
   std::vector<GyroReading> gyro;
   Eigen::Vector3d gyro_bias_at_start{0, 0, 0};  // the truth, for checking estimators
+  Eigen::Vector3d gyro_bias_at_end{0, 0, 0};    // after its walk, at the last reading
 };
 
 // Throws std::invalid_argument for a dataset with fewer than two frames or timestamps that do not
@@ -80,6 +81,8 @@ class DeadReckoningStream {
   // After the last frame: the readings at its time.
   void finish(std::vector<OdometryReading>* odometry, std::vector<GyroReading>* gyro);
   const Eigen::Vector3d& gyro_bias_at_start() const { return bias_at_start_; }
+  // The bias at the last reading made.
+  const Eigen::Vector3d& gyro_bias() const { return bias_; }
 
  private:
   friend DeadReckoning simulate_dead_reckoning(const Dataset&, const DeadReckoningOptions&);
