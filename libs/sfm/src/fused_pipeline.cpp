@@ -218,9 +218,9 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   const std::vector<FrameMotion> motions = frame_motions(sensors, times, Eigen::Vector3d::Zero());
 
   run_filter(camera, by_frame, settings.filter,
-             [&](int f, const Eigen::Vector3d& gyro_bias) {
+             [&](int f, const SensorStates& states) {
                return predict_camera_motion(sensors, times[f - 1], times[f], settings.filter,
-                                            gyro_bias);
+                                            states);
              },
              progress, &result);
   result.odometry_scale = sensors.odometry_scale;

@@ -1,5 +1,7 @@
 #include "omnisfm/sfm/motion_prediction.h"
 
+#include <cmath>
+
 #include "so3.h"
 
 namespace omnisfm::sfm {
@@ -54,25 +56,34 @@ MotionPrediction predict_camera_motion(const BodyMotion& body,
   camera.bias_jacobian = J * body.bias_jacobian;
   camera.bias_walk_variance = body.bias_walk_variance;
   camera.bias_prior_variance = body.bias_prior_variance;
+  camera.wheel_scale_jacobian = J * body.wheel_scale_jacobian;
+  camera.wheel_scale_prior_variance = body.wheel_scale_prior_variance;
   return camera;
 }
 
 MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSensors& sensors,
-                                       const FilterSettings& settings) {
+                                       const FilterSettings& settings, double wheel_scale) {
   BodyMotion body = predict_body_motion(motion, sensors.gyro_noise, settings);
   if (motion.odometry.valid) {
     // Distances read times the scale; their noise with them.
-    const double s = sensors.odometry_scale;
+    const double s = sensors.odometry_scale * wheel_scale;
     body.previous_body_from_body.translation() *= s;
     body.covariance.block<2, 2>(3, 3) *= s * s;
+    if (settings.estimate_wheel_scale) {
+      // The translation per unit of the correction: what the calibrated wheels read.
+      body.wheel_scale_jacobian.segment<3>(3) =
+          body.previous_body_from_body.translation() / wheel_scale;
+      body.wheel_scale_prior_variance = std::pow(sensors.odometry_noise.scale_sigma, 2);
+    }
   }
   return predict_camera_motion(body, sensors.body_from_cam);
 }
 
 MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, double t1,
                                        const FilterSettings& settings,
-                                       const Eigen::Vector3d& gyro_bias) {
-  return predict_camera_motion(frame_motion(sensors, t0, t1, gyro_bias), sensors, settings);
+                                       const SensorStates& states) {
+  return predict_camera_motion(frame_motion(sensors, t0, t1, states.gyro_bias), sensors, settings,
+                               states.wheel_scale);
 }
 
 }  // namespace omnisfm::sfm

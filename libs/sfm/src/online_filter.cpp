@@ -262,7 +262,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
       // P is not positive definite: no update.
       c->R = R_;
       c->t = t_;
-      c->bias = bias_;
+      c->sensors = sensors_;
       c->points = points_;
       PHt.resize(0, 0);
       return;
@@ -284,7 +284,9 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     const double model_cost = variance * weighted.squaredNorm() + prior_cost;
     const Eigen::Matrix3d R = so3::exp(next.offset.head<3>()) * R_;
     const Eigen::Vector3d t = t_ + next.offset.segment<3>(3);
-    const Eigen::Vector3d bias = bias_ + next.offset.segment<3>(kBiasColumn);
+    SensorStates sensors = sensors_;
+    sensors.gyro_bias += next.offset.segment<3>(kBiasColumn);
+    sensors.wheel_scale += next.offset[kScaleColumn];
     Eigen::VectorXd X = points_ + next.offset.tail(n - kFirstPointColumn);
     // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
     for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
@@ -342,7 +344,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     }
     c->R = R;
     c->t = t;
-    c->bias = bias;
+    c->sensors = sensors;
     c->points.swap(X);
     for (int k = 0; k < m; ++k) c->residuals[k] = at.residual.segment<2>(2 * k).norm();
     damped = mu > 0;
@@ -379,7 +381,7 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
 void OnlineFilter::accept(Candidate* c) {
   R_ = c->R;
   t_ = c->t;
-  bias_ = c->bias;
+  sensors_ = c->sensors;
   points_.swap(c->points);
   if (c->PHt.size() > 0) downdate_covariance(&P_, &c->PHt, c->S_factor);
 }
@@ -493,10 +495,13 @@ void OnlineFilter::record_start_frame(int frame, const std::vector<TrackPixel>& 
   f.t = t_;
   f.random_walk = motion == nullptr;
   if (motion) {
-    // The start's solve holds the bias at its estimate: its uncertainty goes with the motion's.
+    // The start's solve holds the sensors' states at their estimates: their uncertainty goes with
+    // the motion's.
     f.motion = *motion;
     const Eigen::Matrix<double, 6, 3>& B = motion->bias_jacobian;
-    f.motion.covariance += B * P_.block<3, 3>(kBiasColumn, kBiasColumn) * B.transpose();
+    const Eigen::Matrix<double, 6, 1>& S = motion->wheel_scale_jacobian;
+    f.motion.covariance += B * P_.block<3, 3>(kBiasColumn, kBiasColumn) * B.transpose() +
+                           S * P_(kScaleColumn, kScaleColumn) * S.transpose();
   }
   for (const auto& o : observations)
     if (track_slot_.count(o.track)) f.observations.push_back(o);

@@ -14,9 +14,10 @@ bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& obser
 // With M = cam_from_previous_cam: R' = R_M R, t' = R_M t + t_M. For the left-perturbed pose error
 // (dtheta, dt) and M's error (dm, dt_M):
 //   dtheta' = R_M dtheta + dm,   dt' = R_M dt - [R_M t]x dm + dt_M,
-// where M's error is B db from the gyro bias's error db (B = motion.bias_jacobian) plus the
-// prediction's own noise. The bias walks; the points, in the world frame, do not move: only their
-// cross-covariance with the pose turns.
+// where M's error is B db + S ds from the gyro bias's error db and the wheel scale's ds
+// (motion.bias_jacobian, wheel_scale_jacobian) plus the prediction's own noise. The bias walks; the
+// scale and the points, in the world frame, do not move: only their cross-covariance with the
+// pose turns.
 void OnlineFilter::propagate(const MotionPrediction& motion) {
   const Eigen::Matrix3d R_M = motion.cam_from_previous_cam.linear();
   const Eigen::Vector3d t_M = motion.cam_from_previous_cam.translation();
@@ -30,18 +31,25 @@ void OnlineFilter::propagate(const MotionPrediction& motion) {
         motion.bias_prior_variance * Eigen::Matrix3d::Identity();
     bias_started_ = true;
   }
+  if (!scale_started_ && motion.wheel_scale_prior_variance > 0) {
+    P_(kScaleColumn, kScaleColumn) = motion.wheel_scale_prior_variance;
+    scale_started_ = true;
+  }
 
-  // P <- Phi P Phi^T with Phi = [F, G B, 0; 0, I, 0; 0, 0, I]: rows, then columns.
+  // P <- Phi P Phi^T with Phi = [F, G [B S], 0; 0, I, 0; 0, 0, I]: rows, then columns.
   Eigen::Matrix<double, 6, 6> F = Eigen::Matrix<double, 6, 6>::Zero();
   F.topLeftCorner<3, 3>() = R_M;
   F.bottomRightCorner<3, 3>() = R_M;
-  const Eigen::Matrix<double, 6, 3> GB = G * motion.bias_jacobian;
-  const bool coupled = !GB.isZero();
+  Eigen::Matrix<double, 6, 4> coupling;
+  coupling << motion.bias_jacobian, motion.wheel_scale_jacobian;
+  const Eigen::Matrix<double, 6, 4> GC = G * coupling;
+  const bool coupled = !GC.isZero();
+  static_assert(kScaleColumn == kBiasColumn + 3, "the sensors' states sit together");
   Eigen::MatrixXd top = F * P_.topRows<6>();
-  if (coupled) top.noalias() += GB * P_.middleRows<3>(kBiasColumn);
+  if (coupled) top.noalias() += GC * P_.middleRows<4>(kBiasColumn);
   P_.topRows<6>() = top;
   Eigen::MatrixXd left = P_.leftCols<6>() * F.transpose();
-  if (coupled) left.noalias() += P_.middleCols<3>(kBiasColumn) * GB.transpose();
+  if (coupled) left.noalias() += P_.middleCols<4>(kBiasColumn) * GC.transpose();
   P_.leftCols<6>() = left;
   P_.topLeftCorner<6, 6>() += G * motion.covariance * G.transpose();
   P_.block<3, 3>(kBiasColumn, kBiasColumn).diagonal().array() += motion.bias_walk_variance;

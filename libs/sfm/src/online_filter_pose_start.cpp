@@ -73,7 +73,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
   start.offset.resize(n);
   start.offset.head<6>() = delta;
-  start.offset.segment<3>(kBiasColumn) = along.middleRows<3>(kBiasColumn) * delta;
+  start.offset.segment<4>(kBiasColumn) = along.middleRows<4>(kBiasColumn) * delta;
   start.offset.tail(n - kFirstPointColumn) = X - points_;
   start.g = Eigen::VectorXd::Zero(n);
   start.g.head<6>() = pose_information * delta;

@@ -227,8 +227,9 @@ void OnlineFilter::solve_start() {
   Eigen::MatrixXd selection = Eigen::MatrixXd::Zero(A.rows(), columns.size());
   for (size_t k = 0; k < columns.size(); ++k) selection(columns[k], k) = 1;
   const Eigen::MatrixXd inverse_columns = llt.solve(selection);
-  // The window's solve has no bias: the bias keeps its covariance, uncorrelated with the rest.
-  const Eigen::Matrix3d bias_covariance = P_.block<3, 3>(kBiasColumn, kBiasColumn);
+  // The window's solve holds the sensors' states: they keep their covariance, uncorrelated with
+  // the rest.
+  const Eigen::Matrix4d sensors_covariance = P_.block<4, 4>(kBiasColumn, kBiasColumn);
   const auto state_column = [](size_t k) {
     return static_cast<int>(k < 6 ? k : k + (kFirstPointColumn - kBiasColumn));
   };
@@ -237,7 +238,7 @@ void OnlineFilter::solve_start() {
   for (size_t a = 0; a < columns.size(); ++a)
     for (size_t b = 0; b < columns.size(); ++b)
       P_(state_column(a), state_column(b)) = inverse_columns(columns[a], static_cast<Eigen::Index>(b));
-  P_.block<3, 3>(kBiasColumn, kBiasColumn) = bias_covariance;
+  P_.block<4, 4>(kBiasColumn, kBiasColumn) = sensors_covariance;
 
   R_ = R.back();
   t_ = t.back();

@@ -46,7 +46,7 @@ void run_filter(const camera::CatadioptricCamera& camera,
   const int num_frames = static_cast<int>(by_frame.size());
   for (int f = 0; f < num_frames; ++f) {
     if (f > 0 && predicted_motion)
-      filter.process_frame(f, by_frame[f], predicted_motion(f, filter.gyro_bias()));
+      filter.process_frame(f, by_frame[f], predicted_motion(f, filter.sensor_states()));
     else
       filter.process_frame(f, by_frame[f]);
     result->online_cam_from_world.push_back(filter.cam_from_world());
@@ -59,6 +59,9 @@ void run_filter(const camera::CatadioptricCamera& camera,
   result->online_gyro_bias = filter.gyro_bias();
   const Eigen::Vector3d bias_variance = filter.gyro_bias_covariance().diagonal();
   if ((bias_variance.array() > 0).all()) result->online_gyro_bias_sigma = bias_variance.cwiseSqrt();
+  result->online_wheel_scale = filter.wheel_scale();
+  if (filter.wheel_scale_variance() > 0)
+    result->online_wheel_scale_sigma = std::sqrt(filter.wheel_scale_variance());
 }
 
 void refuse_degenerate_motion(const SfmResult& result) {

@@ -10,9 +10,9 @@
 namespace omnisfm::sfm {
 
 // The filter over every frame, into result's online estimate and outliers; predicted_motion, when
-// set, gives the motion into frame f (f >= 1) in place of the random walk, the gyro integrated
-// at the filter's bias estimate.
-using PredictedMotion = std::function<MotionPrediction(int frame, const Eigen::Vector3d& gyro_bias)>;
+// set, gives the motion into frame f (f >= 1) in place of the random walk, at the filter's
+// estimates of the sensors.
+using PredictedMotion = std::function<MotionPrediction(int frame, const SensorStates& states)>;
 void run_filter(const camera::CatadioptricCamera& camera,
                 const std::vector<std::vector<TrackPixel>>& by_frame, const FilterSettings& settings,
                 const PredictedMotion& predicted_motion,

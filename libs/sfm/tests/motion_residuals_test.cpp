@@ -148,10 +148,11 @@ TEST(MotionPrediction, CameraCovarianceFollowsTheBodyMotion) {
             1e-6 * expected.cwiseAbs().maxCoeff());
 }
 
-// The prediction's dependence on the gyro bias the filter estimates: the camera motion at bias
-// b + db is Exp(B db) M(b) (left-perturbed rotation, then translation), B against central
-// differences through the whole prediction (the gyro integrated again at each bias).
-TEST(MotionPrediction, BiasJacobianMatchesCentralDifferences) {
+// The prediction's dependence on the sensors' states the filter estimates: the camera motion at
+// bias b + db is Exp(B db) M(b) (left-perturbed rotation, then translation), B against central
+// differences through the whole prediction (the gyro integrated again at each bias); the same for
+// the wheels' scale correction.
+TEST(MotionPrediction, SensorStateJacobiansMatchCentralDifferences) {
   MotionSensors sensors;
   sensors.body_from_cam = body_from_cam();
   const Eigen::Vector3d rate(0.1, -0.05, 0.3);
@@ -162,7 +163,9 @@ TEST(MotionPrediction, BiasJacobianMatchesCentralDifferences) {
   }
   const FilterSettings settings;
   const Eigen::Vector3d bias(0.004, -0.002, 0.003);
-  const MotionPrediction at = predict_camera_motion(sensors, 0.05, 0.55, settings, bias);
+  SensorStates states;
+  states.gyro_bias = bias;
+  const MotionPrediction at = predict_camera_motion(sensors, 0.05, 0.55, settings, states);
   ASSERT_GT(at.bias_jacobian.norm(), 0.1);
   EXPECT_NEAR(at.bias_walk_variance,
               std::pow(sensors.gyro_noise.bias_walk, 2) * 0.5, 1e-15);
@@ -172,10 +175,10 @@ TEST(MotionPrediction, BiasJacobianMatchesCentralDifferences) {
   for (int j = 0; j < 3; ++j) {
     Eigen::Matrix<double, 6, 1> difference = Eigen::Matrix<double, 6, 1>::Zero();
     for (double sign : {1.0, -1.0}) {
+      SensorStates moved = states;
+      moved.gyro_bias += sign * h * Eigen::Vector3d::Unit(j);
       const Eigen::Isometry3d M =
-          predict_camera_motion(sensors, 0.05, 0.55, settings,
-                                bias + sign * h * Eigen::Vector3d::Unit(j))
-              .cam_from_previous_cam;
+          predict_camera_motion(sensors, 0.05, 0.55, settings, moved).cam_from_previous_cam;
       const Eigen::AngleAxisd left(M.linear() * at.cam_from_previous_cam.linear().transpose());
       Eigen::Matrix<double, 6, 1> error;
       error << left.angle() * left.axis(), M.translation() - at.cam_from_previous_cam.translation();
@@ -185,10 +188,34 @@ TEST(MotionPrediction, BiasJacobianMatchesCentralDifferences) {
   }
   EXPECT_LT((at.bias_jacobian - numeric).cwiseAbs().maxCoeff(), 1e-6 * numeric.norm())
       << at.bias_jacobian << "\n\n" << numeric;
+  // The wheels' scale correction the same way.
+  FilterSettings with_scale = settings;
+  with_scale.estimate_wheel_scale = true;
+  sensors.odometry_scale = 0.98;
+  states.wheel_scale = 1.01;
+  const MotionPrediction scaled = predict_camera_motion(sensors, 0.05, 0.55, with_scale, states);
+  ASSERT_GT(scaled.wheel_scale_jacobian.norm(), 0.1);
+  EXPECT_EQ(scaled.wheel_scale_prior_variance, std::pow(sensors.odometry_noise.scale_sigma, 2));
+  Eigen::Matrix<double, 6, 1> scale_difference = Eigen::Matrix<double, 6, 1>::Zero();
+  for (double sign : {1.0, -1.0}) {
+    SensorStates moved = states;
+    moved.wheel_scale += sign * h;
+    const Eigen::Isometry3d M =
+        predict_camera_motion(sensors, 0.05, 0.55, with_scale, moved).cam_from_previous_cam;
+    const Eigen::AngleAxisd left(M.linear() * scaled.cam_from_previous_cam.linear().transpose());
+    Eigen::Matrix<double, 6, 1> error;
+    error << left.angle() * left.axis(),
+        M.translation() - scaled.cam_from_previous_cam.translation();
+    scale_difference += sign * error;
+  }
+  EXPECT_LT((scaled.wheel_scale_jacobian - scale_difference / (2 * h)).cwiseAbs().maxCoeff(),
+            1e-6 * scaled.wheel_scale_jacobian.norm());
+  EXPECT_TRUE(predict_camera_motion(sensors, 0.05, 0.55, settings, states)
+                  .wheel_scale_jacobian.isZero());
   // With the bias not estimated, it is the prediction's noise instead.
   FilterSettings folded = settings;
   folded.estimate_gyro_bias = false;
-  const MotionPrediction inflated = predict_camera_motion(sensors, 0.05, 0.55, folded, bias);
+  const MotionPrediction inflated = predict_camera_motion(sensors, 0.05, 0.55, folded, states);
   EXPECT_TRUE(inflated.bias_jacobian.isZero());
   const double rotation_variance = inflated.covariance.topLeftCorner(3, 3).trace() -
                                    at.covariance.topLeftCorner(3, 3).trace();

@@ -97,7 +97,7 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
   if (frames_ > 0 && (!sensors.odometry.empty() || !sensors.gyro.empty()))
     filter_->process_frame(frames_, pixels,
                            sfm::predict_camera_motion(sensors, previous_frame_time_, timestamp,
-                                                      options_.filter, filter_->gyro_bias()));
+                                                      options_.filter, filter_->sensor_states()));
   else
     filter_->process_frame(frames_, pixels);
   previous_frame_time_ = timestamp;

@@ -90,7 +90,7 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
       filter.process_frame(f, pixels,
                            sfm::predict_camera_motion(all_readings.sensors(),
                                                       frame_times[f - 1], frame_times[f], settings,
-                                                      filter.gyro_bias()));
+                                                      filter.sensor_states()));
   }
   const Eigen::Isometry3d B = sim::body_from_cam(rover.dataset);
   const Eigen::Isometry3d expected = B * filter.cam_from_world().inverse() * B.inverse();

@@ -28,6 +28,8 @@ struct BodyMotion {
   Eigen::Matrix<double, 6, 3> bias_jacobian = Eigen::Matrix<double, 6, 3>::Zero();
   double bias_walk_variance = 0;
   double bias_prior_variance = 0;
+  Eigen::Matrix<double, 6, 1> wheel_scale_jacobian = Eigen::Matrix<double, 6, 1>::Zero();
+  double wheel_scale_prior_variance = 0;
 };
 
 BodyMotion predict_body_motion(const FrameMotion& motion, const GyroNoise& gyro_noise,
@@ -37,14 +39,15 @@ BodyMotion predict_body_motion(const FrameMotion& motion, const GyroNoise& gyro_
 MotionPrediction predict_camera_motion(const BodyMotion& body, const Eigen::Isometry3d& body_from_cam);
 
 // What the filter takes for the frame interval `motion`: the body's motion with the odometry's
-// distances times sensors.odometry_scale, seen by the camera at sensors.body_from_cam.
+// distances times sensors.odometry_scale and the filter's wheel_scale, seen by the camera at
+// sensors.body_from_cam (the gyro's bias is the one `motion` was integrated at).
 MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSensors& sensors,
-                                       const FilterSettings& settings);
+                                       const FilterSettings& settings, double wheel_scale = 1);
 
-// The same between two frame times, for a filter fed live (the readings up to t1 must be in), the
-// gyro integrated at `gyro_bias` (the filter's gyro_bias()).
+// The same between two frame times, for a filter fed live (the readings up to t1 must be in), at
+// the filter's estimates of the sensors (OnlineFilter::sensor_states()).
 MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, double t1,
                                        const FilterSettings& settings,
-                                       const Eigen::Vector3d& gyro_bias = Eigen::Vector3d::Zero());
+                                       const SensorStates& states = SensorStates());
 
 }  // namespace omnisfm::sfm

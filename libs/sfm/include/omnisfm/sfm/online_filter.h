@@ -3,9 +3,10 @@
 // the 3D points of the live tracks.
 //
 // State: cam_from_world (R, t; the rotation's error is a left perturbation R = exp(dtheta) R, so
-// any attitude works), the gyro's bias (a random walk, coupled to the pose by the predictions that
-// integrate the gyro; with no gyro it stays out of every product) and one 3D world point per live
-// track. Columns: pose 0-5, bias 6-8, then 3 per point. The first frame fixes the gauge:
+// any attitude works), the gyro's bias (a random walk) and the wheels' scale (a correction of the
+// calibrated one, constant), each coupled to the pose by the predictions that integrate its sensor
+// (with no such sensor it stays out of every product), and one 3D world point per live track.
+// Columns: pose 0-5, bias 6-8, wheel scale 9, then 3 per point. The first frame fixes the gauge:
 // its pose is the identity, known exactly. Propagation keeps the estimate and inflates the pose
 // covariance by a random walk, or, when the vehicle's sensors predict the motion, moves the pose by
 // that prediction and adds its covariance. A new track's point starts on a sphere around the camera along its
@@ -64,6 +65,12 @@ struct FilterSettings {
   // With a gyro: estimate its bias as a state (else its prior inflates each prediction's rotation
   // noise, as if the bias were new in every frame; motion_prediction.h).
   bool estimate_gyro_bias = true;
+  // With odometry: estimate a correction of the wheels' scale as a state, within
+  // OdometryNoise::scale_sigma of the calibration (else the calibration is taken as exact). Off:
+  // the filter's vision is overconfident about the scale (its own scale on the simulated rover is
+  // several times too large while its sigma says a centimetre), and lets that in: on the rover
+  // with a wheel reading 1.5 % long the correction went to 1.04 +- 0.0015 instead of 0.985.
+  bool estimate_wheel_scale = false;
   // How many of the latest ended points and rejected tracks points() and rejected() keep; the
   // callbacks (OnlineFilter::on_point_ended, on_track_rejected) are handed every one.
   int kept_history = 10000;
@@ -82,6 +89,17 @@ struct MotionPrediction {
   Eigen::Matrix<double, 6, 3> bias_jacobian = Eigen::Matrix<double, 6, 3>::Zero();
   double bias_walk_variance = 0;
   double bias_prior_variance = 0;
+  // The same for the odometry's distances made at the filter's wheel_scale(): the motion's error
+  // per unit of that correction's error, and its prior variance.
+  Eigen::Matrix<double, 6, 1> wheel_scale_jacobian = Eigen::Matrix<double, 6, 1>::Zero();
+  double wheel_scale_prior_variance = 0;
+};
+
+// What the filter estimates of the vehicle's sensors, at which its next prediction is made.
+struct SensorStates {
+  Eigen::Vector3d gyro_bias{0, 0, 0};  // rad/s about the body's axes
+  // The odometry's distances are multiplied by this on top of MotionSensors::odometry_scale.
+  double wheel_scale = 1;
 };
 
 struct TrackPixel {
@@ -120,8 +138,13 @@ class OnlineFilter {
   Eigen::Matrix<double, 6, 6> pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
   // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
   // covariance.
-  const Eigen::Vector3d& gyro_bias() const { return bias_; }
+  const Eigen::Vector3d& gyro_bias() const { return sensors_.gyro_bias; }
   Eigen::Matrix3d gyro_bias_covariance() const { return P_.block<3, 3>(kBiasColumn, kBiasColumn); }
+  // The correction of the wheels' calibrated scale, 1 until a prediction brings odometry, and its
+  // variance.
+  double wheel_scale() const { return sensors_.wheel_scale; }
+  double wheel_scale_variance() const { return P_(kScaleColumn, kScaleColumn); }
+  const SensorStates& sensor_states() const { return sensors_; }
   // The latest estimate of the live points and of the ended ones kept (the latest kept_history,
   // and every one while the smoothed start is pending), outliers excluded.
   std::map<int, Eigen::Vector3d> points() const;
@@ -152,7 +175,7 @@ class OnlineFilter {
   struct Candidate {
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
-    Eigen::Vector3d bias;
+    SensorStates sensors;
     Eigen::VectorXd points;
     std::vector<double> residuals;  // per measurement, after the update
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
@@ -208,7 +231,8 @@ class OnlineFilter {
   static constexpr double kMinInverseDepth = 1e-3;
   // Where the state's parts sit in P_.
   static constexpr int kBiasColumn = 6;
-  static constexpr int kFirstPointColumn = 9;
+  static constexpr int kScaleColumn = 9;
+  static constexpr int kFirstPointColumn = 10;
   static int point_column(int slot) { return kFirstPointColumn + 3 * slot; }
 
   // A point's fixed reference: where its first ray started, and a basis whose first column is
@@ -248,8 +272,9 @@ class OnlineFilter {
   bool started_ = false;
   Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d bias_ = Eigen::Vector3d::Zero();
-  bool bias_started_ = false;  // its prior set by the first prediction with a gyro
+  SensorStates sensors_;
+  bool bias_started_ = false;   // its prior set by the first prediction with a gyro
+  bool scale_started_ = false;  // by the first with odometry
   Eigen::VectorXd points_;     // 3 per slot: angles across the first ray, inverse depth
   std::vector<Anchor> anchors_;  // per slot
   Eigen::MatrixXd P_;          // kFirstPointColumn + 3 * slots

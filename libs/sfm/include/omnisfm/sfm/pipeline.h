@@ -37,6 +37,10 @@ struct SfmResult {
   // (zero and NaN without a gyro, or with FilterSettings::estimate_gyro_bias off).
   Eigen::Vector3d online_gyro_bias{0, 0, 0};
   Eigen::Vector3d online_gyro_bias_sigma = Eigen::Vector3d::Constant(NAN);
+  // And its correction of the wheels' calibrated scale (MotionSensors::odometry_scale), with its
+  // standard deviation (1 and NaN without odometry).
+  double online_wheel_scale = 1;
+  double online_wheel_scale_sigma = NAN;
   // Their standard deviations from the batch's covariance; NaN when not computed
   // (BatchSettings::covariances off) or when the value was held.
   double odometry_scale_sigma = NAN;
