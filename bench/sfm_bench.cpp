@@ -236,6 +236,9 @@ void BM_BatchScaled(benchmark::State& state) {
   state.counters["observations"] = static_cast<double>(problem.drive.observations.size());
   state.counters["converged"] = result.converged;
   state.counters["final_rms_px"] = result.final_rms_px;
+  // The scale: its relative standard deviation, and whether the batch held it (1) or not (0).
+  state.counters["scale_sigma_percent"] = 100 * result.scale_sigma_relative;
+  state.counters["scale_held"] = result.scale_source != sfm::BatchScale::kFromImages;
   state.counters["peak_rss_MB"] = usage.ru_maxrss / 1024.0;
 }
 BENCHMARK(BM_BatchScaled)->Arg(250)->Arg(500)->Arg(1000)->Arg(2000)->Iterations(1)

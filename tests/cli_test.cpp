@@ -407,6 +407,10 @@ TEST_F(CliTest, SfmThenEvalOnASimulatedCrane) {
                            "residuals_per_frame.png"})
     EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
   EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 10u);
+  // The crane's images do not fix its scale (measured +- 38 %): held, and said so.
+  EXPECT_NE(run.out.find("\nscale: held at the filter's: the images fix it only to +- "),
+            std::string::npos)
+      << run.out;
   // The plotted residuals are the batch's: their RMS is the tracks' 0.2 px noise (within 15 %).
   const VnlogTable residuals = VnlogTable::read((dir_ / "result/residuals.vnl").string());
   ASSERT_GT(residuals.num_rows(), 1000u);
@@ -518,6 +522,66 @@ std::string real_data_folder() {
   const char* source = std::getenv("OMNISFM_SOURCE_DIR");
   return source ? (fs::path(source) / ".." / "shared" / "data" / "real-catadioptric").string()
                 : "";
+}
+
+// The report says where the batch's scale comes from, with its standard deviation, and "held"
+// when the images do not fix it (the lab, seed 1: the free batch ran to 108 times the truth).
+TEST_F(CliTest, SfmReportsTheScaleAndHoldsItWhereTheImagesDoNotFixIt) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
+  const Outcome held = omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out held");
+  ASSERT_EQ(held.status, 0) << held.err;
+  const std::string report = read_all(dir_ / "held/report.txt");
+  const std::string held_line = "\nscale: held at the filter's: the images fix it only to +- ";
+  ASSERT_NE(report.find(held_line), std::string::npos) << report;
+  // Measured: +- 17,600 %; a free scale is kept only to +- 17 %.
+  EXPECT_GT(figure_after(report, held_line), 1000) << report;
+  EXPECT_NE(report.find("a free scale is kept only to +- 17 %"), std::string::npos) << report;
+
+  // Held at a known distance: the truth's between the first and last cameras.
+  const auto truth = omnisfm::io::read_tum_trajectory((dir_ / "lab/ground_truth.tum").string());
+  const auto first_to_last = [](const std::vector<omnisfm::io::StampedPose>& poses) {
+    return (poses.back().world_from_cam.translation() - poses.front().world_from_cam.translation())
+        .norm();
+  };
+  const double distance = first_to_last(truth);
+  std::ostringstream known;
+  known.precision(17);
+  known << "[sfm]\nknown_distance_m = " << distance << "\n";
+  write("known.ini", known.str());
+  const Outcome at_known = omnisfm(
+      "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config known.ini --out known");
+  ASSERT_EQ(at_known.status, 0) << at_known.err;
+  EXPECT_NE(at_known.out.find("\nscale: held at the known distance, "), std::string::npos)
+      << at_known.out;
+  EXPECT_NE(at_known.out.find(" m between the first and last cameras ([sfm] known_distance_m); "
+                              "the images alone would fix it to +- "),
+            std::string::npos)
+      << at_known.out;
+  // Measured 0.007 %.
+  EXPECT_NEAR(first_to_last(omnisfm::io::read_tum_trajectory((dir_ / "known/batch.tum").string())),
+              distance, 0.002 * distance);
+
+  // A distance or a noise that makes the problem meaningless is refused at its line.
+  for (const char* bad : {"known_distance_m = 0", "known_distance_m = -4.08",
+                          "known_distance_m = inf", "pixel_sigma = 0"}) {
+    write("bad.ini", std::string("[sfm]\n") + bad + "\n");
+    const Outcome refused = omnisfm(
+        "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config bad.ini --out refused");
+    EXPECT_EQ(refused.status, 2) << bad;
+    EXPECT_EQ(refused.err.rfind("omnisfm: bad.ini:2: ", 0), 0u) << refused.err;
+    EXPECT_FALSE(fs::exists(dir_ / "refused")) << bad;
+  }
+
+  // The rover's images fix its scale (measured +- 10 %): kept free, and said so.
+  ASSERT_EQ(omnisfm("simulate --scenario rover --out rover").status, 0);
+  const Outcome rover =
+      omnisfm("sfm --camera rover/camera.ini --tracks rover/tracks.vnl --out rover-result");
+  ASSERT_EQ(rover.status, 0) << rover.err;
+  const std::string free_line = "\nscale: from the images, +- ";
+  ASSERT_NE(rover.out.find(free_line), std::string::npos) << rover.out;
+  EXPECT_GT(figure_after(rover.out, free_line), 5) << rover.out;
+  EXPECT_LT(figure_after(rover.out, free_line), 100.0 / 6) << rover.out;
+  EXPECT_EQ(rover.out.find("held"), std::string::npos) << rover.out;
 }
 
 TEST_F(CliTest, CalibrateRecoversTheLabMirrorFromSurveyedTargets) {
@@ -755,6 +819,8 @@ TEST_F(CliTest, RunReplaysTheOutdoorRoverWithGps) {
                            "report.txt", "scene.3Dscene", "geodetic.vnl"})
     EXPECT_TRUE(fs::exists(dir_ / "result" / file)) << file;
   EXPECT_NE(run.out.find("746 odometry, 7451 gyro, 75 GPS readings"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("\nscale: from the motion sensors (GPS fixes)"), std::string::npos)
+      << run.out;
   EXPECT_EQ(VnlogTable::read((dir_ / "result/outliers.vnl").string()).num_rows(), 7u);
   // "batch   translation 0.0005 m mean (0.013% of 3.91 m) ...": the paper's figure is 1.02 %.
   EXPECT_LT(figure_after(run.out, "batch   translation "), 0.04) << run.out;
@@ -799,6 +865,9 @@ TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("vision from images"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("frames 41,"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("\nscale: from the motion sensors (odometry); the wheel's scale +- "),
+            std::string::npos)
+      << run.out;
   // Measured 0.011 % (similarity) and 0.30 % (rigid: the odometry reads 1.5 % long), asserted at
   // about three times that; the paper's lab figure is 0.12 %.
   EXPECT_LT(figure_after(run.out, "batch   translation "), 0.04) << run.out;

@@ -141,7 +141,8 @@ void add_demo_verb(CLI::App& app) {
             eval::outlier_detection(found, std::set<int>(far_off.begin(), far_off.end()));
 
         std::ostringstream report;
-        report << figures_line("online", online) << figures_line("batch", batch);
+        report << scale_line(r, sfm::BatchSettings()) << figures_line("online", online)
+               << figures_line("batch", batch);
         fs::create_directories(dir / "sfm");
         write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());
         const bool residuals_plotted = write_residual_plots(

@@ -231,6 +231,7 @@ void add_run_verb(CLI::App& app) {
       report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "
              << result.batch.iterations << " iterations; RMS " << result.batch.final_rms_px
              << " px per coordinate\n"
+             << scale_line(result, settings.sfm.batch)
              << (in.sensors.empty() ? "" : noise_check_line(result.batch))
              << motion_estimates_line(in.sensors, result);
 

@@ -174,7 +174,8 @@ void add_sfm_verb(CLI::App& app) {
       report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "
              << result.batch.iterations << " iterations, " << result.batch.solve_seconds
              << " s; RMS " << result.batch.initial_rms_px << " -> " << result.batch.final_rms_px
-             << " px per coordinate (" << result.batch.message << ")\n";
+             << " px per coordinate (" << result.batch.message << ")\n"
+             << scale_line(result, settings.batch);
     TruthComparison comparison;
     if (!truth.empty()) {
       comparison = compare_with_truth(result, settings.run_batch, truth, o->ground_truth);

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <thread>
 
 #include "batch_terms.h"
+#include "marginal_variance.h"
 #include "projection_cost.h"
 
 namespace omnisfm::sfm {
@@ -102,16 +104,84 @@ std::shared_ptr<ceres::ParameterBlockOrdering> points_eliminated_first(
   return ordering;
 }
 
+// The world scaled by k about the first camera's centre c0: p' = c0 + k (p - c0) and
+// t' = k t + R c0 (k - 1), which keeps the first pose.
+void scale_about_first_camera(double k, std::vector<PoseVector>* poses,
+                              std::map<int, Eigen::Vector3d>* points) {
+  const Eigen::Isometry3d first = to_pose((*poses)[0]);
+  const Eigen::Vector3d c0 = -first.linear().transpose() * first.translation();
+  for (size_t f = 1; f < poses->size(); ++f) {
+    Eigen::Isometry3d T = to_pose((*poses)[f]);
+    T.translation() = k * T.translation() + T.linear() * c0 * (k - 1);
+    (*poses)[f] = to_vector(T);
+  }
+  for (auto& [track, p] : *points) p = c0 + k * (p - c0);
+}
+
+// How far camera f is from the first.
+double distance_from_first(const std::vector<PoseVector>& poses, size_t f) {
+  return (to_pose(poses[f]).inverse().translation() - to_pose(poses[0]).inverse().translation())
+      .norm();
+}
+
+// Element by element: the problem holds the addresses of these values.
+void restore(const std::vector<PoseVector>& start_poses,
+             const std::map<int, Eigen::Vector3d>& start_points, std::vector<PoseVector>* poses,
+             std::map<int, Eigen::Vector3d>* points) {
+  std::copy(start_poses.begin(), start_poses.end(), poses->begin());
+  for (auto& [track, p] : *points) p = start_points.at(track);
+}
+
+// With the first pose held, what else fixes the scale: the translation coordinate farthest from
+// the first pose's on any other pose in the problem. None (null) when no camera moved.
+struct ScaleGauge {
+  double* pose = nullptr;
+  int frame = 0;
+  int coordinate = 0;
+};
+
+ScaleGauge scale_gauge(const ceres::Problem& problem, std::vector<PoseVector>* poses) {
+  ScaleGauge gauge;
+  double farthest = 0;
+  for (size_t f = 1; f < poses->size(); ++f)
+    for (int k = 3; k < 6; ++k)
+      if (problem.HasParameterBlock((*poses)[f].data()) &&
+          std::abs((*poses)[f][k] - (*poses)[0][k]) > farthest) {
+        farthest = std::abs((*poses)[f][k] - (*poses)[0][k]);
+        gauge = {(*poses)[f].data(), static_cast<int>(f), k};
+      }
+  return gauge;
+}
+
+void hold(ceres::Problem* problem, const ScaleGauge& gauge) {
+  problem->SetManifold(gauge.pose, new ceres::SubsetManifold(6, {gauge.coordinate}));
+}
+
+// The relative standard deviation of the scene's scale at the estimate `problem` holds: the
+// marginal standard deviation of the inverse scale u (at 1) with the gauge's coordinate held,
+// times sqrt(variance). Infinite when the information is singular: nothing fixes the scale.
+double scale_sigma_relative(ceres::Problem* problem, const ScaleGauge& gauge, double* u,
+                            std::map<int, Eigen::Vector3d>* points, double variance) {
+  hold(problem, gauge);
+  problem->SetParameterBlockVariable(u);
+  std::vector<double*> point_blocks;
+  for (auto& [track, p] : *points) point_blocks.push_back(p.data());
+  const double sigma = std::sqrt(variance * marginal_variance(problem, u, point_blocks)) / *u;
+  problem->SetParameterBlockConstant(u);
+  problem->SetManifold(gauge.pose, nullptr);
+  return std::isnan(sigma) ? INFINITY : sigma;
+}
+
 // The solve with the scene's inverse scale u as a parameter of its own, the camera-frame points
 // being (R p + t) / u. The scale is weakly observed (through the mirror's size) and the filter's
 // can be far off while its shape is right: the rover starts with a 17.6 m path for 3.45 m. Along
 // the translations and points the residuals are far from linear in the scale, and Levenberg-
 // Marquardt walked it for most of its iterations (5 of 8), each step held back by the trust region
 // or refused; in u they are nearly linear (scaling the scene by s is scaling the mirror by 1/s),
-// and the rover converges in 2 steps. The gauge: the first pose held (by the caller), and also the
-// translation coordinate farthest from it on any other pose, which u then scales. On return u is
-// 1 and held constant, and `problem` is the plain one again: with the solve's minimum, written
-// with the first pose unchanged, when it moved the estimate; with the start otherwise.
+// and the rover converges in 2 steps. The gauge: the first pose held (by the caller), and also
+// scale_gauge's coordinate, which u then scales. On return u is 1 and held constant, and `problem`
+// is the plain one again: with the solve's minimum, written with the first pose unchanged, when it
+// moved the estimate; with the start otherwise.
 struct ScaleSolve {
   bool solved = false;     // it ran Ceres (summary is its)
   bool converged = false;  // and it is the plain problem's minimum too
@@ -123,48 +193,59 @@ ScaleSolve solve_with_scale(ceres::Problem* problem, ceres::Solver::Options opti
                             ceres::Solver::Summary* summary) {
   // Beyond it the scene has run toward infinity or collapsed: the data hold no scale.
   constexpr double kScaleRange = 1000;
-  int held_frame = -1, held_coordinate = 0;
-  double farthest = 0;
-  for (size_t f = 1; f < poses->size(); ++f)
-    for (int k = 3; k < 6; ++k)
-      if (problem->HasParameterBlock((*poses)[f].data()) &&
-          std::abs((*poses)[f][k] - (*poses)[0][k]) > farthest) {
-        farthest = std::abs((*poses)[f][k] - (*poses)[0][k]);
-        held_frame = static_cast<int>(f);
-        held_coordinate = k;
-      }
-  if (held_frame < 0) return {};  // no motion: no scale to find
+  const ScaleGauge gauge = scale_gauge(*problem, poses);
+  if (!gauge.pose) return {};  // no motion: no scale to find
   const std::vector<PoseVector> start_poses = *poses;
   const std::map<int, Eigen::Vector3d> start_points = *points;
-  double* held = (*poses)[held_frame].data();
-  problem->SetManifold(held, new ceres::SubsetManifold(6, {held_coordinate}));
+  hold(problem, gauge);
   problem->SetParameterBlockVariable(u);
   // The plain problem's forcing term is for its slow scale direction. With the scale a parameter,
   // 1e-3 takes as many steps to the same cost, with 15-20 conjugate gradient iterations, not 25.
   options.eta = 1e-3;
   ceres::Solve(options, problem, summary);
-  problem->SetManifold(held, nullptr);
+  problem->SetManifold(gauge.pose, nullptr);
   problem->SetParameterBlockConstant(u);
   const double scale = *u;
   *u = 1;
   if (!summary->IsSolutionUsable() || !(summary->final_cost < summary->initial_cost) ||
       !(scale > 1 / kScaleRange && scale < kScaleRange)) {
-    // Element by element: the problem holds the addresses of these values.
-    std::copy(start_poses.begin(), start_poses.end(), poses->begin());
-    for (auto& [track, p] : *points) p = start_points.at(track);
+    restore(start_poses, start_points, poses, points);
     return {true, false};
   }
-  // The world scaled by 1/u about the first camera's centre c0: p' = c0 + (p - c0) / u and
-  // t' = t / u + R c0 (1 / u - 1), which keeps the first pose and every camera-frame point.
-  const Eigen::Isometry3d first = to_pose((*poses)[0]);
-  const Eigen::Vector3d c0 = -first.linear().transpose() * first.translation();
-  for (size_t f = 1; f < poses->size(); ++f) {
-    Eigen::Isometry3d T = to_pose((*poses)[f]);
-    T.translation() = T.translation() / scale + T.linear() * c0 * (1 / scale - 1);
-    (*poses)[f] = to_vector(T);
-  }
-  for (auto& [track, p] : *points) p = c0 + (p - c0) / scale;
+  // Written in the plain problem's terms, which keeps every camera-frame point.
+  scale_about_first_camera(1 / scale, poses, points);
   return {true, summary->termination_type == ceres::CONVERGENCE};
+}
+
+// A known distance between the first and last cameras scales the start only when they are well
+// apart in it: at least this share of the farthest camera's distance from the first.
+constexpr double kMinKnownDistanceShare = 0.05;
+
+// The factor that puts the first and last cameras known_distance_m apart in `poses`, or the
+// reason it cannot.
+struct KnownDistanceFactor {
+  double factor = 1;
+  std::string problem;
+};
+
+KnownDistanceFactor known_distance_factor(const std::vector<PoseVector>& poses,
+                                          double known_distance_m) {
+  std::ostringstream why;
+  if (!(known_distance_m > 0 && std::isfinite(known_distance_m))) {
+    why << "the known distance must be a finite number of metres above 0, not " << known_distance_m;
+    return {1, why.str()};
+  }
+  double farthest = 0;
+  for (size_t f = 1; f < poses.size(); ++f)
+    farthest = std::max(farthest, distance_from_first(poses, f));
+  const double distance = distance_from_first(poses, poses.size() - 1);
+  if (!(distance >= kMinKnownDistanceShare * farthest) || !(distance > 0)) {
+    why << "the first and last cameras are " << distance << " apart in the start, where the "
+        << "farthest camera is " << farthest << " from the first: too close for the known "
+        << "distance between them to fix the scale";
+    return {1, why.str()};
+  }
+  return {known_distance_m / distance, ""};
 }
 
 }  // namespace
@@ -201,6 +282,15 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   std::vector<PoseVector> poses;
   for (const auto& T : cam_from_world) poses.push_back(to_vector(T));
   std::map<int, Eigen::Vector3d> points = start_points;
+  const std::vector<PoseVector> start_poses = poses;
+  KnownDistanceFactor known_factor;
+  if (settings.known_distance_m != 0 && !poses.empty()) {
+    known_factor = known_distance_factor(poses, settings.known_distance_m);
+    if (!known_factor.problem.empty()) {
+      result.message = "known_distance_m: " + known_factor.problem;
+      return result;
+    }
+  }
 
   const camera::CatadioptricCamera optimised = batch_camera(camera);
   const std::vector<char> ok = projectable(optimised, observations, poses, points);
@@ -281,9 +371,12 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     solve_seconds += summary.total_time_in_seconds;
     if (initial_cost < 0) initial_cost = summary.initial_cost;  // the start's, of the first solve
   };
+  // With the motion sensors' terms that fix the scale (odometry, GPS) the solve is the plain one.
+  const bool scale_from_images = !extra || !extra->fixes_scale();
+  // Whether any camera moves from the first in the start: else there is no scale to speak of.
+  const bool moves = scale_gauge(problem, &poses).pose != nullptr;
   ScaleSolve scaled;
-  // The motion sensors' terms fix the scale themselves.
-  if (!extra && settings.scale_start && problem.HasParameterBlock(poses[0].data())) {
+  if (scale_from_images && settings.scale_start && problem.HasParameterBlock(poses[0].data())) {
     scaled = solve_with_scale(&problem, options, &poses, &points, &inverse_scale, &summary);
     if (scaled.solved) count();
   }
@@ -291,6 +384,41 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     // The plain problem, from the scaled estimate when it moved (it is lower in cost).
     ceres::Solve(options, &problem, &summary);
     count();
+  }
+  double variance_dof = dof;
+  if (!scale_from_images) {
+    result.scale_source = BatchScale::kFromSensors;
+  } else if (const ScaleGauge gauge = scale_gauge(problem, &poses); moves && gauge.pose) {
+    // Alone, the pixels' variance is estimated from the residuals, as for the covariances below.
+    const double variance = extra ? 1 : 2 * summary.final_cost / dof;
+    result.scale_sigma_relative =
+        scale_sigma_relative(&problem, gauge, &inverse_scale, &points, variance);
+    const bool known = settings.known_distance_m > 0;
+    if (known)
+      result.scale_source = BatchScale::kHeldAtKnownDistance;
+    else if (result.scale_sigma_relative <= settings.max_free_scale_sigma)
+      result.scale_source = BatchScale::kFromImages;
+    else
+      result.scale_source = BatchScale::kHeldAtStart;
+    if (result.scale_source != BatchScale::kFromImages) {
+      // From the images' minimum, its shape kept and its scale put back where it is held: the
+      // start's (the gauge camera as far from the first as there) or the known distance between
+      // the first and last cameras. Then the scale is held, and the solve takes a few steps
+      // (from the start again it took as many as the first; on long drives 10 more).
+      double factor =
+          known ? settings.known_distance_m / distance_from_first(poses, poses.size() - 1)
+                : distance_from_first(start_poses, gauge.frame) /
+                      distance_from_first(poses, gauge.frame);
+      if (!(std::isfinite(factor) && factor > 0)) {
+        restore(start_poses, start_points, &poses, &points);
+        factor = known_factor.factor;
+      }
+      scale_about_first_camera(factor, &poses, &points);
+      hold(&problem, gauge);
+      variance_dof += 1;
+      ceres::Solve(options, &problem, &summary);
+      count();
+    }
   }
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.message;
@@ -302,14 +430,15 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     result.final_rms_px = std::sqrt(reprojection_cost() / used);
   }
   result.solve_seconds = solve_seconds;
-  result.variance_factor = 2 * summary.final_cost / dof;
+  result.variance_factor = 2 * summary.final_cost / variance_dof;
   result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
   result.points = points;
 
   if (settings.covariances && summary.IsSolutionUsable()) {
     ceres::Covariance::Options covariance_options;
-    // Sparse QR: the gauge is fixed by the first pose, so the problem is of full rank.
+    // Sparse QR: the gauge is fixed by the first pose (and the scale, when held, by a coordinate
+    // of a far one), so the problem is of full rank.
     covariance_options.algorithm_type = ceres::SPARSE_QR;
     covariance_options.num_threads = 2;
     ceres::Covariance covariance(covariance_options);

@@ -21,6 +21,9 @@ class ExtraTerms {
   // must outlive the solve. Returns true when they fix the gauge themselves (absolute positions),
   // so that no pose is held fixed.
   virtual bool add(ceres::Problem* problem, std::vector<PoseVector>* poses) = 0;
+  // After add: whether its residuals fix the scene's scale (distances travelled, positions).
+  // When they do not (a gyro alone), the batch finds and holds the scale as without them.
+  virtual bool fixes_scale() const = 0;
   // Its own blocks whose covariance the batch computes with the poses' and points' (when asked
   // for), and hands back through take_covariance, scaled as theirs.
   virtual std::vector<std::pair<double*, int>> blocks_with_covariance() { return {}; }

@@ -108,8 +108,11 @@ class MotionTerms : public ExtraTerms {
                                 (*poses)[p.k].data(), (*poses)[p.k + 1].data());
       ++fixes;
     }
+    fixes_scale_ = odometry || fixes > 0;
     return fixes > 0;
   }
+
+  bool fixes_scale() const override { return fixes_scale_; }
 
   std::vector<std::pair<double*, int>> blocks_with_covariance() override {
     return {{&scale_, 1}, {bias_.data(), 3}};
@@ -129,6 +132,7 @@ class MotionTerms : public ExtraTerms {
   const std::vector<double>& times_;
   double scale_;
   Eigen::Vector3d bias_;
+  bool fixes_scale_ = false;
   double scale_sigma_ = NAN;
   Eigen::Vector3d bias_sigma_ = Eigen::Vector3d::Constant(NAN);
 };

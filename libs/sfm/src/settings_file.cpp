@@ -1,5 +1,7 @@
 #include "omnisfm/sfm/settings_file.h"
 
+#include <cmath>
+
 #include "omnisfm/io/ini_file.h"
 
 namespace omnisfm::sfm {
@@ -31,6 +33,15 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   settings.batch.max_iterations =
       s.get_positive_int("max_iterations", settings.batch.max_iterations);
   settings.batch.scale_start = s.get_flag("batch_scale_start", settings.batch.scale_start);
+  // Empty, the default, when not known: 0 would say the first and last cameras coincide.
+  if (!s.get_string("known_distance_m", "").empty()) {
+    const double d = s.get_double("known_distance_m");
+    if (!(std::isfinite(d) && d > 0))
+      s.fail("known_distance_m",
+             "must be the distance between the first and last camera positions in metres, "
+             "finite and > 0 (empty when not known)");
+    settings.batch.known_distance_m = d;
+  }
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [sfm]");
   return settings;
 }

@@ -10,7 +10,6 @@
 
 #include <limits>
 #include <random>
-#include <set>
 
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
@@ -18,6 +17,7 @@
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
+#include "filter_start.h"
 #include "world_from_cam.h"
 
 namespace omnisfm::sfm {
@@ -67,27 +67,8 @@ TEST(BatchAdjustment, LongDriveConvergesWithSparseCholesky) {
 
 // Rover seed 2 from the filter, on its inliers: a 23.5 m path where the batch finds 3.46 m, right
 // in shape.
-struct FilterStart {
-  sim::Dataset data;
-  std::vector<io::TrackObservation> inliers;
-  SfmResult online;
-};
-
 const FilterStart& rover_filter_start() {
-  static const FilterStart start = [] {
-    sim::SimulationOptions options;
-    options.scenario = "rover";
-    options.seed = 2;
-    FilterStart s{sim::simulate(options), {}, {}};
-    SfmSettings online;
-    online.run_batch = false;
-    s.online = run_sfm(s.data.camera, s.data.observations, online);
-    std::set<int> outliers;
-    for (const auto& o : s.online.outliers) outliers.insert(o.track);
-    for (const auto& o : s.data.observations)
-      if (!outliers.count(o.track)) s.inliers.push_back(o);
-    return s;
-  }();
+  static const FilterStart start = filter_start("rover", 2);
   return start;
 }
 

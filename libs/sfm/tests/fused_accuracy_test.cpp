@@ -73,6 +73,8 @@ TEST(FusedAccuracy, RoverWithOdometryAndGyroTakesTheWheelsScale) {
     EXPECT_GT(signed_scale_error(similarity) * wheel_error, 0) << "the wheel's way";
     EXPECT_LT(std::abs(signed_scale_error(similarity)), std::abs(wheel_error) + 0.002);
     EXPECT_NEAR(signed_scale_error(similarity), wheel_error, 0.005);
+    EXPECT_EQ(r.batch.scale_source, BatchScale::kFromSensors);
+    EXPECT_TRUE(std::isnan(r.batch.scale_sigma_relative));
     EXPECT_LT(rigid.translation_error_percent, 1.02);
     EXPECT_LT(rigid.mean_yaw_error_deg, 0.48);
     EXPECT_LT(r.batch.final_rms_px, 0.25);
@@ -173,6 +175,7 @@ TEST(FusedAccuracy, RoverWithGpsThenCalibratedOdometry) {
       run_fused_sfm(s.dataset.camera, s.dataset.observations, s.dataset.timestamps, sensors, fast_settings());
   ASSERT_TRUE(r.batch.converged) << r.batch.message;
   ASSERT_TRUE(r.world_is_enu);
+  EXPECT_EQ(r.batch.scale_source, BatchScale::kFromSensors);
   double mean_error = 0, online_error = 0;
   for (size_t f = 0; f < s.dataset.world_from_cam.size(); ++f) {
     const Eigen::Vector3d truth = (s.gps.enu_from_world * s.dataset.world_from_cam[f]).translation();
@@ -205,7 +208,10 @@ TEST(FusedAccuracy, RoverWithGpsThenCalibratedOdometry) {
 }
 
 // The crane's motion is not planar: no odometry, the gyro alone. It estimates the bias and
-// keeps the camera's accuracy; the scale stays the camera's own.
+// keeps the camera's accuracy; the scale stays the camera's own, which its images do not fix
+// (measured: +- 38 %), so the batch holds it at the filter's, as without the gyro: its far
+// camera keeps the filter's distance from the first, the shape around it is the batch's, and
+// the scale of the whole path moves by the filter's error in shape (measured 3.8 %).
 TEST(FusedAccuracy, CraneWithGyroOnly) {
   const Scenario s = simulate("crane", 1);
   ASSERT_TRUE(s.dead_reckoning.odometry.empty());
@@ -219,6 +225,14 @@ TEST(FusedAccuracy, CraneWithGyroOnly) {
   EXPECT_LT(similarity.translation_error_percent, 0.79);
   EXPECT_LT(similarity.mean_rotation_error_deg, 1.61);
   EXPECT_LT((r.gyro_bias - s.dead_reckoning.gyro_bias_at_start).cwiseAbs().maxCoeff(), 3e-4);
+  EXPECT_EQ(r.batch.scale_source, BatchScale::kHeldAtStart);
+  EXPECT_GT(r.batch.scale_sigma_relative, kMaxFreeScaleSigma);
+  const auto online =
+      eval::trajectory_errors(inverted(r.online_cam_from_world), s.dataset.world_from_cam, true);
+  std::printf("crane with gyro: scale +- %.0f %%, held at %.4f (filter %.4f)\n",
+              100 * r.batch.scale_sigma_relative, 1 / similarity.alignment.scale,
+              1 / online.alignment.scale);
+  EXPECT_NEAR(online.alignment.scale / similarity.alignment.scale, 1, 0.06);
 }
 
 TEST(FusedPipeline, WithoutSensorsIsTheVisionPipeline) {

@@ -33,7 +33,7 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
   const SfmSettings s = settings_of(
       "[sfm]\npixel_sigma = 0.5\nupdate_iterations = 3\nsmoothed_start_frames = 0\n"
       "batch = 1\nbatch_outlier_threshold_px = 3\nhuber_px = 1.5\ncovariances = 0\n"
-      "max_iterations = 50\nbatch_scale_start = 0\n");
+      "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n");
   EXPECT_EQ(s.filter.pixel_sigma, 0.5);
   EXPECT_EQ(s.filter.update_iterations, 3);
   EXPECT_EQ(s.filter.smoothed_start_frames, 0);
@@ -43,9 +43,12 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
   EXPECT_FALSE(s.batch.covariances);
   EXPECT_EQ(s.batch.max_iterations, 50);
   EXPECT_FALSE(s.batch.scale_start);
-  // Absent keys keep the defaults.
+  EXPECT_EQ(s.batch.known_distance_m, 4.08);
+  // Absent keys keep the defaults; an empty known distance is not known.
   const SfmSettings defaults = settings_of("[sfm]\n");
   EXPECT_TRUE(defaults.batch.scale_start);
+  EXPECT_EQ(defaults.batch.known_distance_m, 0);
+  EXPECT_EQ(settings_of("[sfm]\nknown_distance_m =   # not known\n").batch.known_distance_m, 0);
   EXPECT_EQ(defaults.batch.max_iterations, BatchSettings{}.max_iterations);
 }
 
@@ -54,6 +57,22 @@ TEST(SfmSettings, BadValuesAndUnknownKeysNameTheirLine) {
   EXPECT_NE(error_of("[sfm]\n\nmax_iterations = 2.5\n").find("test.ini:3:"), std::string::npos);
   EXPECT_NE(error_of("[sfm]\nupdate_iterations = 0\n").find("test.ini:2:"), std::string::npos);
   EXPECT_NE(error_of("[sfm]\nbatch_scale = 1\n").find("unknown key"), std::string::npos);
+}
+
+// Settings that make the problem meaningless: a noise of 0 (every residual infinitely sure), a
+// known distance of 0, below 0 or infinite.
+TEST(SfmSettings, MeaninglessNoiseAndDistancesAreRefusedAtTheirLine) {
+  for (const char* bad : {"pixel_sigma = 0", "pixel_sigma = -0.2", "pixel_sigma = inf",
+                          "known_distance_m = 0", "known_distance_m = -4", "known_distance_m = inf",
+                          "known_distance_m = nan", "known_distance_m = 1e400",
+                          "known_distance_m = four"}) {
+    const std::string message = error_of("[sfm]\nbatch = 1\n" + std::string(bad) + "\n");
+    EXPECT_EQ(message.rfind("test.ini:3:", 0), 0u) << bad << ": " << message;
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(' '));
+    EXPECT_NE(message.find("'" + key + "'"), std::string::npos) << message;
+  }
+  EXPECT_NE(error_of("[sfm]\nknown_distance_m = 0\n").find("empty when not known"),
+            std::string::npos);
 }
 
 // share/omnisfm/config/omnisfm.ini shows users every key at its default.
@@ -67,7 +86,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
        {"pixel_sigma", "rotation_walk_sigma", "translation_walk_sigma", "initial_depth",
         "inverse_depth_sigma", "outlier_threshold_px", "innovation_gate_chi2", "update_iterations",
         "smoothed_start_frames", "batch", "batch_outlier_threshold_px", "huber_px", "covariances",
-        "max_iterations", "batch_scale_start"})
+        "max_iterations", "batch_scale_start", "known_distance_m"})
     EXPECT_TRUE(section.has(key)) << key;
   const SfmSettings read = read_sfm_settings(section);
   const SfmSettings defaults;
@@ -87,6 +106,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(read.batch.covariances, defaults.batch.covariances);
   EXPECT_EQ(read.batch.max_iterations, defaults.batch.max_iterations);
   EXPECT_EQ(read.batch.scale_start, defaults.batch.scale_start);
+  EXPECT_EQ(read.batch.known_distance_m, defaults.batch.known_distance_m);
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 // The batch estimator: Levenberg-Marquardt over all camera poses and 3D points (Ceres, with the
 // noncentral projection's analytic Jacobians), started from the online filter's estimates and run
 // on its inliers, as the paper does. The first pose is held fixed: with a noncentral camera that
-// fixes the gauge, the scale being (weakly) observable through the mirror's size.
+// fixes the gauge, the scale being (weakly) observable through the mirror's size. How weakly is
+// measured on every run (BatchResult::scale_sigma_relative); where the images do not fix the
+// scale, it is held (BatchResult::scale_source) instead of being left to run away.
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -19,17 +21,39 @@ class CostFunction;
 
 namespace omnisfm::sfm {
 
+// A free scale is kept when the images fix it to within a factor 2 at 3 sigma. The likelihood is
+// nearly Gaussian in the inverse scale u (the residuals are nearly linear in it), so the 3-sigma
+// interval is u (1 +- 3 r), r the relative standard deviation, i.e. scales from s / (1 + 3 r) to
+// s / (1 - 3 r); that lies within [s / 2, 2 s] when 3 r <= 1/2.
+constexpr double kMaxFreeScaleSigma = 1.0 / 6;
+
 struct BatchSettings {
   double huber_px = 0;        // a Huber loss of this width; 0 for plain least squares
   int max_iterations = 200;
   bool covariances = true;    // pose and point covariances (dense, for problems of moderate size)
   // Solve with the scene's inverse scale as a parameter of its own first: the scale is weakly
   // observed and the filter's can be far off, which the plain problem takes many iterations to
-  // walk. Not with the motion sensors' terms, which fix the scale themselves.
+  // walk. Not with motion sensors' terms that fix the scale themselves (odometry, GPS).
   bool scale_start = true;
   // The tracks' noise, pixels per coordinate: the reprojections' weight against the motion
   // sensors' terms, which are whitened by their own noise. Without them it changes nothing.
   double pixel_sigma = 1;
+  // The true distance between the first and last camera positions, metres, when known (measured
+  // with a tape, say); 0 when not. With it the scale is held there rather than taken from the
+  // images, unless the motion sensors' terms fix the scale (they then do).
+  double known_distance_m = 0;
+  // The largest relative standard deviation of the images' scale that is kept free; infinity
+  // keeps every scale free (the batch as it was, for studies of the rule).
+  double max_free_scale_sigma = kMaxFreeScaleSigma;
+};
+
+// Where the batch's scale comes from.
+enum class BatchScale {
+  kFromImages,           // kept free: scale_sigma_relative <= max_free_scale_sigma
+  kHeldAtStart,          // the images do not fix it: held at the start's (the filter's) scale
+  kHeldAtKnownDistance,  // held at BatchSettings::known_distance_m
+  kFromSensors,          // the motion sensors' terms (odometry, GPS) fix it
+  kNoTranslation,        // no camera moves from the first: there is no scale
 };
 
 struct BatchResult {
@@ -46,16 +70,26 @@ struct BatchResult {
   // Ceres's name of the reduced camera system's solver: ITERATIVE_SCHUR when most frames share
   // points, SPARSE_SCHUR when the system is banded (long sequences).
   std::string linear_solver;
+  // The scale: where it comes from, and the relative standard deviation of the scale the images
+  // alone put on the scene (the marginal standard deviation of the inverse scale at the images'
+  // minimum, every other parameter eliminated, scaled by the residuals' variance as the
+  // covariances are; with the motion sensors' terms, at their stated noise). Infinite when the
+  // images do not fix it at all (its information is singular); NaN when not measured (kFromSensors, kNoTranslation). When the scale
+  // was held, this is what made it so (or, with a known distance, what the images would have
+  // given), not the uncertainty of the result's scale.
+  BatchScale scale_source = BatchScale::kNoTranslation;
+  double scale_sigma_relative = NAN;
   std::vector<Eigen::Isometry3d> cam_from_world;  // per frame
   std::map<int, Eigen::Vector3d> points;           // per track
   // 6x6 per frame (rotation as angle-axis, then translation; frame 0 is fixed: zero) and 3x3 per
-  // point, when asked for and computable.
+  // point, when asked for and computable; with a held scale, the scale held.
   std::vector<Eigen::Matrix<double, 6, 6>> pose_covariances;
   std::map<int, Eigen::Matrix3d> point_covariances;
 };
 
 // observations: every observation to use (outliers already removed); cam_from_world: a start for
-// every frame; points: a start for every track observed.
+// every frame; points: a start for every track observed. A known_distance_m that is negative or
+// not finite fails the batch (converged false, no estimate, message saying why).
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<io::TrackObservation>& observations,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
