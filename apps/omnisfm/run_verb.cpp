@@ -133,6 +133,13 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
                            "gyro)\n"
          << "online only ([sfm] batch = false): the rawlog read and results written object by "
             "object (no scene.3Dscene, geodetic.vnl or residual plots)\n";
+  if (summary.gyro > 0) {
+    const Eigen::Vector3d b = filter->gyro_bias();
+    const Eigen::Vector3d sigma = filter->gyro_bias_covariance().diagonal().cwiseSqrt();
+    report << "gyro bias (the filter's, at the last frame) " << b.x() << " " << b.y() << " "
+           << b.z() << " rad/s +- " << sigma.x() << " " << sigma.y() << " " << sigma.z()
+           << " (body axes)\n";
+  }
   out.finish(*filter, report.str());
   return report.str();
 }
