@@ -84,7 +84,8 @@ class OmniSfmEstimator {
   // The filter in the camera's terms (cam_from_world, the world the first camera's frame), once
   // the first camera frame has started it; null before.
   const sfm::OnlineFilter* filter() const { return filter_.get(); }
-  // The points of the tracks so far, in the map frame.
+  // The points of the live tracks and of the latest ended ones the filter keeps
+  // (FilterSettings::kept_history), in the map frame; onPointEnded gets every one as it ends.
   std::map<int, Eigen::Vector3d> points() const;
   // The dead reckoning and GPS readings still held: from the last frame's on (older ones are
   // dropped once used, so memory stays bounded on an endless run).
