@@ -2,15 +2,21 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
+#include <string>
 
 #include "omnisfm/io/input_error.h"
 
 namespace omnisfm::io {
 namespace {
 
+// One file per test and process: CTest runs the tests of this file side by side.
 std::string write_file(const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/tracks.vnl";
+  const std::string path = ::testing::TempDir() + "/tracks-" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
+                           std::to_string(::getpid()) + ".vnl";
   std::ofstream(path) << text;
   return path;
 }
