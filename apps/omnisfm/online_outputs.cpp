@@ -48,9 +48,12 @@ void OnlineOutputs::outlier(const sfm::RejectedTrack& r) {
   ++outliers_;
 }
 
-void OnlineOutputs::finish(const sfm::OnlineFilter& filter, const std::string& report) {
+void OnlineOutputs::take_what_is_held(const sfm::OnlineFilter& filter) {
   write_waiting(filter);
   for (const auto& [track, p] : filter.points()) point(track, p);
+}
+
+void OnlineOutputs::finish(const std::string& report) {
   trajectory_file_.flush();
   points_file_.flush();
   outliers_file_.flush();

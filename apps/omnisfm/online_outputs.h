@@ -33,9 +33,11 @@ class OnlineOutputs {
   void point(int track, const Eigen::Vector3d& point);
   void outlier(const sfm::RejectedTrack& rejected);
 
-  // The poses still waiting and the points still held (the filter's at the end), points.ply and
-  // report.txt; throws std::runtime_error naming the folder when any write failed.
-  void finish(const sfm::OnlineFilter& filter, const std::string& report);
+  // At the end of the sequence, while the filter still exists: the poses still waiting and the
+  // points it still holds.
+  void take_what_is_held(const sfm::OnlineFilter& filter);
+  // points.ply and report.txt; throws std::runtime_error naming the folder when any write failed.
+  void finish(const std::string& report);
 
   long poses() const { return poses_; }
   long points() const { return points_; }

@@ -3,6 +3,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "geodetic_output.h"
@@ -103,10 +104,15 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   replay.gyro_noise = settings.gyro_noise;
   replay.odometry_scale = settings.odometry_scale;
   mrpt_plugin::OnlineReplayOutputs outputs;
-  const sfm::OnlineFilter* filter = nullptr;
   outputs.frame = [&](const sfm::OnlineFilter& f, int frame, double time) {
-    filter = &f;
     out.frame(f, frame, time, replay.filter.smoothed_start_frames);
+  };
+  // The filter lives only as long as the replay: what it holds, and its bias, are taken at its end.
+  std::optional<Eigen::Vector3d> bias, bias_sigma;
+  outputs.end = [&](const sfm::OnlineFilter& f) {
+    out.take_what_is_held(f);
+    bias = f.gyro_bias();
+    bias_sigma = f.gyro_bias_covariance().diagonal().cwiseSqrt();
   };
   outputs.point_ended = [&](int track, const Eigen::Vector3d& p) { out.point(track, p); };
   outputs.track_rejected = [&](const sfm::RejectedTrack& r) { out.outlier(r); };
@@ -118,7 +124,7 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
     std::cerr << "omnisfm: warning: " << summary.read.problem << "; replayed the "
               << summary.frames << " frames before it\n";
   }
-  if (summary.frames < 2 || !filter)
+  if (summary.frames < 2 || !bias)
     throw io::InputError(rawlog, 0,
                          "holds " + std::to_string(summary.frames) +
                              " camera frames (tracked features or images) before its end: "
@@ -134,13 +140,13 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
          << "online only ([sfm] batch = false): the rawlog read and results written object by "
             "object (no scene.3Dscene, geodetic.vnl or residual plots)\n";
   if (summary.gyro > 0) {
-    const Eigen::Vector3d b = filter->gyro_bias();
-    const Eigen::Vector3d sigma = filter->gyro_bias_covariance().diagonal().cwiseSqrt();
+    const Eigen::Vector3d& b = *bias;
+    const Eigen::Vector3d& sigma = *bias_sigma;
     report << "gyro bias (the filter's, at the last frame) " << b.x() << " " << b.y() << " "
            << b.z() << " rad/s +- " << sigma.x() << " " << sigma.y() << " " << sigma.z()
            << " (body axes)\n";
   }
-  out.finish(*filter, report.str());
+  out.finish(report.str());
   return report.str();
 }
 

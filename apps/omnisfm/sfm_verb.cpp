@@ -107,7 +107,8 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
          << out.outliers() << "\n"
          << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
          << "online only ([sfm] batch = false): tracks read and results written frame by frame\n";
-  out.finish(filter, report.str());
+  out.take_what_is_held(filter);
+  out.finish(report.str());
   return report.str();
 }
 

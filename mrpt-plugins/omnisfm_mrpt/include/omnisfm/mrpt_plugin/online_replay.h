@@ -39,6 +39,9 @@ struct OnlineReplayOutputs {
   std::function<void(const sfm::OnlineFilter&, int frame, double time)> frame;
   sfm::OnlineFilter::PointEnded point_ended;
   sfm::OnlineFilter::TrackRejected track_rejected;
+  // After the last object, with the filter when a camera frame started one: what it still holds
+  // is to be taken here, since the filter ends with the replay.
+  std::function<void(const sfm::OnlineFilter&)> end;
 };
 
 // Throws io::InputError when the file cannot be opened, when a camera frame comes without a camera
