@@ -396,7 +396,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   for (const auto& o : observations)
     if (!excluded_.count(o.track)) seen[o.track] = o.pixel;
   // A rejected track no longer observed has ended: nothing needs to remember it.
-  if (!smoothing_start_) {
+  if (!smoothing_start_ && !excluded_.empty()) {
     std::set<int> still_excluded;
     for (const auto& o : observations)
       if (excluded_.count(o.track)) still_excluded.insert(o.track);
