@@ -312,12 +312,12 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
         new ScaledProjectionCost(&optimised, o.pixel), loss, poses[o.frame].data(),
         points.at(o.track).data(), &inverse_scale));
   }
-  problem.SetParameterBlockConstant(&inverse_scale);
   const double used = static_cast<double>(used_observations.size());
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
     return result;
   }
+  problem.SetParameterBlockConstant(&inverse_scale);
   const bool gauge_fixed = extra && extra->add(&problem, &poses);
   if (!gauge_fixed && problem.HasParameterBlock(poses[0].data()))
     problem.SetParameterBlockConstant(poses[0].data());

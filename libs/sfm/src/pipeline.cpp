@@ -92,6 +92,9 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   std::vector<io::TrackObservation> inliers;
   for (const auto& o : tracks)
     if (!rejected.count(o.track) && result->online_points.count(o.track)) inliers.push_back(o);
+  if (inliers.empty())
+    throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
+                             std::to_string(rejected.size()) + " as outliers");
   result->batch = batch_adjust(camera, inliers, result->online_cam_from_world,
                                result->online_points, settings.batch, extra);
   if (settings.batch_outlier_threshold_px <= 0) return;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -150,6 +151,21 @@ TEST(BatchAdjustment, LeavesOutWhatCannotBeProjectedFromTheStart) {
     }
   }
   EXPECT_LT(result.final_rms_px, 0.25);
+}
+
+// Every point unprojectable (as when the filter rejected every track): an answer saying so. The
+// scale parameter was set constant before the check and Ceres aborted the process.
+TEST(BatchAdjustment, NothingProjectableIsAnErrorNotAnAbort) {
+  const FilterStart& s = rover_filter_start();
+  std::map<int, Eigen::Vector3d> points = s.online.online_points;
+  for (auto& [track, p] : points) p = Eigen::Vector3d::Constant(std::nan(""));
+  BatchSettings settings;
+  settings.covariances = false;
+  const BatchResult result =
+      batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world, points, settings);
+  EXPECT_FALSE(result.converged);
+  EXPECT_NE(result.message.find("no observation can be projected"), std::string::npos)
+      << result.message;
 }
 
 // In the plain problem one point's reflection sits at the rim, and steps toward the true scale
