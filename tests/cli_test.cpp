@@ -490,6 +490,26 @@ TEST_F(CliTest, SfmStreamsTheFilterAloneOnADrive) {
   EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
+// A noise of 10 px is plausible for a poor tracker. The paper's 2 px rule then rejected every
+// track and the batch, left with nothing to project, aborted the process inside Ceres; the
+// chi-square test scales with the stated noise.
+TEST_F(CliTest, SfmRunsAtANoiseOfTenPixels) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
+  write("noisy.ini", "[sfm]\npixel_sigma = 10\n");
+  const Outcome run =
+      omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config noisy.ini --out noisy");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("outlier tracks 0\n"), std::string::npos) << run.out;
+  EXPECT_TRUE(fs::exists(dir_ / "noisy/batch.tum"));
+  write("paper.ini", "[sfm]\npixel_sigma = 10\noutlier_test = pixels\n");
+  const Outcome paper =
+      omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config paper.ini --out paper");
+  EXPECT_EQ(paper.status, 1);
+  EXPECT_EQ(paper.err, "omnisfm: no track is left for the batch adjustment: the filter rejected "
+                       "all 44 as outliers\n");
+  EXPECT_FALSE(fs::exists(dir_ / "paper"));
+}
+
 TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
   ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
   write("bad.vnl", "# frame track u v\n1 0 500 400\n0 0 501 401\n");

@@ -238,7 +238,7 @@ void add_run_verb(CLI::App& app) {
     report << "rawlog " << o->rawlog << ": " << in.read.objects << " objects; vision from "
            << in.vision << "\n"
            << "frames " << result.num_frames << ", observations " << in.tracks.size()
-           << ", outlier tracks " << result.outliers.size() << "\n"
+           << ", " << outliers_phrase(result) << "\n"
            << sensors_line(in);
     if (batch_ran)
       report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "

@@ -41,6 +41,14 @@ std::string images_fix_it(const sfm::BatchResult& batch, const char* how) {
 
 }  // namespace
 
+std::string outliers_phrase(const sfm::SfmResult& result) {
+  std::string phrase = "outlier tracks " + std::to_string(result.outliers.size());
+  if (result.taken_back > 0)
+    phrase += " (the batch took back " + std::to_string(result.taken_back) +
+              " that the filter had rejected)";
+  return phrase;
+}
+
 std::string scale_line(const sfm::SfmResult& result, const sfm::BatchSettings& settings) {
   const sfm::BatchResult& batch = result.batch;
   std::ostringstream line;

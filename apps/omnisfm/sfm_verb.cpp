@@ -168,7 +168,7 @@ void add_sfm_verb(CLI::App& app) {
     for (int f = 0; f < result.num_frames; ++f) times.push_back(clock.time(f));
     std::ostringstream report;
     report << "frames " << result.num_frames << ", observations " << tracks.size()
-           << ", outlier tracks " << result.outliers.size() << "\n"
+           << ", " << outliers_phrase(result) << "\n"
            << "filter: " << result.online_seconds << " s ("
            << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n";
     if (settings.run_batch)

@@ -1,5 +1,8 @@
 #include "filter_linear_algebra.h"
 
+#include <Eigen/LU>
+#include <cmath>
+
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -140,6 +143,26 @@ void add_point_rows_lower(const Eigen::MatrixXd& PHt, const std::vector<int>& fi
       s[2 * k + 1] += h(1, 0) * x[0] + h(1, 1) * x[1] + h(1, 2) * x[2];
     }
   }
+}
+
+std::vector<double> posterior_chi2(const Eigen::MatrixXd& L, const Eigen::VectorXd& residual,
+                                   double variance) {
+  const int m = static_cast<int>(residual.size()) / 2;
+  // (S^-1)_kk = X_k^T X_k with X = L^-1, whose column block k is zero above row 2k.
+  Eigen::MatrixXd X = Eigen::MatrixXd::Identity(2 * m, 2 * m);
+  L.triangularView<Eigen::Lower>().solveInPlace(X);
+  std::vector<double> chi2(m);
+  for (int k = 0; k < m; ++k) {
+    const Eigen::Vector2d r = residual.segment<2>(2 * k);
+    if (!r.allFinite()) {
+      chi2[k] = INFINITY;
+      continue;
+    }
+    const auto X_k = X.block(2 * k, 2 * k, 2 * m - 2 * k, 2);
+    const Eigen::Matrix2d covariance = variance * variance * (X_k.transpose() * X_k);
+    chi2[k] = r.dot(covariance.inverse() * r);
+  }
+  return chi2;
 }
 
 }  // namespace omnisfm::sfm

@@ -34,4 +34,12 @@ void add_point_rows_lower(const Eigen::MatrixXd& PHt, const std::vector<int>& fi
                           const std::vector<Eigen::Matrix<double, 2, 3>>& H_point,
                           Eigen::MatrixXd* S);
 
+// Per measurement k (two rows each), the squared Mahalanobis distance of its residual after the
+// update, r_k = z_k - h_k(x+), under that residual's covariance R - H_k P+ H_k^T =
+// variance^2 (S^-1)_kk (measurement noise `variance` I): chi-square with 2 degrees of freedom for
+// a measurement the model explains. L: the lower Cholesky factor of S; an infinite residual
+// gives an infinite distance.
+std::vector<double> posterior_chi2(const Eigen::MatrixXd& L, const Eigen::VectorXd& residual,
+                                   double variance);
+
 }  // namespace omnisfm::sfm

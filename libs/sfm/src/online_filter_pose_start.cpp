@@ -49,7 +49,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   for (int k = 0; k < m; ++k) residual_norms[k] = prior->residual.segment<2>(2 * k).norm();
   std::nth_element(residual_norms.begin(), residual_norms.begin() + m / 2, residual_norms.end());
   const double huber =
-      std::max(settings_.outlier_threshold_px, kRobustMedians * residual_norms[m / 2]);
+      std::max(settings_.residual_limit_px(), kRobustMedians * residual_norms[m / 2]);
 
   // One Gauss-Newton step from delta = 0, where the prior's part of the gradient vanishes.
   Eigen::Matrix<double, 6, 6> A = pose_information;

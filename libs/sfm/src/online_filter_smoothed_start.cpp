@@ -212,7 +212,7 @@ void OnlineFilter::solve_start() {
     }
     Worst worst;
     evaluate(R, t, params, nullptr, nullptr, &worst);
-    if (!(worst.pixels > settings_.outlier_threshold_px)) break;
+    if (!(worst.pixels > settings_.residual_limit_px())) break;
     reject(worst.track, worst.frame);
   }
 

@@ -6,6 +6,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "omnisfm/sfm/track_triangulation.h"
 #include "pipeline_steps.h"
 
 namespace omnisfm::sfm {
@@ -15,6 +16,12 @@ namespace {
 constexpr double kMinBaselineRatio = 0.01;
 
 }  // namespace
+
+double SfmSettings::batch_residual_limit_px() const {
+  if (!batch_outliers) return 0;
+  return filter.outlier_test == OutlierTest::kPixels ? batch_outlier_threshold_px
+                                                     : filter.residual_limit_px();
+}
 
 std::vector<std::vector<TrackPixel>> observations_by_frame(
     const std::vector<io::TrackObservation>& tracks) {
@@ -84,6 +91,27 @@ void refuse_degenerate_motion(const SfmResult& result) {
         "; with (nearly) pure rotation the structure cannot be recovered");
 }
 
+namespace {
+
+// The tracks the filter rejected that the batch's solution explains: triangulated from its poses,
+// every pixel within `threshold` px. Track -> its point.
+std::map<int, Eigen::Vector3d> explained_rejections(
+    const camera::CatadioptricCamera& optimised, const std::vector<io::TrackObservation>& tracks,
+    const std::set<int>& rejected, const BatchResult& batch, double threshold) {
+  std::map<int, std::vector<TrackSighting>> sightings;
+  for (const auto& o : tracks)
+    if (rejected.count(o.track) && o.frame < static_cast<int>(batch.cam_from_world.size()))
+      sightings[o.track].push_back({batch.cam_from_world[o.frame], o.pixel});
+  std::map<int, Eigen::Vector3d> explained;
+  for (const auto& [track, seen] : sightings) {
+    const TriangulatedTrack t = triangulate_track(optimised, seen);
+    if (t.valid && t.largest_residual_px <= threshold) explained[track] = t.point;
+  }
+  return explained;
+}
+
+}  // namespace
+
 void adjust_on_inliers(const camera::CatadioptricCamera& camera,
                        const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
                        ExtraTerms* extra, SfmResult* result) {
@@ -97,7 +125,9 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
                              std::to_string(rejected.size()) + " as outliers");
   result->batch = batch_adjust(camera, inliers, result->online_cam_from_world,
                                result->online_points, settings.batch, extra);
-  if (settings.batch_outlier_threshold_px <= 0) return;
+  const double threshold = settings.batch_residual_limit_px();
+  if (threshold <= 0 || result->batch.cam_from_world.size() < result->online_cam_from_world.size())
+    return;  // off, or the batch failed
 
   // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail.
   const camera::CatadioptricCamera optimised = batch_camera(camera);
@@ -108,15 +138,27 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
     const bool fits =
         point != result->batch.points.end() &&
         optimised.project(result->batch.cam_from_world[o.frame] * point->second, &pixel) &&
-        (pixel - o.pixel).norm() <= settings.batch_outlier_threshold_px;
+        (pixel - o.pixel).norm() <= threshold;
     if (!fits && !failing.count(o.track)) failing[o.track] = o.frame;
   }
-  if (failing.empty()) return;
-  for (const auto& [track, frame] : failing) result->outliers.push_back({track, frame});
+  // And the filter's rejections that it does explain, taken back.
+  const std::map<int, Eigen::Vector3d> explained =
+      explained_rejections(optimised, tracks, rejected, result->batch, threshold);
+  if (failing.empty() && explained.empty()) return;
+  std::vector<RejectedTrack> outliers;
+  for (const auto& r : result->outliers)
+    if (!explained.count(r.track)) outliers.push_back(r);
+  for (const auto& [track, frame] : failing) outliers.push_back({track, frame});
+  result->outliers = std::move(outliers);
+  result->taken_back = static_cast<int>(explained.size());
   std::vector<io::TrackObservation> kept;
-  for (const auto& o : inliers)
-    if (!failing.count(o.track)) kept.push_back(o);
-  result->batch = batch_adjust(camera, kept, result->batch.cam_from_world, result->batch.points,
+  for (const auto& o : tracks)
+    if ((explained.count(o.track) || (!rejected.count(o.track) && result->online_points.count(o.track))) &&
+        !failing.count(o.track))
+      kept.push_back(o);
+  std::map<int, Eigen::Vector3d> start_points = result->batch.points;
+  for (const auto& [track, point] : explained) start_points[track] = point;
+  result->batch = batch_adjust(camera, kept, result->batch.cam_from_world, start_points,
                                settings.batch, extra);
 }
 

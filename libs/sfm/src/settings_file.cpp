@@ -19,6 +19,13 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
       s.get_positive("translation_walk_sigma", f.translation_walk_sigma, true);
   f.initial_depth = s.get_positive("initial_depth", f.initial_depth);
   f.inverse_depth_sigma = s.get_positive("inverse_depth_sigma", f.inverse_depth_sigma);
+  const std::string test = s.get_string("outlier_test", "chi2");
+  if (test == "pixels")
+    f.outlier_test = OutlierTest::kPixels;
+  else if (test != "chi2")
+    s.fail("outlier_test", "must be chi2 (the residual against its covariance) or pixels (the "
+                           "paper's fixed outlier_threshold_px)");
+  f.outlier_chi2 = s.get_positive("outlier_chi2", f.outlier_chi2);
   f.outlier_threshold_px = s.get_positive("outlier_threshold_px", f.outlier_threshold_px);
   f.innovation_gate_chi2 = s.get_positive("innovation_gate_chi2", f.innovation_gate_chi2, true);
   f.update_iterations = s.get_positive_int("update_iterations", f.update_iterations);
@@ -26,6 +33,7 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
       s.get_positive_int("smoothed_start_frames", f.smoothed_start_frames, true);
   if (f.smoothed_start_frames == 1) s.fail("smoothed_start_frames", "must be 0 (off) or at least 2");
   settings.run_batch = s.get_flag("batch", settings.run_batch);
+  settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
   settings.batch_outlier_threshold_px =
       s.get_positive("batch_outlier_threshold_px", settings.batch_outlier_threshold_px, true);
   settings.batch.huber_px = s.get_positive("huber_px", settings.batch.huber_px, true);

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
 #include <random>
 
 namespace omnisfm::sfm {
@@ -68,6 +70,49 @@ TEST(FilterLinearAlgebra, PointBlocksMatchTheDenseProducts) {
   EXPECT_LT((S.triangularView<Eigen::Lower>().toDenseMatrix() -
              expected.triangularView<Eigen::Lower>().toDenseMatrix()).norm(),
             1e-12 * expected.norm());
+}
+
+// Against the residual covariance formed directly, R - H P+ H^T with P+ = P - P H^T S^-1 H P (a
+// difference that loses digits: agreement to 1e-6); and
+// over draws of a linear model its mean is the 2 degrees of freedom.
+TEST(FilterLinearAlgebra, PosteriorChi2MatchesTheResidualCovariance) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0, 1);
+  const int n = 21, m = 8;
+  const double variance = 0.09;
+  const Eigen::MatrixXd P = random_covariance(n, rng);
+  const Eigen::MatrixXd H = Eigen::MatrixXd::NullaryExpr(2 * m, n, [&] { return normal(rng); });
+  Eigen::MatrixXd S = H * P * H.transpose();
+  S.diagonal().array() += variance;
+  const Eigen::MatrixXd gain = P * H.transpose() * S.inverse();
+  const Eigen::MatrixXd P_posterior = P - gain * H * P;
+  const Eigen::MatrixXd residual_covariance =
+      variance * Eigen::MatrixXd::Identity(2 * m, 2 * m) - H * P_posterior * H.transpose();
+  Eigen::MatrixXd L = S;
+  ASSERT_TRUE(cholesky_lower_in_place(&L));
+  const Eigen::LLT<Eigen::MatrixXd> P_factor(P);
+  double mean = 0;
+  const int draws = 4000;
+  for (int draw = 0; draw < draws; ++draw) {
+    // Truth x ~ N(0, P), z = H x + noise, the prior mean 0: the residual z - H x+.
+    Eigen::VectorXd x = P_factor.matrixL() * Eigen::VectorXd::NullaryExpr(n, [&] { return normal(rng); });
+    Eigen::VectorXd z = H * x;
+    for (int i = 0; i < 2 * m; ++i) z[i] += std::sqrt(variance) * normal(rng);
+    const Eigen::VectorXd residual = z - H * (gain * z);
+    const std::vector<double> chi2 = posterior_chi2(L, residual, variance);
+    for (int k = 0; k < m; ++k) {
+      const Eigen::Vector2d r = residual.segment<2>(2 * k);
+      const Eigen::Matrix2d C = residual_covariance.block<2, 2>(2 * k, 2 * k);
+      if (draw < 3) EXPECT_NEAR(chi2[k], r.dot(C.ldlt().solve(r)), 1e-6 * (1 + chi2[k]));
+      mean += chi2[k] / (draws * m);
+    }
+  }
+  // The mean of 32,000 chi-square(2) draws (standard deviation 2 each, correlated within a draw):
+  // 2 within a few hundredths.
+  EXPECT_NEAR(mean, 2.0, 0.06);
+  Eigen::VectorXd residual = Eigen::VectorXd::Zero(2 * m);
+  residual[3] = INFINITY;
+  EXPECT_TRUE(std::isinf(posterior_chi2(L, residual, variance)[1]));
 }
 
 TEST(FilterLinearAlgebra, CholeskyRefusesAnIndefiniteMatrix) {

@@ -52,6 +52,25 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
   EXPECT_EQ(defaults.batch.max_iterations, BatchSettings{}.max_iterations);
 }
 
+// The chi-square test by default, its limit in pixels sqrt(outlier_chi2) pixel_sigmas; the
+// paper's rule on request, with its own limits.
+TEST(SfmSettings, OutlierTestsAndTheirLimits) {
+  const SfmSettings chi2 = settings_of("[sfm]\npixel_sigma = 0.5\noutlier_chi2 = 16\n");
+  EXPECT_EQ(chi2.filter.outlier_test, OutlierTest::kChiSquare);
+  EXPECT_DOUBLE_EQ(chi2.filter.residual_limit_px(), 2.0);
+  EXPECT_DOUBLE_EQ(chi2.batch_residual_limit_px(), 2.0);
+  const SfmSettings pixels = settings_of(
+      "[sfm]\noutlier_test = pixels\noutlier_threshold_px = 1.5\nbatch_outlier_threshold_px = 3\n");
+  EXPECT_EQ(pixels.filter.outlier_test, OutlierTest::kPixels);
+  EXPECT_EQ(pixels.filter.residual_limit_px(), 1.5);
+  EXPECT_EQ(pixels.batch_residual_limit_px(), 3);
+  EXPECT_EQ(settings_of("[sfm]\nbatch_outliers = false\n").batch_residual_limit_px(), 0);
+  const std::string bad = error_of("[sfm]\n\noutlier_test = sigma\n");
+  EXPECT_EQ(bad.rfind("test.ini:3:", 0), 0u) << bad;
+  EXPECT_NE(bad.find("chi2"), std::string::npos) << bad;
+  EXPECT_EQ(error_of("[sfm]\noutlier_chi2 = 0\n").rfind("test.ini:2:", 0), 0u);
+}
+
 TEST(SfmSettings, BadValuesAndUnknownKeysNameTheirLine) {
   EXPECT_NE(error_of("[sfm]\nbatch_scale_start = 2\n").find("test.ini:2:"), std::string::npos);
   EXPECT_NE(error_of("[sfm]\n\nmax_iterations = 2.5\n").find("test.ini:3:"), std::string::npos);
@@ -84,8 +103,9 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   const io::IniSection& section = ini.section("sfm");
   for (const char* key :
        {"pixel_sigma", "rotation_walk_sigma", "translation_walk_sigma", "initial_depth",
-        "inverse_depth_sigma", "outlier_threshold_px", "innovation_gate_chi2", "update_iterations",
-        "smoothed_start_frames", "batch", "batch_outlier_threshold_px", "huber_px", "covariances",
+        "inverse_depth_sigma", "outlier_test", "outlier_chi2", "outlier_threshold_px",
+        "innovation_gate_chi2", "update_iterations", "smoothed_start_frames", "batch",
+        "batch_outliers", "batch_outlier_threshold_px", "huber_px", "covariances",
         "max_iterations", "batch_scale_start", "known_distance_m"})
     EXPECT_TRUE(section.has(key)) << key;
   const SfmSettings read = read_sfm_settings(section);
@@ -96,11 +116,14 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(f.translation_walk_sigma, defaults.filter.translation_walk_sigma);
   EXPECT_EQ(f.initial_depth, defaults.filter.initial_depth);
   EXPECT_EQ(f.inverse_depth_sigma, defaults.filter.inverse_depth_sigma);
+  EXPECT_EQ(f.outlier_test, defaults.filter.outlier_test);
+  EXPECT_EQ(f.outlier_chi2, defaults.filter.outlier_chi2);
   EXPECT_EQ(f.outlier_threshold_px, defaults.filter.outlier_threshold_px);
   EXPECT_EQ(f.innovation_gate_chi2, defaults.filter.innovation_gate_chi2);
   EXPECT_EQ(f.update_iterations, defaults.filter.update_iterations);
   EXPECT_EQ(f.smoothed_start_frames, defaults.filter.smoothed_start_frames);
   EXPECT_EQ(read.run_batch, defaults.run_batch);
+  EXPECT_EQ(read.batch_outliers, defaults.batch_outliers);
   EXPECT_EQ(read.batch_outlier_threshold_px, defaults.batch_outlier_threshold_px);
   EXPECT_EQ(read.batch.huber_px, defaults.batch.huber_px);
   EXPECT_EQ(read.batch.covariances, defaults.batch.covariances);

@@ -39,6 +39,18 @@
 
 namespace omnisfm::sfm {
 
+// How the filter tells a track that went wrong from one it has not converged on yet.
+enum class OutlierTest {
+  // Each measurement's residual after the update against its own covariance (the measurement
+  // noise less what the update explained, from the innovation covariance the filter already
+  // forms): chi-square, 2 degrees of freedom, beyond outlier_chi2. A new point's residual is
+  // judged against how little its first update could explain, an established one's against the
+  // noise: the same test at any pixel_sigma.
+  kChiSquare,
+  // The paper's: the largest residual after the update beyond outlier_threshold_px.
+  kPixels,
+};
+
 struct FilterSettings {
   // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
   // sensors the fused batch's too (fused_pipeline.h).
@@ -47,7 +59,15 @@ struct FilterSettings {
   double translation_walk_sigma = 0.05;  // metres per frame
   double initial_depth = 2.0;            // radius of the initialisation sphere, metres
   double inverse_depth_sigma = 0.5;      // along the ray, 1/metres
-  double outlier_threshold_px = 2.0;     // largest residual after the update
+  OutlierTest outlier_test = OutlierTest::kChiSquare;
+  // chi-square(2)'s 1 - 1e-6 quantile: in a sequence of a million measurements, one good one
+  // rejected by chance.
+  double outlier_chi2 = 27.63;
+  double outlier_threshold_px = 2.0;  // with OutlierTest::kPixels
+  // How far a pixel may be from a solution that explains it, where a whole window is solved (the
+  // smoothed start, the batch's re-test): outlier_threshold_px, or with the chi-square test
+  // sqrt(outlier_chi2) pixel_sigmas.
+  double residual_limit_px() const;
   // Also reject, before the update, a measurement whose innovation lies beyond this squared
   // Mahalanobis distance of its predicted covariance: a track that slides to a nearby feature
   // jumps by a few pixels, which the update alone can absorb. 0 turns the gate off.
@@ -177,7 +197,8 @@ class OnlineFilter {
     Eigen::Vector3d t;
     SensorStates sensors;
     Eigen::VectorXd points;
-    std::vector<double> residuals;  // per measurement, after the update
+    std::vector<double> residuals;  // per measurement, after the update: its norm
+    Eigen::VectorXd residual;       // the residuals themselves, two rows per measurement
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
     Eigen::MatrixXd S_factor;       // the innovation covariance's Cholesky factor (lower)
     int linearisations = 0;         // that the update took
@@ -222,6 +243,8 @@ class OnlineFilter {
   // does not project there, or when it does not lower the cost.
   bool start_on_pose_subspace(const std::vector<Measurement>& measurements,
                               const std::vector<int>& point_columns, Iterate* prior) const;
+  // The squared Mahalanobis distance of a measurement's innovation at the propagated state.
+  double prior_chi2(const Measurement& measurement) const;
   // The iterated update from the current (propagated) state.
   void update(const std::vector<Measurement>& measurements, Candidate* candidate) const;
   void accept(Candidate* candidate);

@@ -16,17 +16,24 @@ struct SfmSettings {
   FilterSettings filter;
   BatchSettings batch;
   bool run_batch = true;
-  // After the batch, a track with a residual beyond this is rejected too and the batch re-run:
-  // a track that slid to a nearby feature can fool the filter's test but not the whole sequence.
-  // 0 turns it off.
-  double batch_outlier_threshold_px = 2.0;
+  // After the batch, a track with a residual beyond this is rejected too, a track the filter
+  // rejected that fits the batch's poses within it is taken back, and the batch re-run: a track
+  // that slid to a nearby feature can fool the filter's test but not the whole sequence, and a
+  // good track the filter rejected while its depth was unknown fits it. 0 turns both off.
+  bool batch_outliers = true;
+  double batch_outlier_threshold_px = 2.0;  // with OutlierTest::kPixels; 0 is off too
+  // The batch's limit on a residual: 0 when its test is off, else batch_outlier_threshold_px
+  // with the paper's test and FilterSettings::residual_limit_px() with the chi-square one.
+  double batch_residual_limit_px() const;
 };
 
 struct SfmResult {
   int num_frames = 0;
   std::vector<Eigen::Isometry3d> online_cam_from_world;  // the filter's estimate at each frame
   std::map<int, Eigen::Vector3d> online_points;
-  std::vector<RejectedTrack> outliers;  // the filter's, then the batch's
+  // The filter's, less those the batch took back, then the batch's.
+  std::vector<RejectedTrack> outliers;
+  int taken_back = 0;  // tracks the filter rejected that the batch's solution explains
   double online_seconds = 0;
   BatchResult batch;
   // With the vehicle's motion sensors (run_fused_sfm, fused_pipeline.h):
