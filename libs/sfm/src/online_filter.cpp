@@ -23,17 +23,9 @@ constexpr int kEstablishedUpdates = 2;
 }  // namespace
 
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
-    : camera_(camera),
-      settings_(settings),
-      P_(Eigen::MatrixXd::Zero(kFirstPointColumn, kFirstPointColumn)),
-      smoothing_start_(settings.smoothed_start_frames > 0) {}
+    : camera_(camera), settings_(settings), smoothing_start_(settings.smoothed_start_frames > 0) {}
 
-Eigen::Isometry3d OnlineFilter::cam_from_world() const {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R_;
-  T.translation() = t_;
-  return T;
-}
+Eigen::Isometry3d OnlineFilter::cam_from_world() const { return state_.mean.cam_from_world(); }
 
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   std::map<int, Eigen::Vector3d> all;
@@ -44,53 +36,19 @@ std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
     if (!e.rejected) all[e.track] = e.point;
   }
   for (const auto& [track, point] : held_points_) all[track] = point;
-  for (size_t s = 0; s < slot_track_.size(); ++s)
-    all[slot_track_[s]] = world_point(anchors_[s], points_.segment<3>(3 * s));
+  for (int s = 0; s < state_.num_slots(); ++s) all[state_.track_of(s)] = state_.world_point(s);
   return all;
 }
 
-Eigen::Vector3d OnlineFilter::world_point(const Anchor& a, const Eigen::Vector3d& params,
-                                          Eigen::Matrix3d* J_params) {
-  const Eigen::Vector3d u = a.basis.col(0) + params.x() * a.basis.col(1) + params.y() * a.basis.col(2);
-  const double norm = u.norm();
-  const Eigen::Vector3d direction = u / norm;
-  const double rho = params.z();
-  if (J_params) {
-    const Eigen::Matrix3d across = (Eigen::Matrix3d::Identity() - direction * direction.transpose()) / norm;
-    *J_params << across * a.basis.col(1) / rho, across * a.basis.col(2) / rho,
-        -direction / (rho * rho);
-  }
-  return a.origin + direction / rho;
-}
-
 void OnlineFilter::propagate() {
-  P_.topLeftCorner<3, 3>().diagonal().array() += std::pow(settings_.rotation_walk_sigma, 2);
-  P_.block<3, 3>(3, 3).diagonal().array() += std::pow(settings_.translation_walk_sigma, 2);
-}
-
-void OnlineFilter::remove_slot(int slot) {
-  track_slot_.erase(slot_track_[slot]);
-  const int last = static_cast<int>(slot_track_.size()) - 1;
-  const int n = point_column(last);  // size after removal
-  if (slot != last) {
-    const int from = point_column(last), to = point_column(slot);
-    points_.segment<3>(3 * slot) = points_.segment<3>(3 * last);
-    anchors_[slot] = anchors_[last];
-    P_.middleCols<3>(to) = P_.middleCols<3>(from);
-    P_.middleRows<3>(to) = P_.middleRows<3>(from);
-    slot_track_[slot] = slot_track_[last];
-    track_slot_[slot_track_[slot]] = slot;
-  }
-  slot_track_.pop_back();
-  anchors_.pop_back();
-  points_.conservativeResize(3 * last);
-  P_.conservativeResize(n, n);
+  state_.P.topLeftCorner<3, 3>().diagonal().array() += std::pow(settings_.rotation_walk_sigma, 2);
+  state_.P.block<3, 3>(3, 3).diagonal().array() += std::pow(settings_.translation_walk_sigma, 2);
 }
 
 void OnlineFilter::end_point(int slot) {
-  const int track = slot_track_[slot];
-  const Eigen::Vector3d point = world_point(anchors_[slot], points_.segment<3>(3 * slot));
-  remove_slot(slot);
+  const int track = state_.track_of(slot);
+  const Eigen::Vector3d point = state_.world_point(slot);
+  state_.remove(slot);
   if (smoothing_start_)
     held_points_[track] = point;  // the smoothed start revises it, then hands it over
   else
@@ -117,8 +75,7 @@ void OnlineFilter::reject(int track, int frame) {
     rejected_.push_back(rejected);
     if (static_cast<int>(rejected_.size()) > settings_.kept_history) rejected_.pop_front();
   }
-  const auto slot = track_slot_.find(track);
-  if (slot != track_slot_.end()) remove_slot(slot->second);
+  if (const int slot = state_.slot_of(track); slot >= 0) state_.remove(slot);
   held_points_.erase(track);
   for (EndedPoint& e : history_)
     if (e.track == track) e.rejected = true;
@@ -133,48 +90,35 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   if (camera_.unproject(pixel + Eigen::Vector2d(1, 0), &o2, &d2))
     radians_per_pixel = std::acos(std::clamp(direction.dot(d2), -1.0, 1.0));
 
-  Anchor anchor;
-  anchor.origin = R_.transpose() * (origin - t_);
-  const Eigen::Vector3d d_W = R_.transpose() * direction;
+  const Eigen::Matrix3d& R = state_.mean.R;
+  const Eigen::Vector3d& t = state_.mean.t;
+  PointAnchor anchor;
+  anchor.origin = R.transpose() * (origin - t);
+  const Eigen::Vector3d d_W = R.transpose() * direction;
   anchor.basis.col(0) = d_W;
   anchor.basis.col(1) = d_W.unitOrthogonal();
   anchor.basis.col(2) = d_W.cross(anchor.basis.col(1));
-  const int slot = static_cast<int>(slot_track_.size());
-  anchors_.push_back(anchor);
   if (smoothing_start_) start_anchors_[track] = anchor;
-  slot_track_.push_back(track);
-  track_slot_[track] = slot;
   const Eigen::Vector3d params(0, 0, 1 / settings_.initial_depth);
 
   // The point hangs on the current pose: X_W = R^T (X_C - t), with R = exp(dtheta) R, moved into
   // the point's parameters through the inverse of their Jacobian.
   Eigen::Matrix3d J_X_params;
-  const Eigen::Vector3d X_W = world_point(anchor, params, &J_X_params);
-  const Eigen::Vector3d X_C = R_ * X_W + t_;
+  const Eigen::Vector3d X_W = anchor.world_point(params, &J_X_params);
+  const Eigen::Vector3d X_C = R * X_W + t;
   Eigen::Matrix<double, 3, 6> J_pose;
-  J_pose << R_.transpose() * so3::skew(X_C - t_), -R_.transpose();
+  J_pose << R.transpose() * so3::skew(X_C - t), -R.transpose();
   const Eigen::Matrix<double, 3, 6> G = J_X_params.inverse() * J_pose;
   const double across = radians_per_pixel * settings_.pixel_sigma;
-  const Eigen::Vector3d own_sigma(across, across, settings_.inverse_depth_sigma);
-
-  const int n = static_cast<int>(P_.rows());
-  P_.conservativeResize(n + 3, n + 3);
-  const Eigen::MatrixXd cross = G * P_.topLeftCorner(6, n);  // 3 x n
-  P_.bottomLeftCorner(3, n) = cross;
-  P_.topRightCorner(n, 3) = cross.transpose();
-  P_.bottomRightCorner<3, 3>() = G * P_.topLeftCorner<6, 6>() * G.transpose();
-  P_.bottomRightCorner<3, 3>().diagonal() += own_sigma.cwiseAbs2();
-  points_.conservativeResize(3 * slot + 3);
-  points_.segment<3>(3 * slot) = params;
+  state_.add(track, anchor, params, G, Eigen::Vector3d(across, across, settings_.inverse_depth_sigma));
 }
 
-bool OnlineFilter::linearise(const Anchor& anchor, const Eigen::Matrix3d& R,
+bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R,
                              const Eigen::Vector3d& t, const Eigen::Vector3d& params,
                              bool jacobians, Linearisation* out) const {
   if (!(params.z() > 0)) return false;
   Eigen::Matrix3d J_world_params;
-  const Eigen::Vector3d RX =
-      R * world_point(anchor, params, jacobians ? &J_world_params : nullptr);
+  const Eigen::Vector3d RX = R * anchor.world_point(params, jacobians ? &J_world_params : nullptr);
   Eigen::Matrix<double, 2, 3> J_X;
   if (!camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr)) return false;
   if (jacobians) {
@@ -186,11 +130,12 @@ bool OnlineFilter::linearise(const Anchor& anchor, const Eigen::Matrix3d& R,
 
 void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) const {
   const int m = static_cast<int>(meas.size());
-  const int n = static_cast<int>(P_.rows());
+  const Eigen::MatrixXd& P = state_.P;
+  const int n = static_cast<int>(P.rows());
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
   // Where each measured point's three parameters sit in the state.
   std::vector<int> point_columns(m);
-  for (int k = 0; k < m; ++k) point_columns[k] = point_column(meas[k].slot);
+  for (int k = 0; k < m; ++k) point_columns[k] = FilterState::point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
   Iterate at, next;
@@ -221,7 +166,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   // the pose's direction of the prior, where one full linearisation usually settles.
   std::vector<int> new_points;
   for (int k = 0; k < m; ++k)
-    if (anchors_[meas[k].slot].updates < kEstablishedUpdates) new_points.push_back(k);
+    if (state_.anchor(meas[k].slot).updates < kEstablishedUpdates) new_points.push_back(k);
   const int linearisations = std::max(1, settings_.update_iterations);
   if (new_points.empty() && linearisations > 1) start_on_pose_subspace(meas, point_columns, &at);
   bool warm_step =
@@ -255,8 +200,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     const double shrink = 1 / (1 + mu);
     // P H^T and S = H P H^T / (1 + mu) + R from the blocks of H; the Cholesky factorisation
     // reads S's lower triangle only.
-    multiply(P_.leftCols<6>(), false, at.H_pose, true, PHt);
-    add_point_columns(P_, point_columns, at.H_point, &PHt);
+    multiply(P.leftCols<6>(), false, at.H_pose, true, PHt);
+    add_point_columns(P, point_columns, at.H_point, &PHt);
     multiply(at.H_pose, false, PHt.topRows<6>(), false, S);
     add_point_rows_lower(PHt, point_columns, at.H_point, &S);
     if (mu > 0) {
@@ -266,10 +211,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     S.diagonal().array() += variance;
     if (!cholesky_lower_in_place(&S)) {
       // P is not positive definite: no update.
-      c->R = R_;
-      c->t = t_;
-      c->sensors = sensors_;
-      c->points = points_;
+      c->mean = state_.mean;
       PHt.resize(0, 0);
       return;
     }
@@ -288,15 +230,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     // model's residual r - H d is variance times the weighted innovation.
     const double prior_cost = next.g.dot(next.offset);
     const double model_cost = variance * weighted.squaredNorm() + prior_cost;
-    const Eigen::Matrix3d R = so3::exp(next.offset.head<3>()) * R_;
-    const Eigen::Vector3d t = t_ + next.offset.segment<3>(3);
-    SensorStates sensors = sensors_;
-    sensors.gyro_bias += next.offset.segment<3>(kBiasColumn);
-    sensors.wheel_scale += next.offset[kScaleColumn];
-    Eigen::VectorXd X = points_ + next.offset.tail(n - kFirstPointColumn);
-    // Noise can push a barely-parallaxed point past infinity: hold it far away instead.
-    for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
-    next.offset.tail(n - kFirstPointColumn) = X - points_;
+    FilterMean moved = state_.mean.plus(next.offset, kMinInverseDepth);
+    next.offset.tail(n - FilterState::kFirstPointColumn) = moved.points - state_.mean.points;
 
     // Project the new iterate (its pixels are the outlier test's residuals). Settled when its
     // predicted pixels moved by less than 3 % of the pixel noise, or a damped step by less than
@@ -310,7 +245,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     for (int k = 0; k < m; ++k) {
       const int s = meas[k].slot;
       Linearisation lin;
-      if (!linearise(anchors_[s], R, t, X.segment<3>(3 * s), may_relinearise, &lin)) {
+      if (!linearise(state_.anchor(s), moved.R, moved.t, moved.params(s), may_relinearise, &lin)) {
         // Off the mirror here: its previous linearisation stays (the prior's, if that one was
         // the established points' only), and it fails the outlier test unless a later iterate
         // brings it back.
@@ -348,10 +283,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
       warm_step = false;
       continue;
     }
-    c->R = R;
-    c->t = t;
-    c->sensors = sensors;
-    c->points.swap(X);
+    c->mean = std::move(moved);
     for (int k = 0; k < m; ++k) c->residuals[k] = at.residual.segment<2>(2 * k).norm();
     c->residual = at.residual;
     damped = mu > 0;
@@ -386,20 +318,17 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
 }
 
 void OnlineFilter::accept(Candidate* c) {
-  R_ = c->R;
-  t_ = c->t;
-  sensors_ = c->sensors;
-  points_.swap(c->points);
-  if (c->PHt.size() > 0) downdate_covariance(&P_, &c->PHt, c->S_factor);
+  state_.mean = std::move(c->mean);
+  if (c->PHt.size() > 0) downdate_covariance(&state_.P, &c->PHt, c->S_factor);
 }
 
 double OnlineFilter::prior_chi2(const Measurement& m) const {
-  const int c = point_column(m.slot);
+  const int c = FilterState::point_column(m.slot);
+  const Eigen::MatrixXd& P = state_.P;
   Eigen::Matrix<double, 2, 9> H;
   H << m.at_prior.pose, m.at_prior.point;
   Eigen::Matrix<double, 9, 9> P_local;
-  P_local << P_.topLeftCorner<6, 6>(), P_.block<6, 3>(0, c), P_.block<3, 6>(c, 0),
-      P_.block<3, 3>(c, c);
+  P_local << P.topLeftCorner<6, 6>(), P.block<6, 3>(0, c), P.block<3, 6>(c, 0), P.block<3, 3>(c, c);
   Eigen::Matrix2d S = H * P_local * H.transpose();
   S.diagonal().array() += settings_.pixel_sigma * settings_.pixel_sigma;
   const Eigen::Vector2d y = m.pixel - m.at_prior.pixel;
@@ -431,8 +360,8 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   }
 
   // Tracks not seen in this frame have ended: their points leave the state.
-  for (int s = static_cast<int>(slot_track_.size()) - 1; s >= 0; --s)
-    if (!seen.count(slot_track_[s])) end_point(s);
+  for (int s = state_.num_slots() - 1; s >= 0; --s)
+    if (!seen.count(state_.track_of(s))) end_point(s);
 
   if (motion)
     propagate(*motion);
@@ -441,10 +370,10 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
 
   std::vector<Measurement> measurements;
   for (const auto& [track, pixel] : seen) {
-    const auto slot = track_slot_.find(track);
-    if (slot == track_slot_.end()) continue;
-    Measurement measurement{slot->second, pixel, {}};
-    if (linearise(anchors_[slot->second], R_, t_, points_.segment<3>(3 * slot->second), true,
+    const int slot = state_.slot_of(track);
+    if (slot < 0) continue;
+    Measurement measurement{slot, pixel, {}};
+    if (linearise(state_.anchor(slot), state_.mean.R, state_.mean.t, state_.mean.params(slot), true,
                   &measurement.at_prior))
       measurements.push_back(measurement);
   }
@@ -477,7 +406,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
       scores = posterior_chi2(candidate.S_factor, candidate.residual,
                               settings_.pixel_sigma * settings_.pixel_sigma);
       for (size_t k = 0; k < measurements.size(); ++k)
-        if (anchors_[measurements[k].slot].updates < kEstablishedUpdates)
+        if (state_.anchor(measurements[k].slot).updates < kEstablishedUpdates)
           scores[k] = prior_chi2(measurements[k]);
     }
     const double limit = chi2 ? settings_.outlier_chi2 : settings_.residual_limit_px();
@@ -490,17 +419,17 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
       continue;
     }
     accept(&candidate);
-    for (const auto& m : measurements) ++anchors_[m.slot].updates;
+    for (const auto& m : measurements) ++state_.anchor(m.slot).updates;
     updated = true;
     break;
   }
   // Named by track: removing a slot moves another into its place.
   std::vector<int> rejected_tracks;
-  for (int slot : rejected_slots) rejected_tracks.push_back(slot_track_[slot]);
+  for (int slot : rejected_slots) rejected_tracks.push_back(state_.track_of(slot));
   for (int track : rejected_tracks) reject(track, frame);
 
   for (const auto& [track, pixel] : seen)
-    if (!track_slot_.count(track) && !excluded_.count(track)) add_point(track, pixel);
+    if (state_.slot_of(track) < 0 && !excluded_.count(track)) add_point(track, pixel);
   record_start_frame(frame, observations, motion);
   return updated;
 }
@@ -517,8 +446,8 @@ void OnlineFilter::record_start_frame(int frame, const std::vector<TrackPixel>& 
   if (!smoothing_start_) return;
   StartFrame f;
   f.frame = frame;
-  f.R = R_;
-  f.t = t_;
+  f.R = state_.mean.R;
+  f.t = state_.mean.t;
   f.random_walk = motion == nullptr;
   if (motion) {
     // The start's solve holds the sensors' states at their estimates: their uncertainty goes with
@@ -526,11 +455,13 @@ void OnlineFilter::record_start_frame(int frame, const std::vector<TrackPixel>& 
     f.motion = *motion;
     const Eigen::Matrix<double, 6, 3>& B = motion->bias_jacobian;
     const Eigen::Matrix<double, 6, 1>& S = motion->wheel_scale_jacobian;
-    f.motion.covariance += B * P_.block<3, 3>(kBiasColumn, kBiasColumn) * B.transpose() +
-                           S * P_(kScaleColumn, kScaleColumn) * S.transpose();
+    const Eigen::MatrixXd& P = state_.P;
+    f.motion.covariance +=
+        B * P.block<3, 3>(FilterState::kBiasColumn, FilterState::kBiasColumn) * B.transpose() +
+        S * P(FilterState::kScaleColumn, FilterState::kScaleColumn) * S.transpose();
   }
   for (const auto& o : observations)
-    if (track_slot_.count(o.track)) f.observations.push_back(o);
+    if (state_.slot_of(o.track) >= 0) f.observations.push_back(o);
   start_frames_.push_back(std::move(f));
   if (static_cast<int>(start_frames_.size()) >= settings_.smoothed_start_frames) smooth_start();
 }

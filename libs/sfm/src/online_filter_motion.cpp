@@ -22,17 +22,20 @@ void OnlineFilter::propagate(const MotionPrediction& motion) {
   const Eigen::Matrix3d R_M = motion.cam_from_previous_cam.linear();
   const Eigen::Vector3d t_M = motion.cam_from_previous_cam.translation();
   Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Identity();
-  G.block<3, 3>(3, 0) = -so3::skew(R_M * t_);
-  R_ = R_M * R_;
-  t_ = R_M * t_ + t_M;
+  FilterMean& mean = state_.mean;
+  Eigen::MatrixXd& P = state_.P;
+  constexpr int kBiasColumn = FilterState::kBiasColumn;
+  G.block<3, 3>(3, 0) = -so3::skew(R_M * mean.t);
+  mean.R = R_M * mean.R;
+  mean.t = R_M * mean.t + t_M;
   if (!bias_started_ && motion.bias_prior_variance > 0) {
     // The bias is unknown but for its prior; nothing is correlated with it yet.
-    P_.block<3, 3>(kBiasColumn, kBiasColumn) =
+    P.block<3, 3>(kBiasColumn, kBiasColumn) =
         motion.bias_prior_variance * Eigen::Matrix3d::Identity();
     bias_started_ = true;
   }
   if (!scale_started_ && motion.wheel_scale_prior_variance > 0) {
-    P_(kScaleColumn, kScaleColumn) = motion.wheel_scale_prior_variance;
+    P(FilterState::kScaleColumn, FilterState::kScaleColumn) = motion.wheel_scale_prior_variance;
     scale_started_ = true;
   }
 
@@ -44,15 +47,15 @@ void OnlineFilter::propagate(const MotionPrediction& motion) {
   coupling << motion.bias_jacobian, motion.wheel_scale_jacobian;
   const Eigen::Matrix<double, 6, 4> GC = G * coupling;
   const bool coupled = !GC.isZero();
-  static_assert(kScaleColumn == kBiasColumn + 3, "the sensors' states sit together");
-  Eigen::MatrixXd top = F * P_.topRows<6>();
-  if (coupled) top.noalias() += GC * P_.middleRows<4>(kBiasColumn);
-  P_.topRows<6>() = top;
-  Eigen::MatrixXd left = P_.leftCols<6>() * F.transpose();
-  if (coupled) left.noalias() += P_.middleCols<4>(kBiasColumn) * GC.transpose();
-  P_.leftCols<6>() = left;
-  P_.topLeftCorner<6, 6>() += G * motion.covariance * G.transpose();
-  P_.block<3, 3>(kBiasColumn, kBiasColumn).diagonal().array() += motion.bias_walk_variance;
+  static_assert(FilterState::kScaleColumn == kBiasColumn + 3, "the sensors' states sit together");
+  Eigen::MatrixXd top = F * P.topRows<6>();
+  if (coupled) top.noalias() += GC * P.middleRows<4>(kBiasColumn);
+  P.topRows<6>() = top;
+  Eigen::MatrixXd left = P.leftCols<6>() * F.transpose();
+  if (coupled) left.noalias() += P.middleCols<4>(kBiasColumn) * GC.transpose();
+  P.leftCols<6>() = left;
+  P.topLeftCorner<6, 6>() += G * motion.covariance * G.transpose();
+  P.block<3, 3>(kBiasColumn, kBiasColumn).diagonal().array() += motion.bias_walk_variance;
 }
 
 }  // namespace omnisfm::sfm

@@ -34,13 +34,14 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
                                           const std::vector<int>& point_columns,
                                           Iterate* prior) const {
   const int m = static_cast<int>(meas.size());
-  const int n = static_cast<int>(P_.rows());
+  const Eigen::MatrixXd& P = state_.P;
+  const int n = static_cast<int>(P.rows());
   if (m < kMinPoints) return false;
 
-  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> pose_prior(P_.topLeftCorner<6, 6>());
+  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> pose_prior(P.topLeftCorner<6, 6>());
   if (pose_prior.info() != Eigen::Success) return false;
   // Column j: how the state moves per unit of the pose's j-th coordinate.
-  const Eigen::MatrixXd along = pose_prior.solve(P_.topRows<6>()).transpose();  // n x 6
+  const Eigen::MatrixXd along = pose_prior.solve(P.topRows<6>()).transpose();  // n x 6
   const Eigen::Matrix<double, 6, 6> pose_information =
       pose_prior.solve(Eigen::Matrix<double, 6, 6>::Identity());
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
@@ -67,14 +68,10 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
 
   // The iterate x_0 = x_prior + P g, g being P_pose^-1 delta on the pose and zero elsewhere.
   Iterate start = *prior;
-  const Eigen::Matrix3d R = so3::exp(delta.head<3>()) * R_;
-  const Eigen::Vector3d t = t_ + delta.tail<3>();
-  Eigen::VectorXd X = points_ + along.bottomRows(n - kFirstPointColumn) * delta;
-  for (int k = 2; k < X.size(); k += 3) X[k] = std::max(X[k], kMinInverseDepth);
-  start.offset.resize(n);
+  start.offset = along * delta;
   start.offset.head<6>() = delta;
-  start.offset.segment<4>(kBiasColumn) = along.middleRows<4>(kBiasColumn) * delta;
-  start.offset.tail(n - kFirstPointColumn) = X - points_;
+  const FilterMean moved = state_.mean.plus(start.offset, kMinInverseDepth);
+  start.offset.tail(n - FilterState::kFirstPointColumn) = moved.points - state_.mean.points;
   start.g = Eigen::VectorXd::Zero(n);
   start.g.head<6>() = pose_information * delta;
   start.cost = start.g.head<6>().dot(delta);
@@ -82,7 +79,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   for (int k = 0; k < m; ++k) {
     const int s = meas[k].slot;
     Linearisation lin;
-    if (!linearise(anchors_[s], R, t, X.segment<3>(3 * s), true, &lin)) return false;
+    if (!linearise(state_.anchor(s), moved.R, moved.t, moved.params(s), true, &lin)) return false;
     start.cost += start.take(k, lin, meas[k].pixel, point_columns[k], chart, true) / variance;
   }
   // Only a start nearer the posterior's minimum than the prediction is worth taking.

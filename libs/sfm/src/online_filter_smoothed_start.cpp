@@ -20,22 +20,13 @@ constexpr double kChiSquareTolerance = 0.01;
 // normal equations stay factorable.
 constexpr double kMinVariance = 1e-12;
 
-// A point's parameters about its anchor from its world point: the inverse of world_point().
-Eigen::Vector3d anchor_params(const Eigen::Vector3d& origin, const Eigen::Matrix3d& basis,
-                              const Eigen::Vector3d& X) {
-  const Eigen::Vector3d ray = X - origin;
-  const double along = basis.col(0).dot(ray);
-  return {basis.col(1).dot(ray) / along, basis.col(2).dot(ray) / along,
-          1 / ray.norm()};
-}
-
 }  // namespace
 
 void OnlineFilter::solve_start() {
   smoothing_start_ = false;
   std::vector<StartFrame> frames;
   frames.swap(start_frames_);
-  std::map<int, Anchor> anchors;
+  std::map<int, PointAnchor> anchors;
   anchors.swap(start_anchors_);
   const int num_frames = static_cast<int>(frames.size());
   if (num_frames < 2) return;
@@ -45,13 +36,12 @@ void OnlineFilter::solve_start() {
   for (const auto& f : frames)
     for (const auto& o : f.observations) {
       if (params.count(o.track) || !anchors.count(o.track)) continue;
-      const auto slot = track_slot_.find(o.track);
+      const int slot = state_.slot_of(o.track);
       const auto ended = held_points_.find(o.track);
-      if (slot != track_slot_.end())
-        params[o.track] = points_.segment<3>(3 * slot->second);
+      if (slot >= 0)
+        params[o.track] = state_.mean.params(slot);
       else if (ended != held_points_.end())
-        params[o.track] = anchor_params(anchors[o.track].origin, anchors[o.track].basis,
-                                        ended->second);
+        params[o.track] = anchors[o.track].params_of(ended->second);
     }
   std::vector<Eigen::Matrix3d> R(num_frames);
   std::vector<Eigen::Vector3d> t(num_frames);
@@ -219,32 +209,34 @@ void OnlineFilter::solve_start() {
   // The covariance of the last pose and the live points: those columns of A's inverse.
   const Eigen::LLT<Eigen::MatrixXd> llt(A);
   if (llt.info() != Eigen::Success) return;
-  const int live = static_cast<int>(slot_track_.size());
+  const int live = state_.num_slots();
   std::vector<int> columns;
   for (int k = 0; k < 6; ++k) columns.push_back(pose_column(num_frames - 1) + k);
   for (int s = 0; s < live; ++s)
-    for (int k = 0; k < 3; ++k) columns.push_back(point_column(slot_track_[s]) + k);
+    for (int k = 0; k < 3; ++k) columns.push_back(point_column(state_.track_of(s)) + k);
   Eigen::MatrixXd selection = Eigen::MatrixXd::Zero(A.rows(), columns.size());
   for (size_t k = 0; k < columns.size(); ++k) selection(columns[k], k) = 1;
   const Eigen::MatrixXd inverse_columns = llt.solve(selection);
   // The window's solve holds the sensors' states: they keep their covariance, uncorrelated with
   // the rest.
-  const Eigen::Matrix4d sensors_covariance = P_.block<4, 4>(kBiasColumn, kBiasColumn);
+  constexpr int kBiasColumn = FilterState::kBiasColumn;
+  Eigen::MatrixXd& P = state_.P;
+  const Eigen::Matrix4d sensors_covariance = P.block<4, 4>(kBiasColumn, kBiasColumn);
   const auto state_column = [](size_t k) {
-    return static_cast<int>(k < 6 ? k : k + (kFirstPointColumn - kBiasColumn));
+    return static_cast<int>(k < 6 ? k : k + (FilterState::kFirstPointColumn - kBiasColumn));
   };
-  const int size = kFirstPointColumn + 3 * live;
-  P_.setZero(size, size);
+  const int size = FilterState::point_column(live);
+  P.setZero(size, size);
   for (size_t a = 0; a < columns.size(); ++a)
     for (size_t b = 0; b < columns.size(); ++b)
-      P_(state_column(a), state_column(b)) = inverse_columns(columns[a], static_cast<Eigen::Index>(b));
-  P_.block<4, 4>(kBiasColumn, kBiasColumn) = sensors_covariance;
+      P(state_column(a), state_column(b)) = inverse_columns(columns[a], static_cast<Eigen::Index>(b));
+  P.block<4, 4>(kBiasColumn, kBiasColumn) = sensors_covariance;
 
-  R_ = R.back();
-  t_ = t.back();
-  for (int s = 0; s < live; ++s) points_.segment<3>(3 * s) = params.at(slot_track_[s]);
+  state_.mean.R = R.back();
+  state_.mean.t = t.back();
+  for (int s = 0; s < live; ++s) state_.mean.points.segment<3>(3 * s) = params.at(state_.track_of(s));
   for (const auto& [track, column] : index)
-    if (held_points_.count(track)) held_points_[track] = world_point(anchors.at(track), params.at(track));
+    if (held_points_.count(track)) held_points_[track] = anchors.at(track).world_point(params.at(track));
   for (int i = 0; i < num_frames; ++i) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = R[i];

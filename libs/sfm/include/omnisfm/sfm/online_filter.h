@@ -6,7 +6,7 @@
 // any attitude works), the gyro's bias (a random walk) and the wheels' scale (a correction of the
 // calibrated one, constant), each coupled to the pose by the predictions that integrate its sensor
 // (with no such sensor it stays out of every product), and one 3D world point per live track.
-// Columns: pose 0-5, bias 6-8, wheel scale 9, then 3 per point. The first frame fixes the gauge:
+// (FilterState, filter_state.h, holds it with its covariance.) The first frame fixes the gauge:
 // its pose is the identity, known exactly. Propagation keeps the estimate and inflates the pose
 // covariance by a random walk, or, when the vehicle's sensors predict the motion, moves the pose by
 // that prediction and adds its covariance. A new track's point starts on a sphere around the camera along its
@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/sfm/filter_state.h"
 
 namespace omnisfm::sfm {
 
@@ -115,13 +116,6 @@ struct MotionPrediction {
   double wheel_scale_prior_variance = 0;
 };
 
-// What the filter estimates of the vehicle's sensors, at which its next prediction is made.
-struct SensorStates {
-  Eigen::Vector3d gyro_bias{0, 0, 0};  // rad/s about the body's axes
-  // The odometry's distances are multiplied by this on top of MotionSensors::odometry_scale.
-  double wheel_scale = 1;
-};
-
 struct TrackPixel {
   int track = 0;
   Eigen::Vector2d pixel{0, 0};
@@ -155,16 +149,22 @@ class OnlineFilter {
 
   Eigen::Isometry3d cam_from_world() const;
   // The 6x6 covariance of the pose error (rotation, then translation).
-  Eigen::Matrix<double, 6, 6> pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
+  Eigen::Matrix<double, 6, 6> pose_covariance() const { return state_.P.topLeftCorner<6, 6>(); }
   // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
   // covariance.
-  const Eigen::Vector3d& gyro_bias() const { return sensors_.gyro_bias; }
-  Eigen::Matrix3d gyro_bias_covariance() const { return P_.block<3, 3>(kBiasColumn, kBiasColumn); }
+  const Eigen::Vector3d& gyro_bias() const { return state_.mean.sensors.gyro_bias; }
+  Eigen::Matrix3d gyro_bias_covariance() const {
+    return state_.P.block<3, 3>(FilterState::kBiasColumn, FilterState::kBiasColumn);
+  }
   // The correction of the wheels' calibrated scale, 1 until a prediction brings odometry, and its
   // variance.
-  double wheel_scale() const { return sensors_.wheel_scale; }
-  double wheel_scale_variance() const { return P_(kScaleColumn, kScaleColumn); }
-  const SensorStates& sensor_states() const { return sensors_; }
+  double wheel_scale() const { return state_.mean.sensors.wheel_scale; }
+  double wheel_scale_variance() const {
+    return state_.P(FilterState::kScaleColumn, FilterState::kScaleColumn);
+  }
+  const SensorStates& sensor_states() const { return state_.mean.sensors; }
+  // The whole estimate: mean, covariance and slots.
+  const FilterState& state() const { return state_; }
   // The latest estimate of the live points and of the ended ones kept (the latest kept_history,
   // and every one while the smoothed start is pending), outliers excluded.
   std::map<int, Eigen::Vector3d> points() const;
@@ -173,7 +173,7 @@ class OnlineFilter {
   // The poses of the first frames as the smoothed start revised them (frame -> cam_from_world);
   // empty until it has run.
   const std::map<int, Eigen::Isometry3d>& smoothed_start() const { return smoothed_start_; }
-  int num_live_points() const { return static_cast<int>(slot_track_.size()); }
+  int num_live_points() const { return state_.num_slots(); }
   // Linearisations of the measurements (each a P H^T, S and its factor) over all updates so far,
   // outlier re-runs included: the measure of the iterated update's work.
   long linearisations() const { return linearisations_; }
@@ -193,10 +193,7 @@ class OnlineFilter {
   // An update not yet accepted: the new mean, its residuals, and what the covariance downdate
   // needs, so that an update the outlier test refuses costs no covariance work.
   struct Candidate {
-    Eigen::Matrix3d R;
-    Eigen::Vector3d t;
-    SensorStates sensors;
-    Eigen::VectorXd points;
+    FilterMean mean;
     std::vector<double> residuals;  // per measurement, after the update: its norm
     Eigen::VectorXd residual;       // the residuals themselves, two rows per measurement
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
@@ -230,7 +227,6 @@ class OnlineFilter {
                const MotionPrediction* motion);
   void propagate();
   void propagate(const MotionPrediction& motion);
-  void remove_slot(int slot);
   // A track's point leaves the state: held while the smoothed start is pending, else handed over.
   void end_point(int slot);
   // The ended point to the callback and into the kept history.
@@ -252,26 +248,11 @@ class OnlineFilter {
 
   // One kilometre: far enough to stand for infinity in any scene the rig maps.
   static constexpr double kMinInverseDepth = 1e-3;
-  // Where the state's parts sit in P_.
-  static constexpr int kBiasColumn = 6;
-  static constexpr int kScaleColumn = 9;
-  static constexpr int kFirstPointColumn = 10;
-  static int point_column(int slot) { return kFirstPointColumn + 3 * slot; }
 
-  // A point's fixed reference: where its first ray started, and a basis whose first column is
-  // that ray's direction (world frame).
-  struct Anchor {
-    Eigen::Vector3d origin;
-    Eigen::Matrix3d basis;
-    int updates = 0;  // accepted updates the point has taken part in
-  };
   // The pixel of the point (anchor, params) from the pose (R, t), with its Jacobians when asked.
   // False where the point does not project.
-  bool linearise(const Anchor& anchor, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+  bool linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                  const Eigen::Vector3d& params, bool jacobians, Linearisation* out) const;
-  // The world point of an anchor's parameters, and its derivative with respect to them.
-  static Eigen::Vector3d world_point(const Anchor& anchor, const Eigen::Vector3d& params,
-                                     Eigen::Matrix3d* J_params = nullptr);
 
   // What the smoothed start needs of the frames so far: per frame, the pose's estimate, the
   // motion prior into it (none for the first) and the observations of tracks in the state; per
@@ -293,16 +274,9 @@ class OnlineFilter {
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
   bool started_ = false;
-  Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
-  SensorStates sensors_;
+  FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
   bool scale_started_ = false;  // by the first with odometry
-  Eigen::VectorXd points_;     // 3 per slot: angles across the first ray, inverse depth
-  std::vector<Anchor> anchors_;  // per slot
-  Eigen::MatrixXd P_;          // kFirstPointColumn + 3 * slots
-  std::vector<int> slot_track_;
-  std::map<int, int> track_slot_;
   // Ended points: held for the smoothed start while it is pending; then the latest kept_history
   // handed over, a ring (no allocation once full, however long the run) whose oldest is at
   // history_next_.
@@ -324,7 +298,7 @@ class OnlineFilter {
   bool smoothing_start_ = false;           // until the smoothed start has run
   std::vector<StartFrame> start_frames_;
 
-  std::map<int, Anchor> start_anchors_;
+  std::map<int, PointAnchor> start_anchors_;
   std::map<int, Eigen::Isometry3d> smoothed_start_;
 };
 

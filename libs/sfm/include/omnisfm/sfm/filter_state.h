@@ -1,0 +1,87 @@
+#pragma once
+// The online filter's estimate (online_filter.h): one mean and one covariance over it, and the
+// slots that map the live tracks to their points, as MRPT's CKalmanFilterCapable keeps one state
+// vector with landmark accessors.
+//
+// Mean: cam_from_world (R, t), the vehicle's sensors' states, and per slot a live track's point
+// as two angles across its first ray and an inverse distance along it, about that ray's anchor.
+// Covariance columns: the pose 0-5 (the rotation's error a left perturbation, R = exp(dtheta) R,
+// then the translation's), the gyro's bias 6-8, the wheels' scale 9, then 3 per slot.
+
+#include <Eigen/Geometry>
+#include <map>
+#include <vector>
+
+namespace omnisfm::sfm {
+
+// What the filter estimates of the vehicle's sensors, at which its next prediction is made.
+struct SensorStates {
+  Eigen::Vector3d gyro_bias{0, 0, 0};  // rad/s about the body's axes
+  // The odometry's distances are multiplied by this on top of MotionSensors::odometry_scale.
+  double wheel_scale = 1;
+};
+
+// A point's fixed reference: where its first ray started, and a basis whose first column is that
+// ray's direction (world frame).
+struct PointAnchor {
+  Eigen::Vector3d origin{0, 0, 0};
+  Eigen::Matrix3d basis = Eigen::Matrix3d::Identity();
+  int updates = 0;  // accepted updates the point has taken part in
+
+  // The world point of parameters about this anchor, and its derivative with respect to them.
+  Eigen::Vector3d world_point(const Eigen::Vector3d& params,
+                              Eigen::Matrix3d* J_params = nullptr) const;
+  // The parameters of a world point: world_point's inverse.
+  Eigen::Vector3d params_of(const Eigen::Vector3d& world_point) const;
+};
+
+struct FilterMean {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  SensorStates sensors;
+  Eigen::VectorXd points;  // 3 per slot
+
+  // Moved by `delta`, in the covariance's columns (the rotation to exp(delta's first three) R),
+  // each inverse depth held at min_inverse_depth or beyond: noise can push a barely-parallaxed
+  // point past infinity, and it is held far away instead.
+  FilterMean plus(const Eigen::VectorXd& delta, double min_inverse_depth) const;
+  Eigen::Isometry3d cam_from_world() const;
+  Eigen::Vector3d params(int slot) const { return points.segment<3>(3 * slot); }
+};
+
+// add() and remove() keep the slots, the mean's points and the covariance in step.
+class FilterState {
+ public:
+  static constexpr int kBiasColumn = 6;
+  static constexpr int kScaleColumn = 9;
+  static constexpr int kFirstPointColumn = 10;
+  static int point_column(int slot) { return kFirstPointColumn + 3 * slot; }
+
+  FilterMean mean;
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(kFirstPointColumn, kFirstPointColumn);
+
+  int num_slots() const { return static_cast<int>(slot_track_.size()); }
+  // The slot of a track's point; -1 when the state holds none.
+  int slot_of(int track) const;
+  int track_of(int slot) const { return slot_track_[slot]; }
+  const std::vector<int>& slot_tracks() const { return slot_track_; }
+  PointAnchor& anchor(int slot) { return anchors_[slot]; }
+  const PointAnchor& anchor(int slot) const { return anchors_[slot]; }
+  Eigen::Vector3d world_point(int slot) const {
+    return anchors_[slot].world_point(mean.params(slot));
+  }
+
+  // A new slot, the last, for a track's point at `params` about `anchor`. The point hangs on the
+  // pose: its error is G times the pose's plus its own (independent, `own_sigma` per parameter).
+  int add(int track, const PointAnchor& anchor, const Eigen::Vector3d& params,
+          const Eigen::Matrix<double, 3, 6>& G, const Eigen::Vector3d& own_sigma);
+  // The slot's point leaves; the last slot moves into its place.
+  void remove(int slot);
+
+ private:
+  std::vector<PointAnchor> anchors_;  // per slot
+  std::vector<int> slot_track_;
+  std::map<int, int> track_slot_;
+};
+
+}  // namespace omnisfm::sfm

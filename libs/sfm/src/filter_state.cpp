@@ -1,0 +1,92 @@
+#include "omnisfm/sfm/filter_state.h"
+
+#include <algorithm>
+
+#include "so3.h"
+
+namespace omnisfm::sfm {
+
+Eigen::Vector3d PointAnchor::world_point(const Eigen::Vector3d& params,
+                                         Eigen::Matrix3d* J_params) const {
+  const Eigen::Vector3d u = basis.col(0) + params.x() * basis.col(1) + params.y() * basis.col(2);
+  const double norm = u.norm();
+  const Eigen::Vector3d direction = u / norm;
+  const double rho = params.z();
+  if (J_params) {
+    const Eigen::Matrix3d across =
+        (Eigen::Matrix3d::Identity() - direction * direction.transpose()) / norm;
+    *J_params << across * basis.col(1) / rho, across * basis.col(2) / rho,
+        -direction / (rho * rho);
+  }
+  return origin + direction / rho;
+}
+
+Eigen::Vector3d PointAnchor::params_of(const Eigen::Vector3d& X) const {
+  const Eigen::Vector3d ray = X - origin;
+  const double along = basis.col(0).dot(ray);
+  return {basis.col(1).dot(ray) / along, basis.col(2).dot(ray) / along, 1 / ray.norm()};
+}
+
+FilterMean FilterMean::plus(const Eigen::VectorXd& delta, double min_inverse_depth) const {
+  FilterMean moved;
+  moved.R = so3::exp(delta.head<3>()) * R;
+  moved.t = t + delta.segment<3>(3);
+  moved.sensors = sensors;
+  moved.sensors.gyro_bias += delta.segment<3>(FilterState::kBiasColumn);
+  moved.sensors.wheel_scale += delta[FilterState::kScaleColumn];
+  moved.points = points + delta.tail(points.size());
+  for (Eigen::Index k = 2; k < moved.points.size(); k += 3)
+    moved.points[k] = std::max(moved.points[k], min_inverse_depth);
+  return moved;
+}
+
+Eigen::Isometry3d FilterMean::cam_from_world() const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = t;
+  return T;
+}
+
+int FilterState::slot_of(int track) const {
+  const auto slot = track_slot_.find(track);
+  return slot == track_slot_.end() ? -1 : slot->second;
+}
+
+int FilterState::add(int track, const PointAnchor& anchor, const Eigen::Vector3d& params,
+                     const Eigen::Matrix<double, 3, 6>& G, const Eigen::Vector3d& own_sigma) {
+  const int slot = num_slots();
+  anchors_.push_back(anchor);
+  slot_track_.push_back(track);
+  track_slot_[track] = slot;
+  const int n = static_cast<int>(P.rows());
+  P.conservativeResize(n + 3, n + 3);
+  const Eigen::MatrixXd cross = G * P.topLeftCorner(6, n);  // 3 x n
+  P.bottomLeftCorner(3, n) = cross;
+  P.topRightCorner(n, 3) = cross.transpose();
+  P.bottomRightCorner<3, 3>() = G * P.topLeftCorner<6, 6>() * G.transpose();
+  P.bottomRightCorner<3, 3>().diagonal() += own_sigma.cwiseAbs2();
+  mean.points.conservativeResize(3 * slot + 3);
+  mean.points.segment<3>(3 * slot) = params;
+  return slot;
+}
+
+void FilterState::remove(int slot) {
+  track_slot_.erase(slot_track_[slot]);
+  const int last = num_slots() - 1;
+  const int n = point_column(last);  // size after removal
+  if (slot != last) {
+    const int from = point_column(last), to = point_column(slot);
+    mean.points.segment<3>(3 * slot) = mean.points.segment<3>(3 * last);
+    anchors_[slot] = anchors_[last];
+    P.middleCols<3>(to) = P.middleCols<3>(from);
+    P.middleRows<3>(to) = P.middleRows<3>(from);
+    slot_track_[slot] = slot_track_[last];
+    track_slot_[slot_track_[slot]] = slot;
+  }
+  slot_track_.pop_back();
+  anchors_.pop_back();
+  mean.points.conservativeResize(3 * last);
+  P.conservativeResize(n, n);
+}
+
+}  // namespace omnisfm::sfm

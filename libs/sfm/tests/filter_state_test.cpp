@@ -1,0 +1,98 @@
+// The filter's state: slots, mean and covariance kept in step by add and remove; the mean moved
+// by plus; a point's parameters about its anchor and their Jacobian.
+
+#include "omnisfm/sfm/filter_state.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace omnisfm::sfm {
+namespace {
+
+PointAnchor anchor_along(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
+  PointAnchor a;
+  a.origin = origin;
+  a.basis.col(0) = direction.normalized();
+  a.basis.col(1) = a.basis.col(0).unitOrthogonal();
+  a.basis.col(2) = a.basis.col(0).cross(a.basis.col(1));
+  return a;
+}
+
+TEST(FilterState, WorldPointJacobianMatchesCentralDifferences) {
+  const PointAnchor a = anchor_along({0.1, -0.2, 0.3}, {1, 2, -0.5});
+  const Eigen::Vector3d params(0.02, -0.03, 0.4);
+  Eigen::Matrix3d J;
+  a.world_point(params, &J);
+  const double h = 1e-6;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d up = params, down = params;
+    up[k] += h;
+    down[k] -= h;
+    const Eigen::Vector3d numeric = (a.world_point(up) - a.world_point(down)) / (2 * h);
+    EXPECT_LT((J.col(k) - numeric).norm(), 1e-6 * (1 + numeric.norm())) << "column " << k;
+  }
+  EXPECT_LT((a.params_of(a.world_point(params)) - params).norm(), 1e-12);
+}
+
+// Three points added, the middle one removed: the last takes its slot, and the mean and every
+// covariance entry follow it.
+TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
+  std::mt19937_64 rng(2);
+  std::normal_distribution<double> normal(0, 1);
+  FilterState state;
+  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(10, 10, [&] { return normal(rng); });
+  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(10, 10);
+  for (int track : {7, 8, 9}) {
+    const Eigen::Matrix<double, 3, 6> G =
+        Eigen::Matrix<double, 3, 6>::NullaryExpr([&] { return normal(rng); });
+    const int slot = state.add(track, anchor_along(Eigen::Vector3d::Zero(), {1, track, 0}),
+                               Eigen::Vector3d(0, 0, 0.1 * track), G, Eigen::Vector3d(1, 2, 3));
+    EXPECT_EQ(state.track_of(slot), track);
+    // The point's error is G times the pose's plus its own.
+    const int c = FilterState::point_column(slot);
+    EXPECT_LT((state.P.block<3, 6>(c, 0) - G * state.P.topLeftCorner<6, 6>()).norm(), 1e-12);
+    EXPECT_NEAR(state.P(c + 2, c + 2),
+                (G * state.P.topLeftCorner<6, 6>() * G.transpose())(2, 2) + 9, 1e-12);
+  }
+  ASSERT_EQ(state.P.rows(), FilterState::point_column(3));
+  const Eigen::MatrixXd before = state.P;
+  state.remove(state.slot_of(8));
+  EXPECT_EQ(state.num_slots(), 2);
+  EXPECT_EQ(state.slot_of(8), -1);
+  EXPECT_EQ(state.slot_of(7), 0);
+  EXPECT_EQ(state.slot_of(9), 1);
+  EXPECT_EQ(state.mean.points.size(), 6);
+  EXPECT_DOUBLE_EQ(state.mean.params(1).z(), 0.9);
+  // Old columns of what is left: the pose and sensors, track 7's, track 9's.
+  std::vector<int> kept;
+  for (int k = 0; k < 10; ++k) kept.push_back(k);
+  for (int k = 0; k < 3; ++k) kept.push_back(FilterState::point_column(0) + k);
+  for (int k = 0; k < 3; ++k) kept.push_back(FilterState::point_column(2) + k);
+  ASSERT_EQ(state.P.rows(), static_cast<int>(kept.size()));
+  for (size_t i = 0; i < kept.size(); ++i)
+    for (size_t j = 0; j < kept.size(); ++j)
+      EXPECT_EQ(state.P(i, j), before(kept[i], kept[j])) << i << ", " << j;
+}
+
+TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
+  FilterState state;
+  state.add(4, anchor_along(Eigen::Vector3d::Zero(), {0, 1, 0}), Eigen::Vector3d(0, 0, 0.5),
+            Eigen::Matrix<double, 3, 6>::Zero(), Eigen::Vector3d::Ones());
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(FilterState::point_column(1));
+  delta.head<3>() << 0, 0, 0.1;
+  delta.segment<3>(3) << 1, 2, 3;
+  delta.segment<3>(FilterState::kBiasColumn) << 0.01, 0.02, 0.03;
+  delta[FilterState::kScaleColumn] = 0.05;
+  delta.tail<3>() << 0.1, -0.1, -2;  // the inverse depth past zero
+  const FilterMean moved = state.mean.plus(delta, 1e-3);
+  EXPECT_LT((moved.R - Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix()).norm(),
+            1e-15);
+  EXPECT_EQ(moved.t, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(moved.sensors.gyro_bias, Eigen::Vector3d(0.01, 0.02, 0.03));
+  EXPECT_DOUBLE_EQ(moved.sensors.wheel_scale, 1.05);
+  EXPECT_EQ(moved.params(0), Eigen::Vector3d(0.1, -0.1, 1e-3));
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
