@@ -355,7 +355,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   if (!started_) {
     started_ = true;
     for (const auto& [track, pixel] : seen) add_point(track, pixel);
-    record_start_frame(frame, observations, nullptr);
+    record_start_frame(frame, observations, nullptr, state_.mean.sensors);
     return true;
   }
 
@@ -363,10 +363,16 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   for (int s = state_.num_slots() - 1; s >= 0; --s)
     if (!seen.count(state_.track_of(s))) end_point(s);
 
+  const SensorStates predicted_at = state_.mean.sensors;
   if (motion)
     propagate(*motion);
   else
     propagate();
+  if (smoothing_start_ && start_frames_.size() == 1) {
+    // The first prediction has set the sensors' priors.
+    start_sensors_ = predicted_at;
+    start_sensors_covariance_ = state_.P.block<4, 4>(FilterState::kBiasColumn, FilterState::kBiasColumn);
+  }
 
   std::vector<Measurement> measurements;
   for (const auto& [track, pixel] : seen) {
@@ -430,7 +436,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
 
   for (const auto& [track, pixel] : seen)
     if (state_.slot_of(track) < 0 && !excluded_.count(track)) add_point(track, pixel);
-  record_start_frame(frame, observations, motion);
+  record_start_frame(frame, observations, motion, predicted_at);
   return updated;
 }
 
@@ -442,24 +448,16 @@ void OnlineFilter::smooth_start() {
 }
 
 void OnlineFilter::record_start_frame(int frame, const std::vector<TrackPixel>& observations,
-                                      const MotionPrediction* motion) {
+                                      const MotionPrediction* motion,
+                                      const SensorStates& predicted_at) {
   if (!smoothing_start_) return;
   StartFrame f;
   f.frame = frame;
   f.R = state_.mean.R;
   f.t = state_.mean.t;
   f.random_walk = motion == nullptr;
-  if (motion) {
-    // The start's solve holds the sensors' states at their estimates: their uncertainty goes with
-    // the motion's.
-    f.motion = *motion;
-    const Eigen::Matrix<double, 6, 3>& B = motion->bias_jacobian;
-    const Eigen::Matrix<double, 6, 1>& S = motion->wheel_scale_jacobian;
-    const Eigen::MatrixXd& P = state_.P;
-    f.motion.covariance +=
-        B * P.block<3, 3>(FilterState::kBiasColumn, FilterState::kBiasColumn) * B.transpose() +
-        S * P(FilterState::kScaleColumn, FilterState::kScaleColumn) * S.transpose();
-  }
+  if (motion) f.motion = *motion;  // the sensors' errors are the start's to solve
+  f.predicted_at = predicted_at;
   for (const auto& o : observations)
     if (state_.slot_of(o.track) >= 0) f.observations.push_back(o);
   start_frames_.push_back(std::move(f));

@@ -88,9 +88,12 @@ struct FilterSettings {
   bool estimate_gyro_bias = true;
   // With odometry: estimate a correction of the wheels' scale as a state, within
   // OdometryNoise::scale_sigma of the calibration (else the calibration is taken as exact). Off:
-  // the filter's vision is overconfident about the scale (its own scale on the simulated rover is
-  // several times too large while its sigma says a centimetre), and lets that in: on the rover
-  // with a wheel reading 1.5 % long the correction went to 1.04 +- 0.0015 instead of 0.985.
+  // the images fix the scale only through a few centimetres of mirror, and the filter's
+  // linearisation takes far more from them than they hold: over rover seeds 1-5 the correction
+  // went to 0.99-1.015 +- 0.0013 whatever the wheel's true error (0 or 1.5 %), and the pose's NEES
+  // to 67 with a true wheel. Held as a consider (Schmidt) state instead, its uncertainty carried
+  // and never reduced, the pose followed the images' scale: NEES 100 over seeds 1-10 (1,500
+  // without the smoothed start).
   bool estimate_wheel_scale = false;
   // How many of the latest ended points and rejected tracks points() and rejected() keep; the
   // callbacks (OnlineFilter::on_point_ended, on_track_rejected) are handed every one.
@@ -255,18 +258,19 @@ class OnlineFilter {
                  const Eigen::Vector3d& params, bool jacobians, Linearisation* out) const;
 
   // What the smoothed start needs of the frames so far: per frame, the pose's estimate, the
-  // motion prior into it (none for the first) and the observations of tracks in the state; per
-  // track, its anchor.
+  // motion prior into it (none for the first) with the sensors' states it was predicted at, and
+  // the observations of tracks in the state; per track, its anchor.
   struct StartFrame {
     int frame = 0;
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
     bool random_walk = true;  // else `motion`
     MotionPrediction motion;
+    SensorStates predicted_at;
     std::vector<TrackPixel> observations;
   };
   void record_start_frame(int frame, const std::vector<TrackPixel>& observations,
-                          const MotionPrediction* motion);
+                          const MotionPrediction* motion, const SensorStates& predicted_at);
   // The start solved (online_filter_smoothed_start.cpp), then the points it held handed over.
   void smooth_start();
   void solve_start();
@@ -297,6 +301,9 @@ class OnlineFilter {
   long linearisations_ = 0;
   bool smoothing_start_ = false;           // until the smoothed start has run
   std::vector<StartFrame> start_frames_;
+  // The sensors' states and their covariance before the first prediction: the start's prior.
+  SensorStates start_sensors_;
+  Eigen::Matrix4d start_sensors_covariance_ = Eigen::Matrix4d::Zero();
 
   std::map<int, PointAnchor> start_anchors_;
   std::map<int, Eigen::Isometry3d> smoothed_start_;
