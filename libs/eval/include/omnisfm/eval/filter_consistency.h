@@ -1,0 +1,22 @@
+#pragma once
+// The online filter's published pose covariance against its actual errors on the simulated rover
+// with its simulated odometry and gyro: the normalised estimation error squared (NEES) of the pose
+// at every frame but the first (rotation as a left perturbation, then translation, of
+// cam_from_world, in the gauge of the first frame). Honest: a mean of 6 (the pose's degrees of
+// freedom) and 95 % of frames inside chi-square(6)'s 95 % bound, 12.59.
+
+#include "omnisfm/sfm/online_filter.h"
+
+namespace omnisfm::eval {
+
+struct PoseConsistency {
+  double mean_nees = 0;
+  double inside = 0;  // the fraction of frames inside the 95 % bound
+  long frames = 0;
+};
+
+// Rover seeds 1..seeds, the simulated wheel reading `wheel_scale_error` long (0.015: 1.5 %).
+PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
+                                       const sfm::FilterSettings& settings = {});
+
+}  // namespace omnisfm::eval

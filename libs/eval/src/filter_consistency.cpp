@@ -1,0 +1,49 @@
+#include "omnisfm/eval/filter_consistency.h"
+
+#include "omnisfm/eval/simulated_sensors.h"
+#include "omnisfm/sfm/motion_prediction.h"
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/dead_reckoning.h"
+#include "omnisfm/sim/scenario.h"
+
+namespace omnisfm::eval {
+
+PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
+                                       const sfm::FilterSettings& settings) {
+  double sum = 0;
+  long inside = 0;
+  PoseConsistency c;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    sim::SimulationOptions simulation;
+    simulation.scenario = "rover";
+    simulation.seed = static_cast<std::uint64_t>(seed);
+    const sim::Dataset d = sim::simulate(simulation);
+    sim::DeadReckoningOptions options;
+    options.seed = static_cast<std::uint64_t>(seed);
+    options.odometry_scale_error = wheel_scale_error;
+    const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(d, options);
+    const sfm::MotionSensors sensors = motion_sensors(&dead_reckoning, options, nullptr);
+    sfm::OnlineFilter filter(d.camera, settings);
+    const auto by_frame = sfm::observations_by_frame(d.observations);
+    filter.process_frame(0, by_frame[0]);
+    for (size_t f = 1; f < by_frame.size(); ++f) {
+      filter.process_frame(static_cast<int>(f), by_frame[f],
+                           sfm::predict_camera_motion(sensors, d.timestamps[f - 1], d.timestamps[f],
+                                                      settings, filter.sensor_states()));
+      const Eigen::Isometry3d truth = d.world_from_cam[f].inverse() * d.world_from_cam[0];
+      const Eigen::Isometry3d estimate = filter.cam_from_world();
+      const Eigen::AngleAxisd rotation(truth.linear() * estimate.linear().transpose());
+      Eigen::Matrix<double, 6, 1> e;
+      e << rotation.angle() * rotation.axis(), truth.translation() - estimate.translation();
+      const double nees = e.dot(filter.pose_covariance().ldlt().solve(e));
+      sum += nees;
+      ++c.frames;
+      inside += nees < 12.59;
+    }
+  }
+  c.mean_nees = sum / static_cast<double>(c.frames);
+  c.inside = static_cast<double>(inside) / static_cast<double>(c.frames);
+  return c;
+}
+
+}  // namespace omnisfm::eval
