@@ -241,6 +241,28 @@ TEST_F(CliTest, BadUsageExitsWithTwo) {
   }
 }
 
+// Bad input is answered in words: a range as a person writes it (CLI11's gave the largest double
+// in 309 digits), a damaged file's bytes escaped rather than echoed raw.
+TEST_F(CliTest, MessagesAreReadable) {
+  const Outcome holdout = omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+                                  " --targets t.vnl --observations o.vnl --holdout -1 --out c.ini");
+  EXPECT_EQ(holdout.status, 2);
+  EXPECT_EQ(holdout.err.rfind("omnisfm: --holdout: must be a whole number, at least 0, not '-1'\n",
+                              0),
+            0u)
+      << holdout.err;
+  const Outcome noise = omnisfm("simulate --scenario lab --noise 200 --out lab");
+  EXPECT_EQ(noise.status, 2);
+  EXPECT_EQ(noise.err.rfind("omnisfm: --noise: must be a number from 0 to 100, not '200'\n", 0),
+            0u)
+      << noise.err;
+
+  write("points.vnl", "# x \xff\xfe z\n1 0 -1\n");
+  const Outcome header = omnisfm("project points.vnl");
+  EXPECT_EQ(header.status, 2);
+  EXPECT_EQ(header.err, "omnisfm: points.vnl: no column 'y' (columns: x \\xff\\xfe z)\n");
+}
+
 TEST_F(CliTest, HelpWorksForEveryVerb) {
   const Outcome overview = omnisfm("--help");
   EXPECT_EQ(overview.status, 0);

@@ -257,16 +257,16 @@ void add_calibrate_verb(CLI::App& app) {
   verb->add_option("--holdout", o->holdout,
                    "Leave this many views (spread evenly) out, and report their RMS against the "
                    "calibration")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_between(0));
   verb->add_option("--outlier-sigma", o->outlier_sigma,
                    "Reject a residual coordinate beyond this many residual sigmas")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 1000.0));
+      ->check(number_between(1, 1000));
   verb->add_option("--uncertainty-distance", o->uncertainty_distance,
                    "Distance (metres) along each pixel's ray of the points in the projection-"
                    "uncertainty map")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
 
   targets->needs(observations);
   observations->needs(targets);

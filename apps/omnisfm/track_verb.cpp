@@ -83,11 +83,11 @@ void add_track_verb(CLI::App& app) {
                    "the frame index");
   verb->add_option("--max-tracks", o->settings.max_tracks, "Tracks kept alive")
       ->capture_default_str()
-      ->check(CLI::Range(6, 100000));
+      ->check(whole_number_between(6, 100000));
   verb->add_option("--min-ncc", o->settings.min_ncc,
                    "End a track whose patch correlates less than this with its first appearance")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_between(0, 1));
   verb->add_flag("--no-reacquisition", o->no_reacquisition, "Do not look for lost features again");
   verb->callback([o] {
     o->settings.reacquire = !o->no_reacquisition;
