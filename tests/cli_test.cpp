@@ -1039,6 +1039,7 @@ TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
 
   const Outcome strict = omnisfm("run lab/dataset.rawlog --out strict --strict");
   EXPECT_EQ(strict.status, 2);
+  EXPECT_EQ(strict.err.rfind("omnisfm: lab/dataset.rawlog: object ", 0), 0u) << strict.err;
   EXPECT_NE(strict.err.find("truncated"), std::string::npos) << strict.err;
   EXPECT_FALSE(fs::exists(dir_ / "strict"));
 }
@@ -1070,7 +1071,11 @@ TEST_F(CliTest, RunRejectsBadInputAndWritesNothing) {
   write("not.rawlog", "this is not a rawlog at all\n");
   const Outcome garbage = omnisfm("run not.rawlog --out result");
   EXPECT_EQ(garbage.status, 2);
-  EXPECT_NE(garbage.err.find("object 0"), std::string::npos) << garbage.err;
+  EXPECT_NE(garbage.err.find("object 0: it is corrupt: it does not begin as an MRPT object does"),
+            std::string::npos)
+      << garbage.err;
+  EXPECT_EQ(garbage.err.find("not.rawlog"), garbage.err.rfind("not.rawlog")) << garbage.err;
+  EXPECT_EQ(garbage.err.find("warning"), std::string::npos) << garbage.err;
   EXPECT_FALSE(fs::exists(dir_ / "result"));
 
   const Outcome help = omnisfm("run --help");

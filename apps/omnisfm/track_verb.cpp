@@ -43,7 +43,7 @@ track::TrackedSequence track_rawlog(const std::string& path, const std::string& 
     return mrpt_plugin::read_replay_input(path, options, progress.callback());
   }();
   if (!in.read.complete())
-    std::cerr << "omnisfm: warning: " << in.read.problem << "; tracked the "
+    std::cerr << "omnisfm: warning: " << path << ": " << in.read.problem << "; tracked the "
               << in.frame_times.size() << " images before it\n";
   track::TrackedSequence sequence;
   sequence.observations = in.tracks;
