@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -244,8 +246,9 @@ TEST_F(CliTest, BadUsageExitsWithTwo) {
 // Bad input is answered in words: a range as a person writes it (CLI11's gave the largest double
 // in 309 digits), a damaged file's bytes escaped rather than echoed raw.
 TEST_F(CliTest, MessagesAreReadable) {
-  const Outcome holdout = omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
-                                  " --targets t.vnl --observations o.vnl --holdout -1 --out c.ini");
+  const Outcome holdout =
+      omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+              " --targets t.vnl --observations o.vnl --holdout -1 --out c.ini");
   EXPECT_EQ(holdout.status, 2);
   EXPECT_EQ(holdout.err.rfind("omnisfm: --holdout: must be a whole number, at least 0, not '-1'\n",
                               0),
@@ -1041,6 +1044,49 @@ TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
   EXPECT_EQ(strict.status, 2);
   EXPECT_EQ(strict.err.rfind("omnisfm: lab/dataset.rawlog: object ", 0), 0u) << strict.err;
   EXPECT_NE(strict.err.find("truncated"), std::string::npos) << strict.err;
+  EXPECT_FALSE(fs::exists(dir_ / "strict"));
+}
+
+// The fuzzing case that aborted inside Ceres: a gzip rawlog of rendered images with one double set
+// to NaN at the end of the object before the 13th image. The 12 images before the damage are
+// tracked and replayed through the batch, and the warning and the report say where it is.
+TEST_F(CliTest, RunReplaysTheImagesBeforeADamagedObject) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --width 512 --height 384 --render --rawlog "
+                    "--out lab")
+                .status,
+            0);
+  const auto gzip = [this](const std::string& options, const std::string& from,
+                           const std::string& to) {
+    return std::system(("gzip " + options + " " + quoted((dir_ / from).string()) + " > " +
+                        quoted((dir_ / to).string()))
+                           .c_str());
+  };
+  ASSERT_EQ(gzip("-dc", "lab/dataset.rawlog", "plain.rawlog"), 0);
+  std::string bytes = read_all(dir_ / "plain.rawlog");
+  const std::string image_class = "omnisfm::mrpt_plugin::CObservationOmniImage";
+  const std::string image_header = char(0x80 | image_class.size()) + image_class;
+  size_t image = bytes.find(image_header);
+  for (int i = 0; i < 12 && image != std::string::npos; ++i)
+    image = bytes.find(image_header, image + 1);
+  ASSERT_NE(image, std::string::npos);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(&bytes[image - sizeof nan], &nan, sizeof nan);
+  write("plain.rawlog", bytes);
+  ASSERT_EQ(gzip("-1 -c", "plain.rawlog", "damaged.rawlog"), 0);
+  write("images.ini", "[run]\nvision = images\n");
+
+  const Outcome run = omnisfm("run damaged.rawlog --config images.ini --out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err.rfind("omnisfm: warning: damaged.rawlog: object ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find("): it is corrupt: "), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("; replaying the 12 frames before it\n"), std::string::npos) << run.err;
+  EXPECT_NE(run.out.find("\nframes 12,"), std::string::npos) << run.out;
+  EXPECT_EQ(read_all(dir_ / "result/report.txt").rfind("rawlog damaged: object ", 0), 0u);
+  EXPECT_EQ(omnisfm::io::read_tum_trajectory((dir_ / "result/batch.tum").string()).size(), 12u);
+
+  const Outcome strict = omnisfm("run damaged.rawlog --config images.ini --out strict --strict");
+  EXPECT_EQ(strict.status, 2) << strict.err;
+  EXPECT_EQ(strict.err.rfind("omnisfm: damaged.rawlog: object ", 0), 0u) << strict.err;
   EXPECT_FALSE(fs::exists(dir_ / "strict"));
 }
 
