@@ -775,7 +775,7 @@ void copy_images(const fs::path& from, const fs::path& to, const std::vector<std
 TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
   ASSERT_EQ(omnisfm("simulate --scenario lab --width 512 --height 384 --render --out lab").status,
             0);
-  fs::create_directories(dir_ / "tracked");
+  // The tracks' folder is made, as sfm makes its --out folder.
   const Outcome run = omnisfm(
       "track --camera lab/camera.ini --images lab/images --timestamps lab/frames.vnl"
       " --out tracked/tracks.vnl");
@@ -842,6 +842,11 @@ TEST_F(CliTest, TrackRejectsBadImagesAndWritesNothing) {
   }
   const Outcome nowhere = omnisfm("track --images big/images --out no/such/tracks.vnl");
   EXPECT_EQ(nowhere.status, 2) << nowhere.err;
+  EXPECT_NE(nowhere.err.find("no is not a writable folder"), std::string::npos) << nowhere.err;
+  // A folder it would have made is not left behind.
+  const Outcome fresh = omnisfm("track --images empty --out fresh/tracks.vnl");
+  EXPECT_EQ(fresh.status, 2) << fresh.err;
+  EXPECT_FALSE(fs::exists(dir_ / "fresh"));
 }
 
 // The rows of a vnlog file's columns, by name.
