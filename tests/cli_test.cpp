@@ -724,6 +724,37 @@ TEST_F(CliTest, CalibrateRejectsBadInputAndWritesNoCamera) {
   }
 }
 
+// A solve that does not converge writes no camera file but keeps its report, which shows why; the
+// report folder is replaced whole, so nothing of an earlier run's report stays in it.
+TEST_F(CliTest, CalibrateThatDoesNotConvergeKeepsOnlyItsOwnReport) {
+  EXPECT_NE(omnisfm("calibrate --help").out.find("still writes its report folder"),
+            std::string::npos);
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
+  const std::string calibrate = "calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+                                " --targets lab/targets.vnl --out calibrated.ini";
+  ASSERT_EQ(omnisfm(calibrate + " --observations lab/observations.vnl").status, 0);
+  const std::string camera = read_all(dir_ / "calibrated.ini");
+  ASSERT_TRUE(fs::exists(dir_ / "calibrated.report/uncertainty.vnl"));
+
+  // One image cannot tell the lens and the mirror's shape from its pose.
+  std::istringstream rows(read_all(dir_ / "lab/observations.vnl"));
+  std::string line, first_image;
+  while (std::getline(rows, line))
+    if (line.rfind("0 ", 0) == 0 || line[0] == '#') first_image += line + "\n";
+  write("one.vnl", first_image);
+  const Outcome fails = omnisfm(calibrate + " --observations one.vnl"
+                                            " --estimate mirror-pose,intrinsics,mirror-shape");
+  EXPECT_EQ(fails.status, 1) << fails.err;
+  EXPECT_EQ(fails.err.rfind("omnisfm: the calibration did not converge", 0), 0u) << fails.err;
+  EXPECT_EQ(read_all(dir_ / "calibrated.ini"), camera);
+  EXPECT_NE(read_all(dir_ / "calibrated.report/report.txt").find("status: NOT CONVERGED"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "calibrated.report/uncertainty.vnl"));
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".partial-"), std::string::npos)
+        << entry.path();
+}
+
 TEST_F(CliTest, CalibrateConvergesOnRealCatadioptricCheckerboards) {
   const fs::path data = real_data_folder();
   if (!fs::is_directory(data)) GTEST_SKIP() << "no real data at " << data;
