@@ -1,13 +1,21 @@
 #include "omnisfm/mrpt_plugin/rawlog_reader.h"
 
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/rtti/CObject.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <regex>
 
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
 namespace omnisfm::mrpt_plugin {
 namespace {
@@ -20,10 +28,12 @@ std::string failed_class(const std::string& text) {
   return std::regex_search(text, match, pattern) ? match[1].str() : std::string();
 }
 
-std::string unregistered_class(const std::string& text) {
+// The class name MRPT found no class for (perhaps empty), or nothing when that is not the problem.
+std::optional<std::string> unregistered_class(const std::string& text) {
   static const std::regex pattern(R"(Stored object has class '([^']*)' which is not registered)");
   std::smatch match;
-  return std::regex_search(text, match, pattern) ? match[1].str() : std::string();
+  if (!std::regex_search(text, match, pattern)) return std::nullopt;
+  return match[1].str();
 }
 
 std::string unknown_version(const std::string& text) {
@@ -81,21 +91,67 @@ std::string corruption_of(const std::string& mrpt_message, const std::string& ob
   if (says("Stored class does not match")) return "it holds another class than its place expects";
   if (says("bad_alloc") || says("max_size") || says("bad_array_new_length"))
     return "a length stored in it is far beyond what the file holds";
-  if (says("Assert condition failed")) return "a value stored in it is out of its range";
+  if (says("Assert condition failed") || says("ASSERT_"))
+    return "a value stored in it is out of its range";
   return mrpt_error_reason(mrpt_message);
+}
+
+bool is_finite(const mrpt::poses::CPose2D& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
+}
+
+bool is_finite(const mrpt::poses::CPose3D& p) {
+  return p.m_coords.asEigen().allFinite() && p.getRotationMatrix().asEigen().allFinite();
+}
+
+// What in an observation the estimators take is not a finite number (damage that MRPT's format
+// cannot see: NaN bytes are a double like any other); empty when everything is.
+std::string non_finite_in(const mrpt::obs::CObservation& observation) {
+  mrpt::poses::CPose3D sensor_pose;
+  observation.getSensorPose(sensor_pose);
+  if (!is_finite(sensor_pose)) return "its sensor pose";
+  if (const auto* odometry = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&observation))
+    if (!is_finite(odometry->odometry)) return "its odometry";
+  if (const auto* imu = dynamic_cast<const mrpt::obs::CObservationIMU*>(&observation))
+    for (std::size_t i = 0; i < imu->rawMeasurements.size(); ++i)
+      if (imu->dataIsPresent[i] && !std::isfinite(imu->rawMeasurements[i])) return "a reading";
+  if (const auto* tracked = dynamic_cast<const CObservationTrackedFeatures*>(&observation))
+    for (const TrackedFeature& feature : tracked->features)
+      if (!std::isfinite(feature.u) || !std::isfinite(feature.v)) return "a feature's pixel";
+  return "";
+}
+
+std::string non_finite_in(const mrpt::serialization::CSerializable& object) {
+  if (const auto* observation = dynamic_cast<const mrpt::obs::CObservation*>(&object))
+    return non_finite_in(*observation);
+  if (const auto* frame = dynamic_cast<const mrpt::obs::CSensoryFrame*>(&object))
+    for (const auto& observation : *frame) {
+      const std::string what = observation ? non_finite_in(*observation) : "";
+      if (!what.empty()) return what + " (in a " + observation->GetRuntimeClass()->className + ")";
+    }
+  if (const auto* actions = dynamic_cast<const mrpt::obs::CActionCollection*>(&object))
+    for (std::size_t i = 0; i < actions->size(); ++i) {
+      const auto* motion = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&actions->get(i));
+      if (motion && !is_finite(motion->rawOdometryIncrementReading)) return "its odometry";
+    }
+  return "";
 }
 
 }  // namespace
 
 std::string mrpt_error_reason(const std::string& what) {
-  // MRPT nests the exceptions of an object's members, each as "Message:  text"; the innermost
-  // one says what went wrong.
+  // MRPT nests the exceptions of an object's members, each after "Original exception:", as
+  // "Message:  text" when it is MRPT's own; the innermost one says what went wrong.
+  const std::string nesting = "Original exception:";
+  const std::size_t innermost = what.rfind(nesting);
+  const std::string inner =
+      innermost == std::string::npos ? what : what.substr(innermost + nesting.size());
   static const std::regex message(R"(Message:\s+([^\n]*))");
-  std::string last;
-  for (auto it = std::sregex_iterator(what.begin(), what.end(), message);
-       it != std::sregex_iterator(); ++it)
-    last = (*it)[1].str();
-  return last.empty() ? what.substr(0, what.find('\n')) : last;
+  std::smatch match;
+  if (std::regex_search(inner, match, message)) return match[1].str();
+  const std::size_t first = inner.find_first_not_of(" \n");
+  return first == std::string::npos ? what.substr(0, what.find('\n'))
+                                    : inner.substr(first, inner.find('\n', first) - first);
 }
 
 std::string describe_damage(std::size_t index, const std::string& object_class,
@@ -148,6 +204,15 @@ mrpt::serialization::CSerializable::Ptr RawlogReader::next() {
       problem_ = describe_failure(error.what());
       return nullptr;
     }
+    if (object) {
+      const std::string non_finite = non_finite_in(*object);
+      if (!non_finite.empty()) {
+        finished_ = true;
+        problem_ = describe_damage(index_, object->GetRuntimeClass()->className,
+                                   "it is corrupt: " + non_finite + " is not a finite number");
+        return nullptr;
+      }
+    }
     ++index_;
     if (object) return object;
   }
@@ -157,10 +222,10 @@ mrpt::serialization::CSerializable::Ptr RawlogReader::next() {
 std::string RawlogReader::describe_failure(const std::string& mrpt_message) {
   std::string what;
   const std::string object_class = failed_class(mrpt_message);
-  const std::string unregistered = unregistered_class(mrpt_message);
+  const std::optional<std::string> unregistered = unregistered_class(mrpt_message);
   const std::string version = unknown_version(mrpt_message);
-  if (!unregistered.empty()) {
-    what = unregistered_class_problem(unregistered);
+  if (unregistered) {
+    what = unregistered_class_problem(*unregistered);
   } else if (!version.empty()) {
     what = "it was stored by a newer version (" + version + ") of its class than this reader knows";
   } else if (file_->checkEOF()) {

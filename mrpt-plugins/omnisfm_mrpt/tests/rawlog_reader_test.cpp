@@ -8,6 +8,9 @@
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
+#include <cstring>
+#include <limits>
+
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/sim/scenario.h"
@@ -137,6 +140,28 @@ TEST_F(DamagedRawlog, CorruptMemberIsNamed) {
                                             "corrupt: the mrpt::poses::CPose2D stored in it does "
                                             "not end where that class's format says");
   EXPECT_EQ(problem.find("bug"), std::string::npos) << problem;
+}
+
+// NaN is a double like any other to MRPT's format; in what the estimators take it is damage, and
+// reading stops there as at any other (a NaN odometry made the batch fail with exit 1).
+TEST_F(DamagedRawlog, NonFiniteReadingIsDamage) {
+  Bytes bytes = bytes_;
+  const std::size_t x = object_offset(3, "mrpt::poses::CPose2D") + 20 + 1;  // after the version
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(&bytes[x], &nan, sizeof nan);
+  expect_damage(bytes, 3,
+                "object 3 (mrpt::obs::CObservationOdometry): it is corrupt: its odometry is not a "
+                "finite number; the 3 objects before it were read");
+  features_[1].features[1].v = nan;
+  const std::string path = testing::temporary_path("nan_pixel.rawlog");
+  testing::write_plain_rawlog(path, {&comment_, &features_[1]});
+  RawlogReader reader(path);
+  while (reader.next()) {
+  }
+  EXPECT_NE(reader.problem().find("object 1 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): "
+                                  "it is corrupt: a feature's pixel is not a finite number"),
+            std::string::npos)
+      << reader.problem();
 }
 
 TEST_F(DamagedRawlog, UnregisteredClassSaysWhichLibraryToLoad) {

@@ -7,8 +7,9 @@
 // object's index (counting from 0) and what is wrong: the file ends inside the object
 // (truncated), its class is not registered (and which library defines it), its class version is
 // newer than this reader, or its bytes are corrupt (a class name that is a registered one with
-// bytes changed, or no C++ name, is corruption). The caller names the file, as io::InputError
-// does. A file cut exactly between two objects reads as a shorter, complete rawlog: the format
+// bytes changed, or no C++ name, is corruption, and so is a number the estimators take - a
+// sensor pose, odometry, an IMU reading, a tracked pixel - that is not finite). The caller names
+// the file, as io::InputError does. A file cut exactly between two objects reads as a shorter, complete rawlog: the format
 // cannot tell the difference.
 //
 // MRPT headers: the including target must link MRPT (mrpt::obs) itself.
