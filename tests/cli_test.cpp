@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -239,6 +241,29 @@ TEST_F(CliTest, BadUsageExitsWithTwo) {
     EXPECT_EQ(run.status, 2) << args;
     EXPECT_EQ(run.err.rfind("omnisfm: ", 0), 0u) << args << ": " << run.err;
   }
+}
+
+// Bad input is answered in words: a range as a person writes it (CLI11's gave the largest double
+// in 309 digits), a damaged file's bytes escaped rather than echoed raw.
+TEST_F(CliTest, MessagesAreReadable) {
+  const Outcome holdout =
+      omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+              " --targets t.vnl --observations o.vnl --holdout -1 --out c.ini");
+  EXPECT_EQ(holdout.status, 2);
+  EXPECT_EQ(holdout.err.rfind("omnisfm: --holdout: must be a whole number, at least 0, not '-1'\n",
+                              0),
+            0u)
+      << holdout.err;
+  const Outcome noise = omnisfm("simulate --scenario lab --noise 200 --out lab");
+  EXPECT_EQ(noise.status, 2);
+  EXPECT_EQ(noise.err.rfind("omnisfm: --noise: must be a number from 0 to 100, not '200'\n", 0),
+            0u)
+      << noise.err;
+
+  write("points.vnl", "# x \xff\xfe z\n1 0 -1\n");
+  const Outcome header = omnisfm("project points.vnl");
+  EXPECT_EQ(header.status, 2);
+  EXPECT_EQ(header.err, "omnisfm: points.vnl: no column 'y' (columns: x \\xff\\xfe z)\n");
 }
 
 TEST_F(CliTest, HelpWorksForEveryVerb) {
@@ -699,6 +724,37 @@ TEST_F(CliTest, CalibrateRejectsBadInputAndWritesNoCamera) {
   }
 }
 
+// A solve that does not converge writes no camera file but keeps its report, which shows why; the
+// report folder is replaced whole, so nothing of an earlier run's report stays in it.
+TEST_F(CliTest, CalibrateThatDoesNotConvergeKeepsOnlyItsOwnReport) {
+  EXPECT_NE(omnisfm("calibrate --help").out.find("still writes its report folder"),
+            std::string::npos);
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
+  const std::string calibrate = "calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+                                " --targets lab/targets.vnl --out calibrated.ini";
+  ASSERT_EQ(omnisfm(calibrate + " --observations lab/observations.vnl").status, 0);
+  const std::string camera = read_all(dir_ / "calibrated.ini");
+  ASSERT_TRUE(fs::exists(dir_ / "calibrated.report/uncertainty.vnl"));
+
+  // One image cannot tell the lens and the mirror's shape from its pose.
+  std::istringstream rows(read_all(dir_ / "lab/observations.vnl"));
+  std::string line, first_image;
+  while (std::getline(rows, line))
+    if (line.rfind("0 ", 0) == 0 || line[0] == '#') first_image += line + "\n";
+  write("one.vnl", first_image);
+  const Outcome fails = omnisfm(calibrate + " --observations one.vnl"
+                                            " --estimate mirror-pose,intrinsics,mirror-shape");
+  EXPECT_EQ(fails.status, 1) << fails.err;
+  EXPECT_EQ(fails.err.rfind("omnisfm: the calibration did not converge", 0), 0u) << fails.err;
+  EXPECT_EQ(read_all(dir_ / "calibrated.ini"), camera);
+  EXPECT_NE(read_all(dir_ / "calibrated.report/report.txt").find("status: NOT CONVERGED"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "calibrated.report/uncertainty.vnl"));
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".partial-"), std::string::npos)
+        << entry.path();
+}
+
 TEST_F(CliTest, CalibrateConvergesOnRealCatadioptricCheckerboards) {
   const fs::path data = real_data_folder();
   if (!fs::is_directory(data)) GTEST_SKIP() << "no real data at " << data;
@@ -750,7 +806,7 @@ void copy_images(const fs::path& from, const fs::path& to, const std::vector<std
 TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
   ASSERT_EQ(omnisfm("simulate --scenario lab --width 512 --height 384 --render --out lab").status,
             0);
-  fs::create_directories(dir_ / "tracked");
+  // The tracks' folder is made, as sfm makes its --out folder.
   const Outcome run = omnisfm(
       "track --camera lab/camera.ini --images lab/images --timestamps lab/frames.vnl"
       " --out tracked/tracks.vnl");
@@ -817,6 +873,11 @@ TEST_F(CliTest, TrackRejectsBadImagesAndWritesNothing) {
   }
   const Outcome nowhere = omnisfm("track --images big/images --out no/such/tracks.vnl");
   EXPECT_EQ(nowhere.status, 2) << nowhere.err;
+  EXPECT_NE(nowhere.err.find("no is not a writable folder"), std::string::npos) << nowhere.err;
+  // A folder it would have made is not left behind.
+  const Outcome fresh = omnisfm("track --images empty --out fresh/tracks.vnl");
+  EXPECT_EQ(fresh.status, 2) << fresh.err;
+  EXPECT_FALSE(fs::exists(dir_ / "fresh"));
 }
 
 // The rows of a vnlog file's columns, by name.
@@ -1017,7 +1078,51 @@ TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
 
   const Outcome strict = omnisfm("run lab/dataset.rawlog --out strict --strict");
   EXPECT_EQ(strict.status, 2);
+  EXPECT_EQ(strict.err.rfind("omnisfm: lab/dataset.rawlog: object ", 0), 0u) << strict.err;
   EXPECT_NE(strict.err.find("truncated"), std::string::npos) << strict.err;
+  EXPECT_FALSE(fs::exists(dir_ / "strict"));
+}
+
+// The fuzzing case that aborted inside Ceres: a gzip rawlog of rendered images with one double set
+// to NaN at the end of the object before the 13th image. The 12 images before the damage are
+// tracked and replayed through the batch, and the warning and the report say where it is.
+TEST_F(CliTest, RunReplaysTheImagesBeforeADamagedObject) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --width 512 --height 384 --render --rawlog "
+                    "--out lab")
+                .status,
+            0);
+  const auto gzip = [this](const std::string& options, const std::string& from,
+                           const std::string& to) {
+    return std::system(("gzip " + options + " " + quoted((dir_ / from).string()) + " > " +
+                        quoted((dir_ / to).string()))
+                           .c_str());
+  };
+  ASSERT_EQ(gzip("-dc", "lab/dataset.rawlog", "plain.rawlog"), 0);
+  std::string bytes = read_all(dir_ / "plain.rawlog");
+  const std::string image_class = "omnisfm::mrpt_plugin::CObservationOmniImage";
+  const std::string image_header = char(0x80 | image_class.size()) + image_class;
+  size_t image = bytes.find(image_header);
+  for (int i = 0; i < 12 && image != std::string::npos; ++i)
+    image = bytes.find(image_header, image + 1);
+  ASSERT_NE(image, std::string::npos);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(&bytes[image - sizeof nan], &nan, sizeof nan);
+  write("plain.rawlog", bytes);
+  ASSERT_EQ(gzip("-1 -c", "plain.rawlog", "damaged.rawlog"), 0);
+  write("images.ini", "[run]\nvision = images\n");
+
+  const Outcome run = omnisfm("run damaged.rawlog --config images.ini --out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err.rfind("omnisfm: warning: damaged.rawlog: object ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find("): it is corrupt: "), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("; replaying the 12 frames before it\n"), std::string::npos) << run.err;
+  EXPECT_NE(run.out.find("\nframes 12,"), std::string::npos) << run.out;
+  EXPECT_EQ(read_all(dir_ / "result/report.txt").rfind("rawlog damaged: object ", 0), 0u);
+  EXPECT_EQ(omnisfm::io::read_tum_trajectory((dir_ / "result/batch.tum").string()).size(), 12u);
+
+  const Outcome strict = omnisfm("run damaged.rawlog --config images.ini --out strict --strict");
+  EXPECT_EQ(strict.status, 2) << strict.err;
+  EXPECT_EQ(strict.err.rfind("omnisfm: damaged.rawlog: object ", 0), 0u) << strict.err;
   EXPECT_FALSE(fs::exists(dir_ / "strict"));
 }
 
@@ -1048,7 +1153,11 @@ TEST_F(CliTest, RunRejectsBadInputAndWritesNothing) {
   write("not.rawlog", "this is not a rawlog at all\n");
   const Outcome garbage = omnisfm("run not.rawlog --out result");
   EXPECT_EQ(garbage.status, 2);
-  EXPECT_NE(garbage.err.find("object 0"), std::string::npos) << garbage.err;
+  EXPECT_NE(garbage.err.find("object 0: it is corrupt: it does not begin as an MRPT object does"),
+            std::string::npos)
+      << garbage.err;
+  EXPECT_EQ(garbage.err.find("not.rawlog"), garbage.err.rfind("not.rawlog")) << garbage.err;
+  EXPECT_EQ(garbage.err.find("warning"), std::string::npos) << garbage.err;
   EXPECT_FALSE(fs::exists(dir_ / "result"));
 
   const Outcome help = omnisfm("run --help");

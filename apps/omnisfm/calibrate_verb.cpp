@@ -24,6 +24,7 @@
 #include "omnisfm/io/checkerboard_files.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/target_files.h"
+#include "output_folder.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -125,6 +126,16 @@ std::string report_folder_for(const std::string& camera_file) {
   return (path.parent_path() / (path.stem().string() + ".report")).string();
 }
 
+// The report folder replaced whole, so that nothing of an earlier run's report stays beside this
+// one's. Returns what gnuplot could not draw.
+std::string write_report(const std::string& folder, const calib::CalibrationOutcome& outcome) {
+  std::string note;
+  write_folder(folder, [&](const std::string& dir) {
+    note = calib::write_calibration_report(dir, outcome);
+  });
+  return note;
+}
+
 void run_calibrate(const CalibrateOptions& o) {
   camera::CatadioptricCamera camera = load_camera(o.camera);
   check_writable_folder_of(o.out);
@@ -176,8 +187,9 @@ void run_calibrate(const CalibrateOptions& o) {
   const std::string folder = report_folder_for(o.out);
   const calib::CalibrationReport& final = report.final;
 
+  // The report of a solve that did not converge is kept: its residuals per view show why.
   if (!final.converged) {
-    const std::string note = calib::write_calibration_report(folder, outcome);
+    const std::string note = write_report(folder, outcome);
     throw std::runtime_error("the calibration did not converge: " + final.message + "; " + o.out +
                              " was not written; the report is in " + folder +
                              (note.empty() ? "" : " (" + note + ")"));
@@ -204,7 +216,7 @@ void run_calibrate(const CalibrateOptions& o) {
 
   io::write_calibrated_camera_file(o.out, camera, {report.estimated, final.covariance});
   outcome.camera_file = o.out;
-  const std::string note = calib::write_calibration_report(folder, outcome);
+  const std::string note = write_report(folder, outcome);
 
   std::cerr << "omnisfm: wrote " << o.out << ": RMS " << final.rms_px
             << " px per coordinate, worst " << final.worst_px << " px, " << final.num_outliers
@@ -225,7 +237,9 @@ void add_calibrate_verb(CLI::App& app) {
       "calibrate",
       "Calibrate from surveyed targets (the mirror-to-camera transform, the paper's method) or "
       "checkerboards (any camera parameters); writes the camera file with its covariance and a "
-      "report folder OUT-stem.report/ beside it");
+      "report folder OUT-stem.report/ beside it. A solve that does not converge exits 1 and "
+      "writes no camera file, but still writes its report folder (replacing an earlier one "
+      "whole; status: NOT CONVERGED), to show why");
   verb->add_option("--camera", o->camera, "Starting camera file (the nominal design)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -257,16 +271,16 @@ void add_calibrate_verb(CLI::App& app) {
   verb->add_option("--holdout", o->holdout,
                    "Leave this many views (spread evenly) out, and report their RMS against the "
                    "calibration")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_between(0));
   verb->add_option("--outlier-sigma", o->outlier_sigma,
                    "Reject a residual coordinate beyond this many residual sigmas")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 1000.0));
+      ->check(number_between(1, 1000));
   verb->add_option("--uncertainty-distance", o->uncertainty_distance,
                    "Distance (metres) along each pixel's ray of the points in the projection-"
                    "uncertainty map")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
 
   targets->needs(observations);
   observations->needs(targets);

@@ -64,26 +64,18 @@ void add_export_mrcal_verb(CLI::App& app) {
       "reflected rays at a distance, write it as a .cameramodel, and print its reprojection "
       "error `# distance_m points failed rms_px worst_px` at that distance, ten times it and "
       "infinity");
-  const CLI::Validator positive_finite(
-      [](const std::string& text) -> std::string {
-        double value = 0;
-        if (!io::parse_double(text, &value) || !std::isfinite(value) || !(value > 0))
-          return "must be a positive number, got '" + text + "'";
-        return "";
-      },
-      "POSITIVE");
   verb->add_option("--camera", options->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--distance", options->distance_m,
                    "Distance of the fitted points from the mirror along each ray, metres")
       ->required()
-      ->check(positive_finite);
+      ->check(positive_number());
   verb->add_option("--out", options->out, "The .cameramodel to write (replaced whole)")->required();
   verb->add_option("--knots", options->knots, "Spline control points per axis")
       ->capture_default_str()
-      ->check(CLI::Range(4, 100));
+      ->check(whole_number_between(4, 100));
   verb->add_option("--grid-step", options->grid_step_px,
                    "Spacing of the fitted pixels (default: the image's longer side / 128)")
-      ->check(positive_finite);
+      ->check(positive_number());
   verb->callback([options] {
     const std::string camera_file =
         options->camera.empty() ? io::default_camera_file() : options->camera;

@@ -8,6 +8,7 @@
 #include "verbs.h"
 
 int main(int argc, char** argv) {
+  using omnisfm::io::printable_text;
   CLI::App app{"Shape-from-motion with catadioptric (mirror + camera) omnidirectional cameras",
                "omnisfm"};
   app.set_version_flag("--version", OMNISFM_VERSION);
@@ -30,14 +31,15 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
-    std::cerr << "omnisfm: " << error.what() << "\n"
+    std::cerr << "omnisfm: " << printable_text(error.what()) << "\n"
               << "Run 'omnisfm --help' or 'omnisfm VERB --help' for usage.\n";
     return 2;
   } catch (const omnisfm::io::InputError& error) {
     std::cerr << "omnisfm: " << error.what() << "\n";
     return 2;
   } catch (const std::exception& error) {
-    std::cerr << "omnisfm: " << error.what() << "\n";
+    // Other errors may quote what they read too.
+    std::cerr << "omnisfm: " << printable_text(error.what()) << "\n";
     return 1;
   }
 }

@@ -91,6 +91,22 @@ mrpt_plugin::SceneContents scene_of(const sfm::SfmResult& result, bool batch_ran
   return scene;
 }
 
+// A damaged rawlog (`problem` not empty) is an error with --strict, else a warning; fewer than two
+// camera frames before the damage or the end leave nothing to replay.
+void check_replayed(const std::string& rawlog, const std::string& problem, std::size_t frames,
+                    bool strict, const std::string& replayed) {
+  if (!problem.empty() && strict) throw io::InputError(rawlog, 0, problem);
+  if (frames < 2)
+    throw io::InputError(rawlog, 0,
+                         "holds " + std::to_string(frames) +
+                             " camera frames (tracked features or images) before its end: "
+                             "nothing to replay" +
+                             (problem.empty() ? "" : " (" + problem + ")"));
+  if (!problem.empty())
+    std::cerr << "omnisfm: warning: " << io::printable_text(rawlog + ": " + problem) << "; "
+              << replayed << " the " << frames << " frames before it\n";
+}
+
 // `[sfm] batch = false`: the rawlog replayed through the online estimator object by object and
 // the results written as they come, in constant memory. Returns the report.
 std::string stream_online_run(const std::string& rawlog, const RunSettings& settings, bool strict,
@@ -119,16 +135,7 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   TerminalProgress progress("filter", "frames");
   const mrpt_plugin::OnlineReplaySummary summary =
       mrpt_plugin::replay_online(rawlog, replay, outputs, progress.callback());
-  if (!summary.read.complete()) {
-    if (strict) throw io::InputError(rawlog, 0, summary.read.problem);
-    std::cerr << "omnisfm: warning: " << summary.read.problem << "; replayed the "
-              << summary.frames << " frames before it\n";
-  }
-  if (summary.frames < 2 || !bias)
-    throw io::InputError(rawlog, 0,
-                         "holds " + std::to_string(summary.frames) +
-                             " camera frames (tracked features or images) before its end: "
-                             "nothing to replay");
+  check_replayed(rawlog, summary.read.problem, bias ? summary.frames : 0, strict, "replayed");
   std::ostringstream report;
   if (!summary.read.complete()) report << "rawlog damaged: " << summary.read.problem << "\n";
   report << "rawlog " << rawlog << ": " << summary.read.objects << " objects; vision from "
@@ -201,17 +208,7 @@ void add_run_verb(CLI::App& app) {
       TerminalProgress progress("tracked", "images");
       return mrpt_plugin::read_replay_input(o->rawlog, settings.replay, progress.callback());
     }();
-    if (!in.read.complete()) {
-      if (o->strict) throw io::InputError(o->rawlog, 0, in.read.problem);
-      std::cerr << "omnisfm: warning: " << in.read.problem << "; replaying the "
-                << in.frame_times.size() << " frames before it\n";
-    }
-    if (in.frame_times.size() < 2)
-      throw io::InputError(o->rawlog, 0,
-                           "holds " + std::to_string(in.frame_times.size()) +
-                               " camera frames (tracked features or images) before its end: "
-                               "nothing to replay" +
-                               (in.read.complete() ? "" : " (" + in.read.problem + ")"));
+    check_replayed(o->rawlog, in.read.problem, in.frame_times.size(), o->strict, "replaying");
     if (!in.camera)
       throw io::InputError(o->rawlog, 0,
                            "carries no camera model (stock CObservationImage): give --camera");

@@ -11,6 +11,7 @@
 #include "omnisfm/sim/renderer.h"
 #include "omnisfm/sim/scenario.h"
 #include "simulated_rawlog_output.h"
+#include "verb_inputs.h"
 #include "terminal_progress.h"
 #include "verbs.h"
 
@@ -36,18 +37,18 @@ void add_simulate_verb(CLI::App& app) {
   CLI::Option* frames =
       verb->add_option("--frames", options->frames, "With --scenario drive: how many frames")
           ->capture_default_str()
-          ->check(CLI::Range(2, 100000000));
+          ->check(whole_number_between(2, 100000000));
   verb->add_option("--out", *out, "Output folder (replaced whole when it exists)")->required();
   verb->add_option("--seed", options->seed, "Random seed (the dataset is deterministic for it)")
       ->capture_default_str();
   verb->add_option("--noise", options->tracking_noise_px,
                    "Gaussian tracking noise, pixels per coordinate")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(number_between(0, 100));
   verb->add_option("--survey-error", options->survey_error_m,
                    "Gaussian error of the lab's target survey, metres per coordinate")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_between(0, 1));
   verb->add_option("--width", options->image_width, "Image width, pixels")->capture_default_str();
   verb->add_option("--height", options->image_height, "Image height, pixels")
       ->capture_default_str();

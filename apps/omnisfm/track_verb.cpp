@@ -21,8 +21,10 @@
 namespace omnisfm::app {
 namespace {
 
+namespace fs = std::filesystem;
+
 bool is_rawlog(const std::string& path) {
-  const std::string name = std::filesystem::path(path).filename().string();
+  const std::string name = fs::path(path).filename().string();
   for (const std::string ending : {".rawlog", ".rawlog.gz"})
     if (name.size() > ending.size() && name.compare(name.size() - ending.size(), ending.size(), ending) == 0)
       return true;
@@ -43,7 +45,7 @@ track::TrackedSequence track_rawlog(const std::string& path, const std::string& 
     return mrpt_plugin::read_replay_input(path, options, progress.callback());
   }();
   if (!in.read.complete())
-    std::cerr << "omnisfm: warning: " << in.read.problem << "; tracked the "
+    std::cerr << "omnisfm: warning: " << path << ": " << in.read.problem << "; tracked the "
               << in.frame_times.size() << " images before it\n";
   track::TrackedSequence sequence;
   sequence.observations = in.tracks;
@@ -55,6 +57,33 @@ track::TrackedSequence track_rawlog(const std::string& path, const std::string& 
   (void)camera_file, (void)settings;
   throw io::InputError(path, 0, "is a rawlog: this omnisfm was built without the MRPT plugin");
 #endif
+}
+
+// The tracks file's folder is made when missing, as sfm makes its --out folder: that folder's
+// parent must then be a writable folder.
+void check_tracks_file(const std::string& given, const fs::path& out) {
+  if (fs::is_directory(out))
+    throw io::InputError(given, 0, "is a folder; give the tracks file's name");
+  const fs::path folder = out.parent_path();
+  const fs::path existing = fs::exists(folder) ? folder : folder.parent_path();
+  if (!fs::is_directory(existing) || ::access(existing.c_str(), W_OK) != 0)
+    throw io::InputError(given, 0,
+                         "cannot write here: " + existing.string() + " is not a writable folder");
+}
+
+// frames.vnl first: a complete tracks.vnl is the sign that both are written. A folder made for
+// them goes again when writing fails.
+void write_tracks_and_frames(const fs::path& out, const track::TrackedSequence& result) {
+  const fs::path folder = out.parent_path();
+  const bool made = fs::create_directory(folder);
+  try {
+    track::write_frames_file((folder / "frames.vnl").string(), result.frames);
+    io::write_tracks(out.string(), result.observations);
+  } catch (...) {
+    std::error_code ignored;
+    if (made) fs::remove_all(folder, ignored);
+    throw;
+  }
 }
 
 }  // namespace
@@ -76,18 +105,20 @@ void add_track_verb(CLI::App& app) {
                    "an MRPT rawlog (X.rawlog: its camera images, with the model they carry unless "
                    "--camera is given; a damaged rawlog is tracked up to the damaged object)")
       ->required();
-  verb->add_option("--out", o->out, "The tracks file to write (# frame track u v)")->required();
+  verb->add_option("--out", o->out,
+                   "The tracks file to write (# frame track u v); its folder is made when missing")
+      ->required();
   verb->add_option("--timestamps", o->timestamps,
                    "A table with image and timestamp columns (such as a simulated dataset's "
                    "frames.vnl) giving each image's time; default: a video's own times, else "
                    "the frame index");
   verb->add_option("--max-tracks", o->settings.max_tracks, "Tracks kept alive")
       ->capture_default_str()
-      ->check(CLI::Range(6, 100000));
+      ->check(whole_number_between(6, 100000));
   verb->add_option("--min-ncc", o->settings.min_ncc,
                    "End a track whose patch correlates less than this with its first appearance")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_between(0, 1));
   verb->add_flag("--no-reacquisition", o->no_reacquisition, "Do not look for lost features again");
   verb->callback([o] {
     o->settings.reacquire = !o->no_reacquisition;
@@ -95,14 +126,8 @@ void add_track_verb(CLI::App& app) {
     if (rawlog && !o->timestamps.empty())
       throw io::InputError(o->timestamps, 0,
                            "a rawlog's images carry their own times: leave out --timestamps");
-    const std::filesystem::path out = std::filesystem::absolute(o->out).lexically_normal();
-    if (!std::filesystem::is_directory(out.parent_path()) ||
-        ::access(out.parent_path().c_str(), W_OK) != 0)
-      throw io::InputError(
-          o->out, 0,
-          "cannot write here: " + out.parent_path().string() + " is not a writable folder");
-    if (std::filesystem::is_directory(out))
-      throw io::InputError(o->out, 0, "is a folder; give the tracks file's name");
+    const fs::path out = fs::absolute(o->out).lexically_normal();
+    check_tracks_file(o->out, out);
     const auto timestamps = o->timestamps.empty() ? std::map<std::string, double>()
                                                   : track::read_image_timestamps(o->timestamps);
 
@@ -119,9 +144,7 @@ void add_track_verb(CLI::App& app) {
       throw io::InputError(o->images, 0, "holds a single image: there is nothing to track");
     if (!o->timestamps.empty()) track::apply_timestamps(timestamps, o->timestamps, &result.frames);
 
-    // frames.vnl first: a complete tracks.vnl is the sign that both are written.
-    track::write_frames_file((out.parent_path() / "frames.vnl").string(), result.frames);
-    io::write_tracks(out.string(), result.observations);
+    write_tracks_and_frames(out, result);
 
     if (rawlog) {
       std::printf("frames %zu, observations %zu, from the images of %s\n", result.frames.size(),

@@ -1,9 +1,11 @@
 #include "verb_inputs.h"
 
+#include <cmath>
 #include <iostream>
 #include <stdexcept>
 
 #include "omnisfm/io/camera_file.h"
+#include "omnisfm/io/number_text.h"
 #include "omnisfm/io/shared_data.h"
 
 namespace omnisfm::app {
@@ -20,6 +22,45 @@ io::VnlogTable read_table_or_stdin(const std::string& path) {
 void finish_stdout() {
   std::cout.flush();
   if (!std::cout) throw std::runtime_error("cannot write to standard output");
+}
+
+namespace {
+
+CLI::Validator text_check(const std::string& name, const std::string& wanted,
+                          const std::function<bool(const std::string&)>& accepts) {
+  return CLI::Validator(
+      [wanted, accepts](const std::string& text) {
+        return accepts(text) ? std::string() : "must be " + wanted + ", not '" + text + "'";
+      },
+      name);
+}
+
+CLI::Validator number_check(const std::string& wanted, const std::function<bool(double)>& accepts) {
+  return text_check("NUMBER", wanted, [accepts](const std::string& text) {
+    double value = 0;
+    return io::parse_double(text, &value) && std::isfinite(value) && accepts(value);
+  });
+}
+
+}  // namespace
+
+CLI::Validator number_between(double min, double max) {
+  return number_check("a number from " + io::format_double(min) + " to " + io::format_double(max),
+                      [min, max](double value) { return value >= min && value <= max; });
+}
+
+CLI::Validator positive_number() {
+  return number_check("a positive number", [](double value) { return value > 0; });
+}
+
+CLI::Validator whole_number_between(int min, int max) {
+  const std::string wanted =
+      max == INT_MAX ? "a whole number, at least " + std::to_string(min)
+                     : "a whole number from " + std::to_string(min) + " to " + std::to_string(max);
+  return text_check("WHOLE NUMBER", wanted, [min, max](const std::string& text) {
+    int value = 0;
+    return io::parse_int(text, &value) && value >= min && value <= max;
+  });
 }
 
 }  // namespace omnisfm::app

@@ -1,6 +1,8 @@
 #pragma once
 // Inputs that several verbs take the same way.
 
+#include <CLI/CLI.hpp>
+#include <climits>
 #include <string>
 
 #include "omnisfm/camera/catadioptric_camera.h"
@@ -16,5 +18,12 @@ io::VnlogTable read_table_or_stdin(const std::string& path);
 
 // Flushes standard output; throws std::runtime_error when anything written was lost.
 void finish_stdout();
+
+// Option checks that say what is wanted as a person would (CLI11's ranges print their bounds with
+// six decimals, and the largest double in 309 digits): "must be a number from 0 to 1, not '2'".
+CLI::Validator number_between(double min, double max);
+CLI::Validator positive_number();  // finite and > 0
+// max = INT_MAX: no upper bound ("must be a whole number, at least 0").
+CLI::Validator whole_number_between(int min, int max = INT_MAX);
 
 }  // namespace omnisfm::app

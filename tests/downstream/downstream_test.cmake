@@ -1,9 +1,10 @@
-# Installs an omnisfm build tree into a fresh prefix, then configures, builds and runs the
-# downstream project in tests/downstream against it with find_package(omnisfm).
+# Installs an omnisfm build tree into a fresh prefix, runs the installed omnisfm from there (with
+# no LD_LIBRARY_PATH: it must find its libraries through its RPATH), then configures, builds and
+# runs the downstream project in tests/downstream against it with find_package(omnisfm).
 #
 #   cmake -DOMNISFM_BUILD_DIR=<build> [-DDOWNSTREAM_SOURCE_DIR=<this directory>]
 #         [-DCONFIG=<build type>] [-DGENERATOR=<generator>] [-DCXX_COMPILER=<compiler>]
-#         -P downstream_test.cmake
+#         [-DOMNISFM_VERSION=<the version --version must print>] -P downstream_test.cmake
 #
 # The build tree must be fully built: `cmake --install` installs every target.
 cmake_minimum_required(VERSION 3.16)
@@ -19,8 +20,10 @@ set(work_dir "${OMNISFM_BUILD_DIR}/downstream_test")
 set(prefix "${work_dir}/prefix")
 set(downstream_build_dir "${work_dir}/build")
 file(REMOVE_RECURSE "${work_dir}")
-# A DESTDIR from the environment would move the installed files away from the prefix.
+# A DESTDIR from the environment would move the installed files away from the prefix; a library
+# path would hide a missing RPATH.
 unset(ENV{DESTDIR})
+unset(ENV{LD_LIBRARY_PATH})
 
 function(run_step description)
   message(STATUS "downstream_test: ${description}")
@@ -37,6 +40,25 @@ endif()
 
 run_step("installing ${OMNISFM_BUILD_DIR} into ${prefix}"
   "${CMAKE_COMMAND}" --install "${OMNISFM_BUILD_DIR}" --prefix "${prefix}" ${config_args})
+
+# The installed program, from its prefix: --version, and one verb on the installed camera file.
+set(installed "${prefix}/bin/omnisfm")
+execute_process(COMMAND "${installed}" --version RESULT_VARIABLE status OUTPUT_VARIABLE version
+                ERROR_VARIABLE error)
+if(NOT status EQUAL 0 OR NOT version MATCHES "${OMNISFM_VERSION}")
+  message(FATAL_ERROR
+          "downstream_test: ${installed} --version failed (${status}): ${version}${error}")
+endif()
+file(WRITE "${work_dir}/points.vnl" "# x y z\n2 0 -1\n")
+execute_process(COMMAND "${installed}" project
+                        --camera "${prefix}/share/omnisfm/cameras/equiangular.ini"
+                INPUT_FILE "${work_dir}/points.vnl"
+                RESULT_VARIABLE status OUTPUT_VARIABLE projected ERROR_VARIABLE error)
+if(NOT status EQUAL 0 OR NOT projected MATCHES "^# u v\n[0-9.]+ [0-9.]+\n$")
+  message(FATAL_ERROR
+          "downstream_test: ${installed} project failed (${status}): ${projected}${error}")
+endif()
+message(STATUS "downstream_test: the installed omnisfm runs: ${version}")
 
 set(configure_args -S "${DOWNSTREAM_SOURCE_DIR}" -B "${downstream_build_dir}"
                    "-DCMAKE_PREFIX_PATH=${prefix}")

@@ -14,6 +14,7 @@
 #include "omnisfm/camera/pinhole_camera.h"
 #include "omnisfm/camera/table_profile.h"
 #include "omnisfm/io/atomic_write.h"
+#include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/io/vnlog.h"
@@ -86,6 +87,23 @@ void reject_unknown_keys(const IniSection& section, const std::string& inner_kin
     if (for_inner) section.fail(entry.key, "does not apply to inner = " + inner_kind);
     if (for_mirror) section.fail(entry.key, "does not apply to mirror = " + mirror_kind);
     section.fail(entry.key, "unknown key");
+  }
+}
+
+// A key under an unknown header, or before any, would silently leave [omni_camera] and its
+// optional keys fall back to their defaults: a camera file holds only its own sections.
+void reject_unknown_sections(const IniFile& ini) {
+  for (const IniSection& section : ini.sections()) {
+    if (section.name() == kCameraSection || section.name() == kCovarianceSection) continue;
+    if (section.name().empty()) {
+      if (section.entries().empty()) continue;
+      section.fail(section.entries().front().key,
+                   std::string("belongs in the [") + kCameraSection + "] section");
+    }
+    throw InputError(ini.file(), section.line(),
+                     "unknown section [" + section.name() + "]: a camera file holds [" +
+                         kCameraSection + "] and, after a calibration, [" + kCovarianceSection +
+                         "]");
   }
 }
 
@@ -252,6 +270,7 @@ std::unique_ptr<MirrorProfile> read_mirror(const IniSection& section, const std:
 }  // namespace
 
 CatadioptricCamera camera_from_ini(const IniFile& ini) {
+  reject_unknown_sections(ini);
   const IniSection& section = ini.section(kCameraSection);
   const std::string inner_kind = kind_of(section, "inner", kInnerKinds);
   const std::string mirror_kind = kind_of(section, "mirror", kMirrorKinds);

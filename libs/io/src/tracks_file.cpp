@@ -53,6 +53,16 @@ bool TrackStream::next_frame(int* frame, std::vector<TrackObservation>* observat
   lines_.clear();
   if (!have_row_) return false;
   *frame = row_.frame;
+  const long untracked = static_cast<long>(*frame) - previous_frame_ - 1;
+  if (untracked > kMaxUntrackedFrames)
+    throw InputError(file(), row_line_,
+                     "frame " + std::to_string(*frame) + " comes " + std::to_string(untracked) +
+                         " frames without a tracked feature after " +
+                         (previous_frame_ < 0 ? std::string("the start")
+                                              : "frame " + std::to_string(previous_frame_)) +
+                         "; at most " + std::to_string(kMaxUntrackedFrames) +
+                         " are taken (frame: the image's 0-based index)");
+  previous_frame_ = *frame;
   std::set<int> in_frame;
   while (have_row_ && row_.frame == *frame) {
     if (!in_frame.insert(row_.track).second)

@@ -136,19 +136,6 @@ TEST_F(CameraFileTest, MrcalInnerCameraRoundTrip) {
   expect_same_camera(read_camera_file(path("out/copy.ini")), read);
 }
 
-TEST_F(CameraFileTest, OtherSectionsAreLeftAlone) {
-  write("cam.ini",
-        "[covariance]\nmatrix = 1 2 3\nanything = goes\n\n"
-        "[omni_camera]\nimage_width = 640\nimage_height = 480\ninner = orthographic\n"
-        "fx = 1e4\nfy = 1e4\ncx = 319.5\ncy = 239.5\nmirror = conic\nconic_z0 = 0\n"
-        "conic_c = 50\nconic_kappa = -1\nmirror_rho_min = 0.001\nmirror_rho_max = 0.02\n"
-        "mirror_tz = 0.1\n\n[notes]\nx = y\n");
-  const CatadioptricCamera camera = read_camera_file(path("cam.ini"));
-  EXPECT_EQ(camera.image_width(), 640);
-  EXPECT_EQ(camera.mirror_pose().tz, 0.1);
-  EXPECT_EQ(camera.mirror_pose().rx, 0);
-}
-
 TEST_F(CameraFileTest, ShippedCamerasRead) {
   for (const char* name : {"equiangular.ini", "hyperbolic.ini", "parabolic-orthographic.ini"}) {
     SCOPED_TRACE(name);
@@ -232,6 +219,7 @@ class IniText {
     ADD_FAILURE() << "no line " << text;
     return 0;
   }
+  const std::vector<std::string>& lines() const { return lines_; }
   std::string text() const {
     std::string all;
     for (const std::string& line : lines_) all += line + "\n";
@@ -243,7 +231,7 @@ class IniText {
 };
 
 IniText equiangular_pinhole() {
-  return IniText({"# a test camera", "[calibration]", "foo = 1", "", "[omni_camera]",
+  return IniText({"# a test camera", "", "[omni_camera]",
                   "image_width = 1024", "image_height = 768", "inner = pinhole", "fx = 800",
                   "fy = 800", "cx = 511.5", "cy = 383.5", "dist = 0 0 0 0 0",
                   "mirror = equiangular", "equiangular_alpha = 5.0", "equiangular_r0 = 0.05",
@@ -269,21 +257,28 @@ const char* const kGoodTable =
 
 class MalformedCameraFile : public CameraFileTest {
  protected:
-  // Reading `ini` fails with a message naming bad.ini, `key` and `line`.
-  void expect_error(const IniText& ini, const std::string& key, int line,
-                    const std::string& detail = "") {
+  // What reading `ini` as bad.ini throws; a test failure when it reads.
+  InputError error_reading(const IniText& ini) const {
     write("bad.ini", ini.text());
     try {
       read_camera_file(path("bad.ini"));
-      ADD_FAILURE() << "no error for\n" << ini.text();
     } catch (const InputError& error) {
-      const std::string message = error.what();
-      EXPECT_NE(message.find("bad.ini:" + std::to_string(line) + ": "), std::string::npos)
-          << message;
-      EXPECT_NE(message.find("'" + key + "'"), std::string::npos) << message;
-      EXPECT_NE(message.find(detail), std::string::npos) << message;
-      EXPECT_EQ(error.line(), line);
+      return error;
     }
+    ADD_FAILURE() << "no error for\n" << ini.text();
+    return InputError("", 0, "");
+  }
+
+  // Reading `ini` fails with a message naming bad.ini, `key` and `line`.
+  void expect_error(const IniText& ini, const std::string& key, int line,
+                    const std::string& detail = "") const {
+    const InputError error = error_reading(ini);
+    const std::string message = error.what();
+    EXPECT_NE(message.find("bad.ini:" + std::to_string(line) + ": "), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("'" + key + "'"), std::string::npos) << message;
+    EXPECT_NE(message.find(detail), std::string::npos) << message;
+    EXPECT_EQ(error.line(), line);
   }
 };
 
@@ -310,7 +305,7 @@ TEST_F(MalformedCameraFile, MissingKeyPointsAtTheSection) {
 }
 
 TEST_F(MalformedCameraFile, MissingSection) {
-  write("bad.ini", "[camera]\nfx = 1\n");
+  write("bad.ini", "[omni_camera_covariance]\nparameters = fx\nrow_0 = 1\n");
   try {
     read_camera_file(path("bad.ini"));
     ADD_FAILURE();
@@ -325,6 +320,33 @@ TEST_F(MalformedCameraFile, UnknownKey) {
   IniText ini = equiangular_pinhole();
   ini.add("focal = 3");
   expect_error(ini, "focal", ini.line_of("focal"), "unknown");
+}
+
+// An unknown section would take the keys after it out of [omni_camera]: mirror_tz would fall
+// back to 0 and every point would project to nothing.
+TEST_F(MalformedCameraFile, UnknownSectionNamesTheFileAndLine) {
+  IniText ini = equiangular_pinhole();
+  ini.remove("mirror_tz");
+  ini.add("[other_section]").add("mirror_tz = 0.0724");
+  const std::string message = error_reading(ini).what();
+  EXPECT_NE(message.find("bad.ini:" + std::to_string(ini.line_of("[other_section]")) +
+                         ": unknown section [other_section]"),
+            std::string::npos)
+      << message;
+}
+
+TEST_F(MalformedCameraFile, KeyBeforeTheSectionIsAnError) {
+  IniText ini({"fx = 800"});
+  const IniText camera = equiangular_pinhole();
+  for (const std::string& line : camera.lines()) ini.add(line);
+  expect_error(ini, "fx", 1, "belongs in the [omni_camera] section");
+}
+
+// A calibrated camera's covariance is the one other section a camera file holds.
+TEST_F(CameraFileTest, TheCovarianceSectionIsKnown) {
+  write("cam.ini", equiangular_pinhole().text() +
+                       "[omni_camera_covariance]\nparameters = mirror_tz\nrow_0 = 1e-8\n");
+  EXPECT_NO_THROW(read_camera_file(path("cam.ini")));
 }
 
 TEST_F(MalformedCameraFile, KeyOfAnotherKindIsUnknown) {

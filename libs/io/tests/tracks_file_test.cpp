@@ -57,6 +57,29 @@ TEST(TracksFile, MalformedTracksNameTheLine) {
   expect_error("# frame track u\n0 0 5\n", "v", 0);
 }
 
+// Each frame up to the last has a pose: a frame id far beyond the others is refused, not
+// allocated for (two rows at frame 1999999999 ran out of memory).
+TEST(TracksFile, FrameFarBeyondThePreviousNamesTheLine) {
+  auto expect_error = [](const std::string& text, int line) {
+    try {
+      read_tracks(write_file(text));
+      FAIL() << "no error for:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_NE(std::string(e.what()).find("frames without a tracked feature"), std::string::npos)
+          << e.what();
+    }
+  };
+  const std::string header = "# frame track u v\n";
+  expect_error(header + "0 0 5 5\n0 1 5 5\n1999999999 0 6 6\n1999999999 1 6 6\n", 4);
+  expect_error(header + "1999999999 0 6 6\n1999999999 1 6 6\n", 2);
+  const int last = kMaxUntrackedFrames + 1;
+  EXPECT_EQ(read_tracks(write_file(header + "0 0 5 5\n" + std::to_string(last) + " 0 6 6\n"))
+                .back()
+                .frame,
+            last);
+}
+
 // One frame at a time, with each row's line, and the same checks as the whole file's.
 TEST(TracksFile, StreamGivesAFrameAtATime) {
   const std::string path =

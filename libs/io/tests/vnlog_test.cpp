@@ -86,6 +86,17 @@ TEST(Vnlog, HeaderProblemsAreErrors) {
   EXPECT_NE(error_of([] { VnlogTable::read("/"); }).find("folder"), std::string::npos);
 }
 
+// A damaged header's bytes come back in the message escaped, never raw; UTF-8 stays as it is.
+TEST(Vnlog, ErrorsEscapeBytesThatAreNotText) {
+  const std::string message =
+      error_of([] { parsed("# fr\xff\xfe""ame caf\xc3\xa9 \x1b[2J\n1 2 3\n").numbers("x"); });
+  EXPECT_NE(message.find("(columns: fr\\xff\\xfeame caf\xc3\xa9 \\x1b[2J)"), std::string::npos)
+      << message;
+  EXPECT_EQ(printable_text(message), message);
+  EXPECT_EQ(printable_text("\xe0\x80\x80 \xed\xa0\x80 \xf4\x90\x80\x80 \xc3"),
+            "\\xe0\\x80\\x80 \\xed\\xa0\\x80 \\xf4\\x90\\x80\\x80 \\xc3");
+}
+
 // Row by row, as the table reads the whole: the same fields, lines and errors, the bad row's only
 // once it is reached.
 TEST(Vnlog, ReaderStreamsRowsWithTheirLines) {

@@ -24,6 +24,15 @@ bool is_image_file(const fs::path& path) {
   return extension == ".png" || extension == ".jpg" || extension == ".jpeg";
 }
 
+// An image's name on something that is not a file (a folder named x.png) is not an image; one
+// whose target cannot be reached (a symbolic link loop, a dangling link) is a bad image.
+bool is_image_to_read(const fs::directory_entry& entry) {
+  std::error_code error;
+  const fs::file_status status = entry.status(error);
+  if (error) throw io::InputError(entry.path().string(), 0, "cannot read it: " + error.message());
+  return fs::is_regular_file(status);
+}
+
 std::string size_text(const cv::Size& size) {
   return std::to_string(size.width) + "x" + std::to_string(size.height);
 }
@@ -46,7 +55,7 @@ ImageSequence::ImageSequence(const std::string& path) : path_(path) {
   if (error || !fs::exists(status)) throw io::InputError(path, 0, "no such file or folder");
   if (fs::is_directory(status)) {
     for (const auto& entry : fs::directory_iterator(path, error))
-      if (entry.is_regular_file() && is_image_file(entry.path()))
+      if (is_image_file(entry.path()) && is_image_to_read(entry))
         files_.push_back(entry.path().string());
     if (error) throw io::InputError(path, 0, "cannot list the folder: " + error.message());
     if (files_.empty()) throw io::InputError(path, 0, "the folder holds no PNG or JPG images");

@@ -102,6 +102,18 @@ TEST_F(ImageSequenceTest, BadInputIsAnInputErrorNamingTheFile) {
   const std::string corrupt = read_error((dir_ / "corrupt").string());
   EXPECT_NE(corrupt.find("1.png: cannot read this image"), std::string::npos) << corrupt;
 
+  // An image's name on a link round in a loop, or to nothing: the file is named, and no
+  // library's text.
+  for (const std::string target : {"1.png", "missing.png"}) {
+    const fs::path folder = dir_ / ("link-to-" + target);
+    fs::create_directories(folder);
+    cv::imwrite((folder / "0.png").string(), image(40, 30, 0));
+    fs::create_symlink(target, folder / "1.png");
+    const std::string link = read_error(folder.string());
+    EXPECT_NE(link.find("1.png: cannot read it: "), std::string::npos) << link;
+    EXPECT_EQ(link.find("filesystem error"), std::string::npos) << link;
+  }
+
   std::ofstream(dir_ / "video.mp4") << "not a video";
   const std::string video = read_error((dir_ / "video.mp4").string());
   EXPECT_NE(video.find("video.mp4: not a folder of images, and no video reader opens it"),

@@ -72,8 +72,7 @@ OnlineReplaySummary replay_online(const std::string& path, const OnlineReplaySet
       throw io::InputError(path, 0, "object " + std::to_string(index) + ": " + e.what());
     } catch (const std::exception& e) {
       // An image that cannot be loaded or tracked: damage, as the batch replay reports it.
-      damage = describe_damage(path, index, o.GetRuntimeClass()->className,
-                               mrpt_error_reason(e.what()));
+      damage = describe_damage(index, o.GetRuntimeClass()->className, mrpt_error_reason(e.what()));
       return;
     }
     if (estimator.framesProcessed() == frame) return;

@@ -20,7 +20,7 @@ RawlogReadResult for_each_rawlog_image(const std::string& path,
     for_each_observation(object, [&](const mrpt::obs::CObservation::Ptr& observation) {
       const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation);
       if (!image || !damage.empty() || !has_label(*image, sensor_label)) return;
-      std::optional<RawlogImage> loaded = load_rawlog_image(*image, path, index, &damage);
+      std::optional<RawlogImage> loaded = load_rawlog_image(*image, index, &damage);
       if (!loaded) return;
       visit(*loaded);
       ++result.used;

@@ -42,14 +42,13 @@ void use_external_images_of(const std::string& rawlog_path) {
 }
 
 std::optional<RawlogImage> load_rawlog_image(mrpt::obs::CObservationImage& image,
-                                             const std::string& rawlog_path, std::size_t index,
-                                             std::string* damage) {
+                                             std::size_t index, std::string* damage) {
   RawlogImage out;
   try {
     image.load();
     out.grey = grey_of(image.image);
   } catch (const std::exception& error) {
-    *damage = describe_damage(rawlog_path, index, image.GetRuntimeClass()->className,
+    *damage = describe_damage(index, image.GetRuntimeClass()->className,
                               "its image cannot be loaded: " + mrpt_error_reason(error.what()));
     return std::nullopt;
   }

@@ -25,11 +25,10 @@ void for_each_observation(const mrpt::serialization::CSerializable::Ptr& object,
 // Points MRPT at the rawlog's external images, where its tools look for them.
 void use_external_images_of(const std::string& rawlog_path);
 
-// The image observation (object `index` of `rawlog_path`), its image loaded and made grey; empty,
+// The image observation (the rawlog's object `index`), its image loaded and made grey; empty,
 // with *damage saying why (describe_damage's wording), when the image cannot be loaded.
 std::optional<RawlogImage> load_rawlog_image(mrpt::obs::CObservationImage& image,
-                                             const std::string& rawlog_path, std::size_t index,
-                                             std::string* damage);
+                                             std::size_t index, std::string* damage);
 
 // The frame's features as observations of frame number `frame`, appended to *observations.
 void append_tracked_features(const CObservationTrackedFeatures& features, int frame,

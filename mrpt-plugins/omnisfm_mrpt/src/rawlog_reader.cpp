@@ -1,12 +1,21 @@
 #include "omnisfm/mrpt_plugin/rawlog_reader.h"
 
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/rtti/CObject.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <regex>
 
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
 namespace omnisfm::mrpt_plugin {
 namespace {
@@ -19,10 +28,12 @@ std::string failed_class(const std::string& text) {
   return std::regex_search(text, match, pattern) ? match[1].str() : std::string();
 }
 
-std::string unregistered_class(const std::string& text) {
+// The class name MRPT found no class for (perhaps empty), or nothing when that is not the problem.
+std::optional<std::string> unregistered_class(const std::string& text) {
   static const std::regex pattern(R"(Stored object has class '([^']*)' which is not registered)");
   std::smatch match;
-  return std::regex_search(text, match, pattern) ? match[1].str() : std::string();
+  if (!std::regex_search(text, match, pattern)) return std::nullopt;
+  return match[1].str();
 }
 
 std::string unknown_version(const std::string& text) {
@@ -31,27 +42,127 @@ std::string unknown_version(const std::string& text) {
   return std::regex_search(text, match, pattern) ? match[1].str() : std::string();
 }
 
+// The class whose stored bytes ran past their end-of-object flag.
+std::string overrun_class(const std::string& text) {
+  static const std::regex pattern(R"(end-flag missing: [^']*'([^']*)')");
+  std::smatch match;
+  return std::regex_search(text, match, pattern) ? match[1].str() : std::string();
+}
+
+bool is_qualified_name(const std::string& name) {
+  static const std::regex pattern(R"([A-Za-z_][A-Za-z0-9_]*(::[A-Za-z_][A-Za-z0-9_]*)*)");
+  return std::regex_match(name, pattern);
+}
+
+// How damage makes `name` of a registered class: one or two bytes changed in place, or the name
+// cut short by a changed length byte (a newer class's name differs in more). Empty when it is no
+// registered class's.
+std::string damage_to_registered_name(const std::string& name) {
+  for (const mrpt::rtti::TRuntimeClassId* id : mrpt::rtti::getAllRegisteredClasses()) {
+    const std::string registered = id->className;
+    if (registered.size() > name.size() && registered.compare(0, name.size(), name) == 0)
+      return "the beginning of '" + registered + "'";
+    if (registered.size() != name.size()) continue;
+    int changed = 0;
+    for (std::size_t i = 0; i < name.size(); ++i) changed += name[i] != registered[i];
+    if (changed <= 2) return "'" + registered + "' with bytes changed";
+  }
+  return "";
+}
+
+std::string unregistered_class_problem(const std::string& name) {
+  if (!is_qualified_name(name))
+    return "it is corrupt: its class name '" + name + "' is no C++ name";
+  const std::string damage = damage_to_registered_name(name);
+  if (!damage.empty()) return "it is corrupt: its class name '" + name + "' is " + damage;
+  return "its class '" + name + "' is not registered: " + unregistered_class_advice(name);
+}
+
+// What MRPT's text says is wrong with an object's bytes, in a reader's words: MRPT's own phrases
+// blame its code ("There is a bug in the deserialization method") or name its internals.
+std::string corruption_of(const std::string& mrpt_message, const std::string& object_class) {
+  const std::string overrun = overrun_class(mrpt_message);
+  const auto says = [&](const char* text) { return mrpt_message.find(text) != std::string::npos; };
+  if (!overrun.empty() && overrun != object_class)
+    return "the " + overrun + " stored in it does not end where that class's format says";
+  if (!overrun.empty()) return "its bytes do not end where its class's format says";
+  if (says("while parsing old streaming header") || says("Class name has more than"))
+    return "it does not begin as an MRPT object does";
+  if (says("Stored class does not match")) return "it holds another class than its place expects";
+  if (says("bad_alloc") || says("max_size") || says("bad_array_new_length"))
+    return "a length stored in it is far beyond what the file holds";
+  if (says("Assert condition failed") || says("ASSERT_"))
+    return "a value stored in it is out of its range";
+  return mrpt_error_reason(mrpt_message);
+}
+
+bool is_finite(const mrpt::poses::CPose2D& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
+}
+
+bool is_finite(const mrpt::poses::CPose3D& p) {
+  return p.m_coords.asEigen().allFinite() && p.getRotationMatrix().asEigen().allFinite();
+}
+
+// What in an observation the estimators take is not a finite number (damage that MRPT's format
+// cannot see: NaN bytes are a double like any other); empty when everything is.
+std::string non_finite_in(const mrpt::obs::CObservation& observation) {
+  mrpt::poses::CPose3D sensor_pose;
+  observation.getSensorPose(sensor_pose);
+  if (!is_finite(sensor_pose)) return "its sensor pose";
+  if (const auto* odometry = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&observation))
+    if (!is_finite(odometry->odometry)) return "its odometry";
+  if (const auto* imu = dynamic_cast<const mrpt::obs::CObservationIMU*>(&observation))
+    for (std::size_t i = 0; i < imu->rawMeasurements.size(); ++i)
+      if (imu->dataIsPresent[i] && !std::isfinite(imu->rawMeasurements[i])) return "a reading";
+  if (const auto* tracked = dynamic_cast<const CObservationTrackedFeatures*>(&observation))
+    for (const TrackedFeature& feature : tracked->features)
+      if (!std::isfinite(feature.u) || !std::isfinite(feature.v)) return "a feature's pixel";
+  return "";
+}
+
+std::string non_finite_in(const mrpt::serialization::CSerializable& object) {
+  if (const auto* observation = dynamic_cast<const mrpt::obs::CObservation*>(&object))
+    return non_finite_in(*observation);
+  if (const auto* frame = dynamic_cast<const mrpt::obs::CSensoryFrame*>(&object))
+    for (const auto& observation : *frame) {
+      const std::string what = observation ? non_finite_in(*observation) : "";
+      if (!what.empty()) return what + " (in a " + observation->GetRuntimeClass()->className + ")";
+    }
+  if (const auto* actions = dynamic_cast<const mrpt::obs::CActionCollection*>(&object))
+    for (std::size_t i = 0; i < actions->size(); ++i) {
+      const auto* motion = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&actions->get(i));
+      if (motion && !is_finite(motion->rawOdometryIncrementReading)) return "its odometry";
+    }
+  return "";
+}
+
 }  // namespace
 
 std::string mrpt_error_reason(const std::string& what) {
-  // MRPT nests the exceptions of an object's members, each as "Message:  text"; the innermost
-  // one says what went wrong.
+  // MRPT nests the exceptions of an object's members, each after "Original exception:", as
+  // "Message:  text" when it is MRPT's own; the innermost one says what went wrong.
+  const std::string nesting = "Original exception:";
+  const std::size_t innermost = what.rfind(nesting);
+  const std::string inner =
+      innermost == std::string::npos ? what : what.substr(innermost + nesting.size());
   static const std::regex message(R"(Message:\s+([^\n]*))");
-  std::string last;
-  for (auto it = std::sregex_iterator(what.begin(), what.end(), message);
-       it != std::sregex_iterator(); ++it)
-    last = (*it)[1].str();
-  return last.empty() ? what.substr(0, what.find('\n')) : last;
+  std::smatch match;
+  if (std::regex_search(inner, match, message)) return match[1].str();
+  const std::size_t first = inner.find_first_not_of(" \n");
+  return first == std::string::npos ? what.substr(0, what.find('\n'))
+                                    : inner.substr(first, inner.find('\n', first) - first);
 }
 
-std::string describe_damage(const std::string& path, std::size_t index,
-                            const std::string& object_class, const std::string& what) {
+std::string describe_damage(std::size_t index, const std::string& object_class,
+                            const std::string& what) {
   const std::string n = std::to_string(index);
   const std::string before = index == 0   ? "nothing before it was read"
                              : index == 1 ? "the 1 object before it was read"
                                           : "the " + n + " objects before it were read";
-  return path + ": object " + n + (object_class.empty() ? "" : " (" + object_class + ")") + ": " +
-         what + "; " + before;
+  return io::printable_text("object " + n +
+                            (object_class.empty() ? "" : " (" + object_class + ")") + ": " + what +
+                            "; " + before);
 }
 
 std::string unregistered_class_advice(const std::string& class_name) {
@@ -93,6 +204,15 @@ mrpt::serialization::CSerializable::Ptr RawlogReader::next() {
       problem_ = describe_failure(error.what());
       return nullptr;
     }
+    if (object) {
+      const std::string non_finite = non_finite_in(*object);
+      if (!non_finite.empty()) {
+        finished_ = true;
+        problem_ = describe_damage(index_, object->GetRuntimeClass()->className,
+                                   "it is corrupt: " + non_finite + " is not a finite number");
+        return nullptr;
+      }
+    }
     ++index_;
     if (object) return object;
   }
@@ -101,19 +221,19 @@ mrpt::serialization::CSerializable::Ptr RawlogReader::next() {
 
 std::string RawlogReader::describe_failure(const std::string& mrpt_message) {
   std::string what;
-  const std::string unregistered = unregistered_class(mrpt_message);
+  const std::string object_class = failed_class(mrpt_message);
+  const std::optional<std::string> unregistered = unregistered_class(mrpt_message);
   const std::string version = unknown_version(mrpt_message);
-  if (!unregistered.empty()) {
-    what = "its class '" + unregistered + "' is not registered: " +
-           unregistered_class_advice(unregistered);
+  if (unregistered) {
+    what = unregistered_class_problem(*unregistered);
   } else if (!version.empty()) {
     what = "it was stored by a newer version (" + version + ") of its class than this reader knows";
   } else if (file_->checkEOF()) {
     what = "the file ends inside it (truncated)";
   } else {
-    what = "it is corrupt (" + mrpt_error_reason(mrpt_message) + ")";
+    what = "it is corrupt: " + corruption_of(mrpt_message, object_class);
   }
-  return describe_damage(path_, index_, failed_class(mrpt_message), what);
+  return describe_damage(index_, object_class, what);
 }
 
 }  // namespace omnisfm::mrpt_plugin

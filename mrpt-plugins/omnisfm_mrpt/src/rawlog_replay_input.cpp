@@ -130,7 +130,7 @@ class ReplayPass {
       if (!untracked_.empty()) return;
       tracker_ = std::make_unique<track::SequenceTracker>(*camera, options_.tracker);
     }
-    const std::optional<RawlogImage> image = load_rawlog_image(observation, path_, index, damage);
+    const std::optional<RawlogImage> image = load_rawlog_image(observation, index, damage);
     if (!image) return;
     track::SequenceFrame frame;
     frame.index = tracker_->frames();

@@ -11,7 +11,8 @@
 //     table:         mirror_table = a `# rho z` vnlog path (relative to the file's folder),
 //                    mirror_rho_min, mirror_rho_max
 //   mirror_rx mirror_ry mirror_tx mirror_ty mirror_tz   optional, 0 by default
-// Other sections (a calibration's covariance) are left to their own readers.
+// The only other section is a calibration's [omni_camera_covariance], left to its own reader;
+// any other section, or a key before the first section, is an error.
 
 #include <string>
 #include <vector>
@@ -25,7 +26,7 @@ inline constexpr const char* kCameraSection = "omni_camera";
 
 // Throws InputError naming the file, the key and its line for a missing, unknown (including one
 // that belongs to another inner camera or mirror kind), non-numeric or out-of-range value, and
-// for a referenced file that cannot be read.
+// for a referenced file that cannot be read; and naming the file and line of an unknown section.
 camera::CatadioptricCamera read_camera_file(const std::string& path);
 // The same from an INI file already read; relative paths are taken from the folder of ini.file().
 camera::CatadioptricCamera camera_from_ini(const IniFile& ini);

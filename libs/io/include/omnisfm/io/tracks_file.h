@@ -1,6 +1,12 @@
 #pragma once
 // Feature tracks: `tracks.vnl` with `# frame track u v` (frame: 0-based image index, track:
 // integer id), rows sorted by frame.
+//
+// Every frame up to the last is an image with a pose (the estimators step through each one, and
+// write one pose per frame), so a frame id costs memory and time whether tracked or not. More
+// than kMaxUntrackedFrames frames in a row without a tracked feature (from frame 0 to the first
+// row, or between two rows) are refused as bad input: a frame id such as 2e9 is damage, not a
+// sequence.
 
 #include <Eigen/Core>
 #include <map>
@@ -11,6 +17,8 @@
 #include "omnisfm/io/vnlog.h"
 
 namespace omnisfm::io {
+
+inline constexpr int kMaxUntrackedFrames = 1000;
 
 struct TrackObservation {
   int frame = 0;
@@ -40,12 +48,14 @@ class TrackStream {
   bool have_row_ = false;
   TrackObservation row_;
   int row_line_ = 0;
+  int previous_frame_ = -1;
   std::vector<int> lines_;
 };
 
 // Throws InputError naming the file and line for: missing columns, non-integer frame or track,
-// missing or non-finite pixels, frames out of order, a track seen twice in a frame, a pixel
-// outside the image (when image_width/height > 0), and a track with a single observation.
+// missing or non-finite pixels, frames out of order, more than kMaxUntrackedFrames frames
+// without a row, a track seen twice in a frame, a pixel outside the image (when
+// image_width/height > 0), and a track with a single observation.
 std::vector<TrackObservation> read_tracks(const std::string& path, int image_width = 0,
                                           int image_height = 0);
 

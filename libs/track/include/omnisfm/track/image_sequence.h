@@ -25,7 +25,8 @@ struct SequenceFrame {
 class ImageSequence {
  public:
   // Throws io::InputError naming `path` when it does not exist, is a folder without PNG or JPG
-  // files, or is a file no video reader opens.
+  // files, or is a file no video reader opens; naming the image when an image's name in the
+  // folder is a link that cannot be followed (a loop, or to nothing).
   explicit ImageSequence(const std::string& path);
   ~ImageSequence();
   ImageSequence(ImageSequence&&) noexcept;

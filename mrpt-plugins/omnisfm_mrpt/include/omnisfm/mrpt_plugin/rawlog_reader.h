@@ -4,10 +4,13 @@
 //
 // A rawlog has no index and no object lengths, so nothing after a damaged object can be found
 // again: reading stops there. Every object before it has been delivered; problem() then names the
-// file, the object's index (counting from 0) and what is wrong: the file ends inside the object
+// object's index (counting from 0) and what is wrong: the file ends inside the object
 // (truncated), its class is not registered (and which library defines it), its class version is
-// newer than this reader, or its bytes are corrupt. A file cut exactly between two objects reads
-// as a shorter, complete rawlog: the format cannot tell the difference.
+// newer than this reader, or its bytes are corrupt (a class name that is a registered one with
+// bytes changed, or no C++ name, is corruption, and so is a number the estimators take - a
+// sensor pose, odometry, an IMU reading, a tracked pixel - that is not finite). The caller names
+// the file, as io::InputError does. A file cut exactly between two objects reads as a shorter, complete rawlog: the format
+// cannot tell the difference.
 //
 // MRPT headers: the including target must link MRPT (mrpt::obs) itself.
 
@@ -39,7 +42,7 @@ class RawlogReader {
   // next, and after a problem that of the damaged object.
   std::size_t index() const { return index_; }
   // Empty while reading goes well and after a clean end; otherwise
-  // "PATH: object N: what is wrong; the N objects before it were read".
+  // "object N: what is wrong; the N objects before it were read".
   const std::string& problem() const { return problem_; }
   const std::string& path() const { return path_; }
 
@@ -57,10 +60,10 @@ class RawlogReader {
 // not registered: for omnisfm's classes, to load libomnisfm_mrpt.so.
 std::string unregistered_class_advice(const std::string& class_name);
 
-// How damage is reported: "PATH: object N (CLASS): WHAT; the N objects before it were read"
-// (without the class when it is empty).
-std::string describe_damage(const std::string& path, std::size_t index,
-                            const std::string& object_class, const std::string& what);
+// How damage is reported: "object N (CLASS): WHAT; the N objects before it were read" (without
+// the class when it is empty), made printable (a damaged class name may hold any bytes).
+std::string describe_damage(std::size_t index, const std::string& object_class,
+                            const std::string& what);
 
 // The innermost message of an MRPT exception's text, without MRPT's call stacks.
 std::string mrpt_error_reason(const std::string& what);
