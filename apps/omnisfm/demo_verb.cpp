@@ -85,7 +85,7 @@ void add_demo_verb(CLI::App& app) {
   verb->callback([out, seed] {
     std::ostringstream motion, tracking;
     motion << "experiment  figure           paper       simulated   from images:            "
-              "outliers (> 2 px)\n"
+              "outlier tracks\n"
            << "                                         tracks      online      batch       "
               "found/true\n";
     tracking << "tracking    frames  tracks  median    95th pct  mistracked  reacquired (wrong)"
