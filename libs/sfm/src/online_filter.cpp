@@ -368,11 +368,6 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     propagate(*motion);
   else
     propagate();
-  if (smoothing_start_ && start_frames_.size() == 1) {
-    // The first prediction has set the sensors' priors.
-    start_sensors_ = predicted_at;
-    start_sensors_covariance_ = state_.P.block<4, 4>(FilterState::kBiasColumn, FilterState::kBiasColumn);
-  }
 
   std::vector<Measurement> measurements;
   for (const auto& [track, pixel] : seen) {

@@ -83,15 +83,20 @@ void OnlineFilter::solve_start() {
   // Held at their estimates, their errors would count as new in every frame and their
   // correlations with the poses would be lost (the rover's NEES over 25 seeds: 15.3, 52 % inside
   // the bound; with the bias folded into each frame's noise instead, 5.1 and 94 %).
-  Eigen::Vector4d sensor_prior_weight;
-  for (int j = 0; j < 4; ++j) {
-    const double variance = start_sensors_covariance_(j, j);
-    // Unused sensors: no frame's motion depends on them; any weight keeps them at the prior.
-    sensor_prior_weight[j] = variance > 0 ? 1 / variance : 1;
+  // The prior: the filter's first estimates, with the variances the predictions state (the
+  // window begins at the first frame, before any sensor's state has moved).
+  Eigen::Vector4d prior_variance = Eigen::Vector4d::Zero();
+  for (int i = 1; i < num_frames; ++i) {
+    prior_variance.head<3>() =
+        prior_variance.head<3>().cwiseMax(frames[i].motion.bias_prior_variance);
+    prior_variance[3] = std::max(prior_variance[3], frames[i].motion.wheel_scale_prior_variance);
   }
-
+  Eigen::Vector4d sensor_prior_weight;
+  for (int j = 0; j < 4; ++j)  // unused sensors: no motion depends on them, any weight will do
+    sensor_prior_weight[j] = prior_variance[j] > 0 ? 1 / prior_variance[j] : 1;
+  const SensorStates first;
   Eigen::Matrix<double, 4, 1> prior_sensors;
-  prior_sensors << start_sensors_.gyro_bias, start_sensors_.wheel_scale;
+  prior_sensors << first.gyro_bias, first.wheel_scale;
   std::vector<Eigen::Matrix<double, 6, 4>> sensor_jacobian(num_frames);
   std::vector<Eigen::Matrix<double, 4, 1>> predicted_at(num_frames);
   for (int i = 1; i < num_frames; ++i) {
@@ -271,7 +276,7 @@ void OnlineFilter::solve_start() {
   for (int i = 1; i < num_frames; ++i) bias_walk += frames[i].motion.bias_walk_variance;
   for (int j = 0; j < 4; ++j) {
     const int c = FilterState::kBiasColumn + j;
-    if (start_sensors_covariance_(j, j) > 0) {
+    if (prior_variance[j] > 0) {
       if (j < 3) P(c, c) += bias_walk;
     } else {
       P.row(c).setZero();  // an unused sensor stays out of every product

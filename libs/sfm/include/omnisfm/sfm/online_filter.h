@@ -301,9 +301,6 @@ class OnlineFilter {
   long linearisations_ = 0;
   bool smoothing_start_ = false;           // until the smoothed start has run
   std::vector<StartFrame> start_frames_;
-  // The sensors' states and their covariance before the first prediction: the start's prior.
-  SensorStates start_sensors_;
-  Eigen::Matrix4d start_sensors_covariance_ = Eigen::Matrix4d::Zero();
 
   std::map<int, PointAnchor> start_anchors_;
   std::map<int, Eigen::Isometry3d> smoothed_start_;
