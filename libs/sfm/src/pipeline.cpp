@@ -117,9 +117,12 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
                        ExtraTerms* extra, SfmResult* result) {
   std::set<int> rejected;
   for (const auto& r : result->outliers) rejected.insert(r.track);
+  const auto inlier = [&](int track) {
+    return !rejected.count(track) && result->online_points.count(track);
+  };
   std::vector<io::TrackObservation> inliers;
   for (const auto& o : tracks)
-    if (!rejected.count(o.track) && result->online_points.count(o.track)) inliers.push_back(o);
+    if (inlier(o.track)) inliers.push_back(o);
   if (inliers.empty())
     throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
                              std::to_string(rejected.size()) + " as outliers");
@@ -153,8 +156,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   result->taken_back = static_cast<int>(explained.size());
   std::vector<io::TrackObservation> kept;
   for (const auto& o : tracks)
-    if ((explained.count(o.track) || (!rejected.count(o.track) && result->online_points.count(o.track))) &&
-        !failing.count(o.track))
+    if ((explained.count(o.track) || inlier(o.track)) && !failing.count(o.track))
       kept.push_back(o);
   std::map<int, Eigen::Vector3d> start_points = result->batch.points;
   for (const auto& [track, point] : explained) start_points[track] = point;

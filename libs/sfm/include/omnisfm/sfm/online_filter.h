@@ -166,8 +166,6 @@ class OnlineFilter {
     return state_.P(FilterState::kScaleColumn, FilterState::kScaleColumn);
   }
   const SensorStates& sensor_states() const { return state_.mean.sensors; }
-  // The whole estimate: mean, covariance and slots.
-  const FilterState& state() const { return state_; }
   // The latest estimate of the live points and of the ended ones kept (the latest kept_history,
   // and every one while the smoothed start is pending), outliers excluded.
   std::map<int, Eigen::Vector3d> points() const;
