@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages omnisfm needs (only those missing), then configures and builds
 # into build/. Idempotent: quiet when everything is already there.
+#   scripts/setup.sh --sanitize   the same into build-sanitize/: clang with AddressSanitizer and
+#                                 UndefinedBehaviorSanitizer, the libraries, the tests and the
+#                                 libFuzzer targets (no benchmarks)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,8 +14,12 @@ packages=(
   libmrpt-dev mrpt-apps
   libmrcal-dev mrcal python3-mrcal mrgingham
   libcli11-dev libgtest-dev libbenchmark-dev
-  gnuplot-nox
+  gnuplot-nox python3
+  clang libclang-rt-14-dev
 )
+
+sanitize=0
+if [ "${1:-}" = "--sanitize" ]; then sanitize=1; fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -26,9 +33,19 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-build_dir=${OMNISFM_BUILD_DIR:-build}
-if [ ! -f "$build_dir/CMakeCache.txt" ]; then
-  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+if [ "$sanitize" -eq 1 ]; then
+  build_dir=${OMNISFM_SANITIZE_BUILD_DIR:-build-sanitize}
+  if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+    # -O1 with line tables: the sanitizers' usual trade between speed and readable reports.
+    CC=clang CXX=clang++ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 \
+      -DOMNISFM_FUZZ=ON -DOMNISFM_BUILD_BENCH=OFF >/dev/null
+  fi
+else
+  build_dir=${OMNISFM_BUILD_DIR:-build}
+  if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+    cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  fi
 fi
 echo "setup: building in $build_dir/" >&2
 log=$(mktemp)

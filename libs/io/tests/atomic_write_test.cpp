@@ -1,6 +1,7 @@
 #include "omnisfm/io/atomic_write.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -70,6 +71,23 @@ TEST_F(AtomicWriteTest, MissingFolderIsAnError) {
   EXPECT_THROW(
       write_text_atomically((dir_ / "no/such/file").string(), [](std::ostream& out) { out << 1; }),
       std::runtime_error);
+}
+
+// A killed writer's temporary goes at the next write; a running writer's stays.
+TEST_F(AtomicWriteTest, TheNextWriteRemovesWhatAKilledWriterLeft) {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const fs::path abandoned = dir_ / ("out.tmp-" + std::to_string(child) + ".ini");
+  const fs::path running = dir_ / "out.tmp-1.ini";  // init never ends
+  const fs::path other = dir_ / ("other.tmp-" + std::to_string(child) + ".ini");
+  for (const fs::path& path : {abandoned, running, other}) std::ofstream(path) << "half";
+  write_text_atomically(target_, [](std::ostream& out) { out << "new\n"; });
+  EXPECT_FALSE(fs::exists(abandoned));
+  EXPECT_TRUE(fs::exists(running));
+  EXPECT_TRUE(fs::exists(other));  // another file's temporaries are its own writer's business
+  EXPECT_EQ(contents(), "new\n");
 }
 
 }  // namespace
