@@ -60,6 +60,31 @@ if(NOT status EQUAL 0 OR NOT projected MATCHES "^# u v\n[0-9.]+ [0-9.]+\n$")
 endif()
 message(STATUS "downstream_test: the installed omnisfm runs: ${version}")
 
+# Moved elsewhere, the prefix still serves its program its own shipped camera: made different
+# from the source tree's here, the default camera must project as that file does.
+set(moved "${work_dir}/moved-prefix")
+file(RENAME "${prefix}" "${moved}")
+set(moved_camera "${moved}/share/omnisfm/cameras/equiangular.ini")
+file(READ "${moved_camera}" camera_text)
+string(REGEX REPLACE "\ncx = [^\n]*" "\ncx = 400" camera_text "${camera_text}")
+file(WRITE "${moved_camera}" "${camera_text}")
+foreach(camera_args IN ITEMS "" "--camera;${moved_camera}")
+  execute_process(COMMAND "${moved}/bin/omnisfm" project ${camera_args}
+                  INPUT_FILE "${work_dir}/points.vnl" RESULT_VARIABLE status
+                  OUTPUT_VARIABLE output ERROR_VARIABLE error)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "downstream_test: the moved prefix's omnisfm project failed: ${error}")
+  endif()
+  list(APPEND moved_projections "${output}")
+endforeach()
+list(GET moved_projections 0 by_default)
+list(GET moved_projections 1 by_file)
+if(NOT by_default STREQUAL by_file OR by_default STREQUAL projected)
+  message(FATAL_ERROR "downstream_test: moved, the installed omnisfm did not take its prefix's "
+                      "camera: ${by_default} (its file: ${by_file}; the source tree's: ${projected})")
+endif()
+file(RENAME "${moved}" "${prefix}")
+
 set(configure_args -S "${DOWNSTREAM_SOURCE_DIR}" -B "${downstream_build_dir}"
                    "-DCMAKE_PREFIX_PATH=${prefix}")
 if(GENERATOR)

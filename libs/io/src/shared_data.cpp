@@ -6,7 +6,18 @@
 namespace omnisfm::io {
 
 std::vector<std::string> shared_data_folders() {
-  return {OMNISFM_SOURCE_SHARE_DIR, OMNISFM_INSTALL_SHARE_DIR};
+  std::vector<std::string> folders;
+  // An installed program's own prefix first, wherever the prefix was moved to.
+  std::error_code error;
+  const std::filesystem::path program = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const std::filesystem::path beside =
+        (program.parent_path() / OMNISFM_SHARE_DIR_FROM_BINDIR).lexically_normal();
+    if (std::filesystem::is_directory(beside, error)) folders.push_back(beside.string());
+  }
+  folders.push_back(OMNISFM_SOURCE_SHARE_DIR);
+  folders.push_back(OMNISFM_INSTALL_SHARE_DIR);
+  return folders;
 }
 
 std::string find_shared_file(const std::string& relative) {

@@ -1,6 +1,7 @@
 #pragma once
-// omnisfm's shared data (example cameras, configs, small datasets): share/omnisfm in the source
-// tree this library was built from, else share/omnisfm under the install prefix.
+// omnisfm's shared data (example cameras, configs, small datasets): share/omnisfm beside the
+// running program's bin folder (an installed program, even in a prefix moved elsewhere), else in
+// the source tree this library was built from, else under the install prefix.
 
 #include <string>
 #include <vector>
