@@ -3,12 +3,16 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "omnisfm/io/input_error.h"
 #include "verbs.h"
 
 int main(int argc, char** argv) {
   using omnisfm::io::printable_text;
+  // OpenCV's own log lines ("[ERROR:0@1.7] global grfmt_...") would come before omnisfm's message
+  // about the same image; the verbs report what OpenCV could not do themselves.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   CLI::App app{"Shape-from-motion with catadioptric (mirror + camera) omnidirectional cameras",
                "omnisfm"};
   app.set_version_flag("--version", OMNISFM_VERSION);

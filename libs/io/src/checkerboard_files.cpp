@@ -46,7 +46,9 @@ std::vector<ImageCorners> read_corners(const std::string& path) {
     const bool detected = has_level && level >= 0;
     Eigen::Vector2d pixel(kMissing, kMissing);
     if (detected) {
-      pixel << table.number(row, columns[1]), table.number(row, columns[2]);
+      const double x = table.number(row, columns[1]);  // before the vector: either may throw
+      const double y = table.number(row, columns[2]);
+      pixel = Eigen::Vector2d(x, y);
       if (!pixel.allFinite()) {
         throw InputError(path, table.line(row),
                          "a detected corner needs finite x and y, not '" + x_text + " " + y_text +

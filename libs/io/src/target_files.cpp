@@ -64,7 +64,9 @@ std::vector<TargetObservationRow> read_target_observations(const std::string& pa
     TargetObservationRow o;
     o.image = id_field(table, row, columns[0], "image");
     o.target = id_field(table, row, columns[1], "target");
-    o.pixel << finite_field(table, row, columns[2], "u"), finite_field(table, row, columns[3], "v");
+    const double u = finite_field(table, row, columns[2], "u");  // before the vector: either may throw
+    const double v = finite_field(table, row, columns[3], "v");
+    o.pixel = Eigen::Vector2d(u, v);
     o.line = table.line(row);
     if (!seen.insert({o.image, o.target}).second) {
       throw InputError(path, o.line,

@@ -35,7 +35,11 @@ bool TrackStream::read_row() {
   row_line_ = reader_.line();
   row_.frame = integer_field(reader_, columns_[0], "frame");
   row_.track = integer_field(reader_, columns_[1], "track");
-  row_.pixel << reader_.number(columns_[2]), reader_.number(columns_[3]);
+  // Each number read before the vector is filled: a throw inside Eigen's comma initializer
+  // would leave it half-filled, which its destructor asserts against.
+  const double u = reader_.number(columns_[2]);
+  const double v = reader_.number(columns_[3]);
+  row_.pixel = Eigen::Vector2d(u, v);
   if (!row_.pixel.allFinite())
     throw InputError(file(), row_line_, "the pixel (u, v) must be two finite numbers");
   if (image_width_ > 0 &&
