@@ -22,6 +22,7 @@ function(omnisfm_warnings target)
 endfunction()
 
 # omnisfm_add_test(NAME SOURCES ... DEPS ... [LABELS ...])
+# Labels: unit by default; sanitize for the tests the sanitizer build runs in CI (scripts/test.sh).
 function(omnisfm_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
   if(NOT ARG_LABELS)
@@ -32,6 +33,16 @@ function(omnisfm_add_test name)
   omnisfm_warnings(${name})
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
-    PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
+    TEST_LIST ${name}_tests
     DISCOVERY_TIMEOUT 60)
+  # Lists (two labels, several variables) do not survive gtest_discover_tests' PROPERTIES, so
+  # they are set by a file CTest reads after the discovered tests.
+  set(environment "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" ${OMNISFM_SANITIZER_ENVIRONMENT})
+  set(properties_file "${CMAKE_CURRENT_BINARY_DIR}/${name}_properties.cmake")
+  file(WRITE "${properties_file}"
+       "if(${name}_tests)\n"
+       "  set_tests_properties(\${${name}_tests} PROPERTIES\n"
+       "    LABELS \"${ARG_LABELS}\" ENVIRONMENT \"${environment}\")\n"
+       "endif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${properties_file}")
 endfunction()

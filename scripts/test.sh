@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Sets up omnisfm and runs the whole test suite (every CTest label) in build/, then the unit
-# tests and the fuzz targets under AddressSanitizer and UndefinedBehaviorSanitizer in
-# build-sanitize/ (README, "Reliability").
+# Sets up omnisfm and runs the whole test suite (every CTest label) in build/, then the readers',
+# the camera's and the plugin's tests (label sanitize) and the fuzz targets under
+# AddressSanitizer and UndefinedBehaviorSanitizer in build-sanitize/ (README, "Reliability").
 #   scripts/test.sh [CTEST ARGS...]   the arguments go to the first ctest run
 #   OMNISFM_SANITIZE=0                skips the sanitizer build
-#   OMNISFM_SANITIZE_LABELS=REGEX     the labels run there (default: unit|fuzz)
+#   OMNISFM_SANITIZE_LABELS=REGEX     the labels run there (default: sanitize|fuzz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -14,5 +14,5 @@ if [ "${OMNISFM_SANITIZE:-1}" != 0 ]; then
   scripts/setup.sh --sanitize
   (cd "${OMNISFM_SANITIZE_BUILD_DIR:-build-sanitize}" &&
     ctest --output-on-failure --parallel "$(nproc)" --timeout 600 \
-      -L "${OMNISFM_SANITIZE_LABELS:-unit|fuzz}")
+      -L "${OMNISFM_SANITIZE_LABELS:-sanitize|fuzz}")
 fi

@@ -1,6 +1,7 @@
 // omnisfm VERB [options]: exit status 0 on success, 2 on bad usage or bad input, 1 otherwise.
 
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
@@ -10,8 +11,9 @@
 
 int main(int argc, char** argv) {
   using omnisfm::io::printable_text;
-  // OpenCV's own log lines ("[ERROR:0@1.7] global grfmt_...") would come before omnisfm's message
-  // about the same image; the verbs report what OpenCV could not do themselves.
+  // OpenCV's and FFmpeg's own log lines ("[ERROR:0@1.7] global grfmt_...") would come before
+  // omnisfm's message about the same image or video; the verbs report what OpenCV could not do.
+  ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);  // AV_LOG_QUIET, unless the user set another
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   CLI::App app{"Shape-from-motion with catadioptric (mirror + camera) omnidirectional cameras",
                "omnisfm"};

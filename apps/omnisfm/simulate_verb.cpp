@@ -95,10 +95,10 @@ void add_simulate_verb(CLI::App& app) {
     std::unique_ptr<sim::Renderer> renderer;
     if (*render) {
       renderer = std::make_unique<sim::Renderer>(dataset.camera, *samples);
-      const int frames = static_cast<int>(dataset.world_from_cam.size());
-      write_image = [&, frames](int frame, const std::string& path) {
+      const int image_count = static_cast<int>(dataset.world_from_cam.size());
+      write_image = [&, image_count](int frame, const std::string& path) {
         sim::write_png(path, renderer->render(dataset.scene, dataset.world_from_cam[frame]));
-        progress(frame + 1, frames);
+        progress(frame + 1, image_count);
       };
     }
     std::string rawlog_summary;

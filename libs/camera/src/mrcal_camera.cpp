@@ -3,6 +3,8 @@
 #include "omnisfm/camera/mrcal_lensmodel.h"
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <vector>
 
@@ -20,8 +22,54 @@ mrcal_lensmodel_t mrcal_lensmodel_named(const std::string& name) {
   return model;
 }
 
+namespace {
+
+// The file's text, checked first for what libmrcal 2.2's parser does not survive (found by
+// fuzzing): a string that does not end makes it read past the end of its buffer. A .cameramodel
+// is ASCII text without control characters (other bytes only in comments) whose strings end on
+// their line.
+std::string checked_cameramodel_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot be read");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.size() > (1u << 26)) throw std::runtime_error(path + ": too large for a .cameramodel");
+  int line = 1;
+  char quote = 0;
+  bool comment = false;
+  const auto fail = [&](const std::string& what) {
+    throw std::runtime_error(path + ":" + std::to_string(line) + ": " + what);
+  };
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      if (quote) fail("a string that does not end on its line");
+      comment = false;
+      ++line;
+      continue;
+    }
+    if (byte < 0x20 && c != '\t' && c != '\r') fail("a control character");
+    if (comment) continue;
+    if (byte >= 0x7f) fail("a byte that is not ASCII text");
+    if (quote) {
+      if (c == '\'' || c == '"') quote = 0;  // its lexer ends a string at either quote
+    } else if (c == '#') {
+      comment = true;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+    }
+  }
+  if (quote) fail("a string that does not end");
+  // Its lexer takes a comment to the next newline, past the end of the text when there is none.
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  return text;
+}
+
+}  // namespace
+
 MrcalCamera MrcalCamera::from_file(const std::string& path) {
-  mrcal_cameramodel_t* model = mrcal_read_cameramodel_file(path.c_str());
+  const std::string text = checked_cameramodel_text(path);
+  // Given as a 0-terminated string (len 0): given a length, libmrcal 2.2 lexes past the end.
+  mrcal_cameramodel_t* model = text.empty() ? nullptr : mrcal_read_cameramodel_string(text.c_str(), 0);
   if (!model) throw std::runtime_error(path + ": not a readable mrcal .cameramodel");
   char name[1024];
   if (!mrcal_lensmodel_name(name, sizeof name, &model->lensmodel)) {

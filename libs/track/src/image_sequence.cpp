@@ -5,10 +5,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
-#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <opencv2/videoio/registry.hpp>
 
 #include "omnisfm/io/input_error.h"
 
@@ -62,15 +62,16 @@ ImageSequence::ImageSequence(const std::string& path) : path_(path) {
     std::sort(files_.begin(), files_.end());
     return;
   }
-  // The decoders' own complaints about a file they cannot read would bury our message.
-  ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);  // FFmpeg's AV_LOG_QUIET
-  const auto log_level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  // The backends that read files, in OpenCV's order, but not gphoto2's: it takes a file name for
+  // a camera's and probes every USB device for it (slowly, and keeping what it allocates).
   video_ = std::make_unique<cv::VideoCapture>();
-  try {
-    video_->open(path);
-  } catch (const cv::Exception&) {
+  for (const cv::VideoCaptureAPIs api : cv::videoio_registry::getStreamBackends()) {
+    if (api == cv::CAP_GPHOTO2) continue;
+    try {
+      if (video_->open(path, api)) break;
+    } catch (const cv::Exception&) {
+    }
   }
-  cv::utils::logging::setLogLevel(log_level);
   if (!video_->isOpened())
     throw io::InputError(path, 0, "not a folder of images, and no video reader opens it");
 }

@@ -14,7 +14,7 @@ omnisfm_add_test(omnisfm_mrpt_tests
     tests/scene_file_test.cpp
     tests/omni_sfm_estimator_test.cpp
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io omnisfm::sfm mrpt::obs mrpt::img mrpt::io
-       mrpt::poses mrpt::serialization mrpt::opengl opencv_imgcodecs)
+       mrpt::poses mrpt::serialization mrpt::opengl opencv_imgcodecs LABELS unit sanitize)
 # The camera contract's cameras: every inner camera and mirror the model must store.
 target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests)
 target_compile_definitions(omnisfm_mrpt_tests PRIVATE

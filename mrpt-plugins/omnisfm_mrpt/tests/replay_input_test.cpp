@@ -96,9 +96,13 @@ TEST(OutdoorRawlog, GgaMessagesHoldTheFixes) {
     if (!gps) continue;
     ASSERT_LT(fixes, truth.fixes.size());
     const auto& gga = gps->getMsgByClass<mrpt::obs::gnss::Message_NMEA_GGA>().fields;
-    EXPECT_EQ(gga.fix_quality, 4);
-    EXPECT_EQ(gga.satellitesUsed, 12u);
-    EXPECT_NEAR(gga.HDOP, std::sqrt(2.0), 1e-6);
+    // Copies: MRPT packs the message's fields, and gtest binds references to what it compares.
+    const int fix_quality = gga.fix_quality;
+    const uint32_t satellites = gga.satellitesUsed;
+    const double hdop = gga.HDOP;
+    EXPECT_EQ(fix_quality, 4);
+    EXPECT_EQ(satellites, 12u);
+    EXPECT_NEAR(hdop, std::sqrt(2.0), 1e-6);
     const Eigen::Vector3d back =
         enu.enu_of({gga.latitude_degrees, gga.longitude_degrees, gga.altitude_meters});
     EXPECT_LT((back - truth.fixes[fixes].enu).norm(), 1e-6);
