@@ -16,7 +16,8 @@ void write_folder(const std::string& dir, const std::function<void(const std::st
   const fs::path target = fs::absolute(dir).lexically_normal();
   const fs::path parent = target.parent_path();
   if (!fs::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0)
-    throw io::InputError(dir, 0, "cannot write here: " + parent.string() + " is not a writable folder");
+    throw io::InputError(dir, 0,
+                         "cannot write here: " + parent.string() + " is not a writable folder");
   std::error_code ec;
   if (fs::exists(target, ec) && !fs::is_directory(target, ec))
     throw io::InputError(dir, 0, "exists and is not a folder");

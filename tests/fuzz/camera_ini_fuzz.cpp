@@ -14,8 +14,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::expect_contract([&] {
     const camera::CatadioptricCamera camera = io::read_camera_file(path);
     fuzz::require(camera.image_width() > 0 && camera.image_height() > 0, "a camera of no size");
-    for (const Eigen::Vector3d& X : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0.3, -2, 0.5),
-                                     Eigen::Vector3d(0, 0, -1)}) {
+    for (const Eigen::Vector3d& X :
+         {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0.3, -2, 0.5), Eigen::Vector3d(0, 0, -1)}) {
       Eigen::Vector2d pixel;
       if (camera.project(X, &pixel)) fuzz::require(pixel.allFinite(), "a projection to NaN");
     }

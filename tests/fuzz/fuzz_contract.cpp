@@ -61,7 +61,8 @@ void check_input_error(const io::InputError& error) {
     // The line must exist in the file it names (when that file is there to count).
     std::ifstream in(error.file(), std::ios::binary);
     if (in) {
-      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const std::string text((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
       const long lines = std::count(text.begin(), text.end(), '\n') + 1;
       if (error.line() > lines) broken("an InputError past the file's last line: " + what);
     }

@@ -17,7 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     track::SequenceFrame frame;
     cv::Size first;
     while (sequence.next(&frame)) {
-      fuzz::require(frame.image.type() == CV_8UC1 && !frame.image.empty(), "a frame not 8-bit grey");
+      fuzz::require(frame.image.type() == CV_8UC1 && !frame.image.empty(),
+                    "a frame not 8-bit grey");
       if (first.empty()) first = frame.image.size();
       fuzz::require(frame.image.size() == first, "frames of different sizes");
     }

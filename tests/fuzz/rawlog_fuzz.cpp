@@ -23,9 +23,11 @@ void require_named(const mrpt_plugin::RawlogReadResult& result, const std::strin
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = fuzz::write_input(data, size, "input.rawlog");
   fuzz::expect_contract([&] {
-    const auto result = mrpt_plugin::for_each_rawlog_image(path, [](mrpt_plugin::RawlogImage& image) {
-      fuzz::require(image.grey.type() == CV_8UC1 && !image.grey.empty(), "an image not 8-bit grey");
-    });
+    const auto result =
+        mrpt_plugin::for_each_rawlog_image(path, [](mrpt_plugin::RawlogImage& image) {
+          fuzz::require(image.grey.type() == CV_8UC1 && !image.grey.empty(),
+                        "an image not 8-bit grey");
+        });
     require_named(result, path);
   });
   fuzz::expect_contract([&] {

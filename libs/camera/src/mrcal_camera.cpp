@@ -69,7 +69,8 @@ std::string checked_cameramodel_text(const std::string& path) {
 MrcalCamera MrcalCamera::from_file(const std::string& path) {
   const std::string text = checked_cameramodel_text(path);
   // Given as a 0-terminated string (len 0): given a length, libmrcal 2.2 lexes past the end.
-  mrcal_cameramodel_t* model = text.empty() ? nullptr : mrcal_read_cameramodel_string(text.c_str(), 0);
+  mrcal_cameramodel_t* model =
+      text.empty() ? nullptr : mrcal_read_cameramodel_string(text.c_str(), 0);
   if (!model) throw std::runtime_error(path + ": not a readable mrcal .cameramodel");
   char name[1024];
   if (!mrcal_lensmodel_name(name, sizeof name, &model->lensmodel)) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <random>
 
 #include "test_cameras.h"
@@ -129,6 +131,33 @@ TEST(MrcalCamera, ReadsWritesAndMatchesMrcalConventions) {
   EXPECT_NEAR(q.y(), 710 * -0.1 + 400, 1e-12);
   EXPECT_THROW(MrcalCamera::from_file("/nonexistent.cameramodel"), std::runtime_error);
   EXPECT_THROW(MrcalCamera("LENSMODEL_NOPE", k, 10, 10), std::invalid_argument);
+}
+
+// What libmrcal 2.2's parser reads past its buffer on is refused first, naming the file and line;
+// a model whose last line has no newline still reads.
+TEST(MrcalCamera, TextThatMrcalsParserWouldOverrunIsRefused) {
+  const std::string path = ::testing::TempDir() + "/damaged.cameramodel";
+  const auto error_for = [&](const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    try {
+      MrcalCamera::from_file(path);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error_for("{'lensmodel': 'LENSMODEL_OP\n 'imagersize': [1, 2]}\n"),
+            path + ":1: a string that does not end on its line");
+  EXPECT_EQ(error_for("# a pinhole\x01{"), path + ":1: a control character");
+  EXPECT_EQ(error_for("{'lensmodel\": 'LENSMODEL_PINHOLE"),
+            path + ":1: a string that does not end");
+  EXPECT_EQ(error_for("{\n'lensmodel': 'LENSMODEL_\xc3\xa9'}"),
+            path + ":2: a byte that is not ASCII text");
+  std::ofstream(path) << "# a comment may hold \xc2\xb1\n"
+                         "{'lensmodel': 'LENSMODEL_PINHOLE', 'intrinsics': [700, 700, 50, 40],"
+                         " 'extrinsics': [0, 0, 0, 0, 0, 0], 'imagersize': [100, 80]}"
+                         " # a last line without its newline";
+  EXPECT_EQ(MrcalCamera::from_file(path).image_width(), 100);
 }
 
 }  // namespace

@@ -29,7 +29,8 @@ void remove_abandoned_temporaries(const fs::path& folder, const std::string& pre
   if (error) return;
   for (const auto& entry : entries) {
     const std::string name = entry.path().filename().string();
-    if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+    if (name.size() <= prefix.size() + suffix.size() ||
+        name.compare(0, prefix.size(), prefix) != 0 ||
         name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
       continue;
     const std::string pid = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
@@ -46,8 +47,8 @@ void write_atomically(const std::string& path,
   // The process id keeps concurrent writers of the same file apart, and tells a killed one's.
   const std::string prefix = target.stem().string() + ".tmp-";
   remove_abandoned_temporaries(target.parent_path(), prefix, target.extension().string());
-  const fs::path temporary = target.parent_path() / (prefix + std::to_string(::getpid()) +
-                                                     target.extension().string());
+  const fs::path temporary =
+      target.parent_path() / (prefix + std::to_string(::getpid()) + target.extension().string());
   try {
     write(temporary.string());
     std::error_code error;

@@ -40,7 +40,8 @@ std::map<std::string, double> read_image_timestamps(const std::string& path) {
       throw io::InputError(path, table.line(row), "the timestamp of " + image + " is missing");
     const std::string name = fs::path(image).filename().string();
     if (name.empty() || name == "." || name == "..")
-      throw io::InputError(path, table.line(row), "image '" + image + "' names a folder, not an image file");
+      throw io::InputError(path, table.line(row),
+                           "image '" + image + "' names a folder, not an image file");
     if (!timestamps.emplace(name, time).second)
       throw io::InputError(path, table.line(row), "image " + name + " is listed twice");
   }
