@@ -10,6 +10,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <regex>
@@ -104,35 +105,51 @@ bool is_finite(const mrpt::poses::CPose3D& p) {
   return p.m_coords.asEigen().allFinite() && p.getRotationMatrix().asEigen().allFinite();
 }
 
-// What in an observation the estimators take is not a finite number (damage that MRPT's format
-// cannot see: NaN bytes are a double like any other); empty when everything is.
-std::string non_finite_in(const mrpt::obs::CObservation& observation) {
+// MRPT reads an IMU's presence flags as raw bytes into bools: a damaged byte that is neither 0
+// nor 1 is looked at as a byte, since reading it as a bool would be undefined behaviour.
+bool presence_flags_are_bits(const mrpt::obs::CObservationIMU& imu) {
+  for (const bool& flag : imu.dataIsPresent) {
+    unsigned char byte = 0;
+    std::memcpy(&byte, &flag, 1);
+    if (byte > 1) return false;
+  }
+  return true;
+}
+
+// Damage that MRPT's format cannot see, in what the estimators take: a number that is not finite
+// (NaN bytes are a double like any other), or a flag that is not a bool. Empty when there is none.
+std::string damage_in(const mrpt::obs::CObservation& observation) {
   mrpt::poses::CPose3D sensor_pose;
   observation.getSensorPose(sensor_pose);
-  if (!is_finite(sensor_pose)) return "its sensor pose";
+  if (!is_finite(sensor_pose)) return "its sensor pose is not a finite number";
   if (const auto* odometry = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&observation))
-    if (!is_finite(odometry->odometry)) return "its odometry";
-  if (const auto* imu = dynamic_cast<const mrpt::obs::CObservationIMU*>(&observation))
+    if (!is_finite(odometry->odometry)) return "its odometry is not a finite number";
+  if (const auto* imu = dynamic_cast<const mrpt::obs::CObservationIMU*>(&observation)) {
+    if (!presence_flags_are_bits(*imu)) return "a presence flag is neither 0 nor 1";
     for (std::size_t i = 0; i < imu->rawMeasurements.size(); ++i)
-      if (imu->dataIsPresent[i] && !std::isfinite(imu->rawMeasurements[i])) return "a reading";
+      if (imu->dataIsPresent[i] && !std::isfinite(imu->rawMeasurements[i]))
+        return "a reading is not a finite number";
+  }
   if (const auto* tracked = dynamic_cast<const CObservationTrackedFeatures*>(&observation))
     for (const TrackedFeature& feature : tracked->features)
-      if (!std::isfinite(feature.u) || !std::isfinite(feature.v)) return "a feature's pixel";
+      if (!std::isfinite(feature.u) || !std::isfinite(feature.v))
+        return "a feature's pixel is not a finite number";
   return "";
 }
 
-std::string non_finite_in(const mrpt::serialization::CSerializable& object) {
+std::string damage_in(const mrpt::serialization::CSerializable& object) {
   if (const auto* observation = dynamic_cast<const mrpt::obs::CObservation*>(&object))
-    return non_finite_in(*observation);
+    return damage_in(*observation);
   if (const auto* frame = dynamic_cast<const mrpt::obs::CSensoryFrame*>(&object))
     for (const auto& observation : *frame) {
-      const std::string what = observation ? non_finite_in(*observation) : "";
+      const std::string what = observation ? damage_in(*observation) : "";
       if (!what.empty()) return what + " (in a " + observation->GetRuntimeClass()->className + ")";
     }
   if (const auto* actions = dynamic_cast<const mrpt::obs::CActionCollection*>(&object))
     for (std::size_t i = 0; i < actions->size(); ++i) {
       const auto* motion = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&actions->get(i));
-      if (motion && !is_finite(motion->rawOdometryIncrementReading)) return "its odometry";
+      if (motion && !is_finite(motion->rawOdometryIncrementReading))
+        return "its odometry is not a finite number";
     }
   return "";
 }
@@ -205,11 +222,11 @@ mrpt::serialization::CSerializable::Ptr RawlogReader::next() {
       return nullptr;
     }
     if (object) {
-      const std::string non_finite = non_finite_in(*object);
-      if (!non_finite.empty()) {
+      const std::string damage = damage_in(*object);
+      if (!damage.empty()) {
         finished_ = true;
         problem_ = describe_damage(index_, object->GetRuntimeClass()->className,
-                                   "it is corrupt: " + non_finite + " is not a finite number");
+                                   "it is corrupt: " + damage);
         return nullptr;
       }
     }
