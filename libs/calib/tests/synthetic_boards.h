@@ -92,7 +92,9 @@ inline std::vector<CalibrationView> board_views(const camera::CatadioptricCamera
       Eigen::Vector2d pixel;
       all_visible = truth.project(cam_from_object * points[i], &pixel) && truth.in_image(pixel);
       view.points.push_back(points[i]);
-      view.pixels.push_back(pixel + Eigen::Vector2d(noise(rng), noise(rng)));
+      const double noise_y = noise(rng);  // before x: arguments have no order of evaluation
+      const double noise_x = noise(rng);
+      view.pixels.push_back(pixel + Eigen::Vector2d(noise_x, noise_y));
       view.point_ids.push_back(static_cast<int>(i));
     }
     if (all_visible) views.push_back(view);

@@ -103,7 +103,9 @@ TEST(FilterLinearAlgebra, PosteriorChi2MatchesTheResidualCovariance) {
     for (int k = 0; k < m; ++k) {
       const Eigen::Vector2d r = residual.segment<2>(2 * k);
       const Eigen::Matrix2d C = residual_covariance.block<2, 2>(2 * k, 2 * k);
-      if (draw < 3) EXPECT_NEAR(chi2[k], r.dot(C.ldlt().solve(r)), 1e-6 * (1 + chi2[k]));
+      if (draw < 3) {
+        EXPECT_NEAR(chi2[k], r.dot(C.ldlt().solve(r)), 1e-6 * (1 + chi2[k]));
+      }
       mean += chi2[k] / (draws * m);
     }
   }

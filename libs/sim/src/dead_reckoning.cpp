@@ -158,10 +158,11 @@ void DeadReckoningStream::odometry_reading(double t, std::vector<OdometryReading
     const double distance = step.head<2>().norm();
     const double sd_position = o.odometry_position_noise * std::sqrt(distance);
     const double sd_heading = o.odometry_heading_noise * std::sqrt(distance);
+    const Eigen::Vector3d noise = standard_normal_3d(rng);
     const Eigen::Vector3d read_step(
-        (1 + o.odometry_scale_error) * step.x() + sd_position * standard_normal(rng),
-        (1 + o.odometry_scale_error) * step.y() + sd_position * standard_normal(rng),
-        (1 + o.odometry_yaw_scale_error) * step.z() + sd_heading * standard_normal(rng));
+        (1 + o.odometry_scale_error) * step.x() + sd_position * noise.x(),
+        (1 + o.odometry_scale_error) * step.y() + sd_position * noise.y(),
+        (1 + o.odometry_yaw_scale_error) * step.z() + sd_heading * noise.z());
     measured_ = compose(measured_, read_step);
     reading.velocity = read_step / (t - previous_odometry_time_);
   }

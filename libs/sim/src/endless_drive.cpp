@@ -47,14 +47,16 @@ void EndlessDrive::add_track() {
     if (draw == 1000)
       throw std::runtime_error("EndlessDrive: the rig does not see the ground beside its path");
     const Eigen::Isometry3d& T = pose(track);
-    const double side = uniform(rng_, 0.8, 2.0) * (uniform(rng_, 0, 1) < 0.5 ? -1 : 1);
+    // One draw per statement: operands and arguments have no order of evaluation.
+    const double distance = uniform(rng_, 0.8, 2.0);
+    const double side = uniform(rng_, 0, 1) < 0.5 ? -distance : distance;
     t.point = T * Eigen::Vector3d(uniform(rng_, -0.5, 0.5), side, 0);
     t.point.z() = 0;
     t.seen.clear();
     for (int f = first; f < end; ++f) {
       Eigen::Vector2d pixel;
       if (!visible_pixel(camera_, pose(f), t.point, &pixel, kBorderPx)) continue;
-      pixel += pixel_noise_ * Eigen::Vector2d(standard_normal(rng_), standard_normal(rng_));
+      pixel += pixel_noise_ * standard_normal_2d(rng_);
       t.seen.push_back({f, track, pixel});
     }
     if (5 * static_cast<int>(t.seen.size()) >= 4 * (end - first)) break;

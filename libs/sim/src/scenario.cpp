@@ -31,8 +31,11 @@ void add_room(Scene* scene, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi
 // A point on a random face of a box other than its bottom.
 Eigen::Vector3d point_on_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                              std::mt19937_64& rng) {
-  Eigen::Vector3d p(uniform(rng, lo.x(), hi.x()), uniform(rng, lo.y(), hi.y()),
-                    uniform(rng, lo.z(), hi.z()));
+  // Each draw on a line of its own, last coordinate first: arguments have no order of evaluation.
+  const double z = uniform(rng, lo.z(), hi.z());
+  const double y = uniform(rng, lo.y(), hi.y());
+  const double x = uniform(rng, lo.x(), hi.x());
+  Eigen::Vector3d p(x, y, z);
   const int face = static_cast<int>(uniform(rng, 0, 5));
   if (face == 4) p.z() = hi.z();
   else if (face < 2) p.x() = face == 0 ? lo.x() : hi.x();
@@ -96,10 +99,10 @@ Dataset lab(const SimulationOptions& o, std::mt19937_64& rng) {
       normals.push_back(n);
     }
   for (int i = 0; i < 12; ++i) {
-    const Eigen::Vector3d p(lo.x() + (0.15 + 0.7 * (i % 4) / 3.0) * (hi.x() - lo.x()) +
-                                uniform(rng, -0.2, 0.2),
-                            lo.y() + (0.2 + 0.6 * (i / 4) / 2.0) * (hi.y() - lo.y()) +
-                                uniform(rng, -0.2, 0.2),
+    const double dy = uniform(rng, -0.2, 0.2);
+    const double dx = uniform(rng, -0.2, 0.2);
+    const Eigen::Vector3d p(lo.x() + (0.15 + 0.7 * (i % 4) / 3.0) * (hi.x() - lo.x()) + dx,
+                            lo.y() + (0.2 + 0.6 * (i / 4) / 2.0) * (hi.y() - lo.y()) + dy,
                             hi.z() - 0.001);
     targets.push_back(p);
     normals.emplace_back(0, 0, -1);
@@ -114,13 +117,12 @@ Dataset lab(const SimulationOptions& o, std::mt19937_64& rng) {
   // The survey, and the calibration images (the corners of the U) as an operator would mark them.
   for (const auto& t : targets)
     d.surveyed_targets.push_back(
-        t + o.survey_error_m * Eigen::Vector3d(standard_normal(rng), standard_normal(rng),
-                                               standard_normal(rng)));
+        t + o.survey_error_m * standard_normal_3d(rng));
   for (const int image : {0, 10, 30, 40})  // the corners of the U
     for (size_t i = 0; i < targets.size(); ++i) {
       Eigen::Vector2d pixel;
       if (!true_pixel(d, image, targets[i], &pixel, 3.0)) continue;
-      pixel += o.tracking_noise_px * Eigen::Vector2d(standard_normal(rng), standard_normal(rng));
+      pixel += o.tracking_noise_px * standard_normal_2d(rng);
       d.target_observations.push_back({image, static_cast<int>(i), pixel});
     }
   return d;
@@ -135,7 +137,9 @@ Dataset crane(const SimulationOptions& o, std::mt19937_64& rng) {
   for (int i = 0; i < 6; ++i) {
     const double a = 2 * M_PI * i / 6 + uniform(rng, -0.3, 0.3), r = uniform(rng, 1.8, 3.2);
     const Eigen::Vector3d centre(r * std::cos(a), r * std::sin(a), 0);
-    const Eigen::Vector3d half(uniform(rng, 0.2, 0.4), uniform(rng, 0.2, 0.4), 0);
+    const double half_y = uniform(rng, 0.2, 0.4);
+    const double half_x = uniform(rng, 0.2, 0.4);
+    const Eigen::Vector3d half(half_x, half_y, 0);
     const Eigen::Vector3d lo = centre - half, hi = centre + half + Eigen::Vector3d(0, 0, uniform(rng, 0.3, 0.8));
     d.scene.add_box(lo, hi, kBox);
     boxes.emplace_back(lo, hi);
@@ -172,7 +176,9 @@ Dataset rover(const SimulationOptions& o, std::mt19937_64& rng) {
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
   const Eigen::Vector2d box_centres[] = {{1.0, 2.2}, {3.0, -2.0}, {5.5, 2.5}, {-1.5, -2.5}, {6.5, -1.5}};
   for (const auto& c : box_centres) {
-    const Eigen::Vector3d half(uniform(rng, 0.3, 0.6), uniform(rng, 0.3, 0.6), 0);
+    const double half_y = uniform(rng, 0.3, 0.6);
+    const double half_x = uniform(rng, 0.3, 0.6);
+    const Eigen::Vector3d half(half_x, half_y, 0);
     const Eigen::Vector3d centre(c.x(), c.y(), 0);
     const Eigen::Vector3d blo = centre - half, bhi = centre + half + Eigen::Vector3d(0, 0, uniform(rng, 0.5, 1.2));
     d.scene.add_box(blo, bhi, kBox);

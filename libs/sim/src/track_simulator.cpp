@@ -20,6 +20,19 @@ double standard_normal(std::mt19937_64& rng) {
   return std::sqrt(-2 * std::log(1 - u)) * std::cos(2 * M_PI * v);
 }
 
+Eigen::Vector2d standard_normal_2d(std::mt19937_64& rng) {
+  const double y = standard_normal(rng);
+  const double x = standard_normal(rng);
+  return {x, y};
+}
+
+Eigen::Vector3d standard_normal_3d(std::mt19937_64& rng) {
+  const double z = standard_normal(rng);
+  const double y = standard_normal(rng);
+  const double x = standard_normal(rng);
+  return {x, y, z};
+}
+
 std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
                                                        double noise_px, std::mt19937_64& rng) {
   // A rig that sees too little of the ground would otherwise be searched for ever.
@@ -29,7 +42,9 @@ std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, i
     if (draw == max_draws)
       throw std::invalid_argument("steady_ground_tracks: the rig sees too little of the ground "
                                   "in every frame for " + std::to_string(count) + " points");
-    const Eigen::Vector3d p(uniform(rng, -2, 6), uniform(rng, -4, 4), 0.0);
+    const double y = uniform(rng, -4, 4);  // before x: arguments have no order of evaluation
+    const double x = uniform(rng, -2, 6);
+    const Eigen::Vector3d p(x, y, 0.0);
     Eigen::Vector2d pixel;
     bool always = true;
     for (size_t f = 0; f < dataset.world_from_cam.size() && always; ++f)
@@ -41,7 +56,7 @@ std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, i
     for (int i = 0; i < count; ++i) {
       Eigen::Vector2d pixel;
       true_pixel(dataset, static_cast<int>(f), points[i], &pixel);
-      pixel += noise_px * Eigen::Vector2d(standard_normal(rng), standard_normal(rng));
+      pixel += noise_px * standard_normal_2d(rng);
       tracks.push_back({static_cast<int>(f), i, pixel});
     }
   return tracks;
@@ -129,8 +144,7 @@ void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
     if (m.slides) {
       bool found = false;
       for (int attempt = 0; attempt < 50 && !found; ++attempt) {
-        const Eigen::Vector3d offset(standard_normal(rng), standard_normal(rng),
-                                     standard_normal(rng));
+        const Eigen::Vector3d offset = standard_normal_3d(rng);
         m.wrong_point_W = points[run.point] + offset.normalized() * uniform(rng, 0.10, 0.25);
         // It must stay in view a while and jump visibly in the image: a feature hiding behind
         // the true one along the same ray would be no mistrack at all.
@@ -173,7 +187,7 @@ void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
           pixel += mistrack->drift_per_frame * (f - mistrack->start_frame + 1);
         }
       }
-      pixel += options.noise_px * Eigen::Vector2d(standard_normal(rng), standard_normal(rng));
+      pixel += options.noise_px * standard_normal_2d(rng);
       dataset->observations.push_back({f, track, pixel});
     }
     if (mistrack) dataset->outliers.push_back({track, mistrack->start_frame});

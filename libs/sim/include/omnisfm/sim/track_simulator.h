@@ -43,6 +43,11 @@ bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_
 
 // A standard normal deviate; the same on every platform for the same generator state.
 double standard_normal(std::mt19937_64& rng);
+// Independent standard normal deviates, drawn last coordinate first (the order the datasets were
+// first made in). Eigen::Vector2d(standard_normal(rng), standard_normal(rng)) would leave the
+// order to the compiler, and a seed's dataset would differ from one compiler to another.
+Eigen::Vector2d standard_normal_2d(std::mt19937_64& rng);
+Eigen::Vector3d standard_normal_3d(std::mt19937_64& rng);
 double uniform(std::mt19937_64& rng, double lo, double hi);
 
 }  // namespace omnisfm::sim
