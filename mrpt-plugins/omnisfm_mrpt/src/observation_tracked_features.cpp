@@ -1,5 +1,7 @@
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
@@ -56,6 +58,37 @@ void CObservationTrackedFeatures::getDescriptionAsText(std::ostream& o) const {
   o << "# track u v\n";
   for (const TrackedFeature& f : features)
     o << f.track << " " << io::format_double(f.u) << " " << io::format_double(f.v) << "\n";
+}
+
+}  // namespace omnisfm::mrpt_plugin
+
+namespace omnisfm::mrpt_plugin {
+
+std::string CObservationTrackedFeatures::exportTxtHeader() const {
+  return "FRAME FEATURE_COUNT then, per feature: TRACK U V";
+}
+
+std::string CObservationTrackedFeatures::exportTxtDataRow() const {
+  std::string row = std::to_string(frame) + " " + std::to_string(features.size());
+  for (const TrackedFeature& f : features)
+    row += " " + std::to_string(f.track) + " " + io::format_double(f.u) + " " +
+           io::format_double(f.v);
+  return row;
+}
+
+void CObservationTrackedFeatures::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) const {
+  if (!model.has_camera()) return;
+  auto rays = mrpt::opengl::CSetOfLines::Create();
+  rays->setName("omnisfm rays, frame " + std::to_string(frame));
+  for (const TrackedFeature& f : features) {
+    Eigen::Vector3d origin, direction;
+    if (!model.camera().unproject({f.u, f.v}, &origin, &direction)) continue;
+    const Eigen::Vector3d end = origin + kVisualizedRayLength * direction.normalized();
+    const mrpt::math::TPoint3D from = sensorPose.composePoint({origin.x(), origin.y(), origin.z()});
+    const mrpt::math::TPoint3D to = sensorPose.composePoint({end.x(), end.y(), end.z()});
+    rays->appendLine(from.x, from.y, from.z, to.x, to.y, to.z);
+  }
+  o.insert(rays);
 }
 
 }  // namespace omnisfm::mrpt_plugin

@@ -2,15 +2,25 @@
 // is linked or opened as a plugin (`rawlog-edit -p libomnisfm_mrpt.so`): reading a rawlog finds a
 // class by its stored name in that registry.
 
+#include "omnisfm/mrpt_plugin/register_classes.h"
+
 #include <mrpt/core/initializer.h>
 
 #include "omnisfm/mrpt_plugin/catadioptric_camera_model.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
-MRPT_INITIALIZER(register_omnisfm_mrpt_classes) {
+namespace omnisfm::mrpt_plugin {
+
+void registerAllClasses_omnisfm_mrpt() {
   using mrpt::rtti::registerClass;
-  registerClass(CLASS_ID(omnisfm::mrpt_plugin::CCatadioptricCameraModel));
-  registerClass(CLASS_ID(omnisfm::mrpt_plugin::CObservationOmniImage));
-  registerClass(CLASS_ID(omnisfm::mrpt_plugin::CObservationTrackedFeatures));
+  registerClass(CLASS_ID(CCatadioptricCameraModel));
+  registerClass(CLASS_ID(CObservationOmniImage));
+  registerClass(CLASS_ID(CObservationTrackedFeatures));
+}
+
+}  // namespace omnisfm::mrpt_plugin
+
+MRPT_INITIALIZER(register_omnisfm_mrpt_classes) {
+  omnisfm::mrpt_plugin::registerAllClasses_omnisfm_mrpt();
 }

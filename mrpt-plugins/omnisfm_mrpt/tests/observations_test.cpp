@@ -3,12 +3,15 @@
 // features keep every id and pixel.
 
 #include <gtest/gtest.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/rtti/CObject.h>
 
 #include <sstream>
 
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
+#include "omnisfm/mrpt_plugin/register_classes.h"
 #include "omnisfm/sim/scenario.h"
 #include "serialization_helpers.h"
 #include "test_cameras.h"
@@ -126,6 +129,68 @@ TEST(ObservationTrackedFeatures, DescriptionListsTheFeatures) {
       << text.str();
   EXPECT_NE(text.str().find("17 -0.5 0.125\n"), std::string::npos) << text.str();
   EXPECT_NE(text.str().find("Sensor label: 'OMNI_TRACKS'"), std::string::npos) << text.str();
+}
+
+TEST(ObservationTrackedFeatures, ExportRowHoldsEveryFeatureExactly) {
+  const CObservationTrackedFeatures obs = tracked_features();
+  EXPECT_TRUE(obs.exportTxtSupported());
+  EXPECT_EQ(obs.exportTxtDataRow(), "8 3 3 100.25 200.5 17 -0.5 0.125 4000000 1023.5 767.5");
+  EXPECT_EQ(obs.exportTxtHeader().find('\n'), std::string::npos);
+  EXPECT_EQ(obs.exportTxtDataRow().find('\n'), std::string::npos);
+}
+
+TEST(ObservationTrackedFeatures, VisualisedRaysProjectToTheirPixels) {
+  const camera::CatadioptricCamera camera = camera::testing::hyperbolic_camera();
+  CObservationTrackedFeatures obs = tracked_features();
+  obs.model.set_camera(camera);
+  obs.features.clear();
+  size_t unprojectable = 0;
+  for (int i = 0; i < 24; ++i) {
+    const double a = 0.5 * i, r = 60 + 15 * i;  // some inside the mirror's ring, some beyond
+    const Eigen::Vector2d pixel(512 + r * std::cos(a), 384 + r * std::sin(a));
+    Eigen::Vector3d origin, direction;
+    unprojectable += camera.unproject(pixel, &origin, &direction);
+    obs.features.push_back({i, pixel.x(), pixel.y()});
+  }
+  ASSERT_GE(unprojectable, 8u);
+  mrpt::opengl::CSetOfObjects scene;
+  obs.getVisualizationInto(scene);
+  const auto rays = scene.getByClass<mrpt::opengl::CSetOfLines>();
+  ASSERT_TRUE(rays);
+  ASSERT_EQ(rays->getLineCount(), unprojectable);
+  size_t line = 0;
+  for (const TrackedFeature& feature : obs.features) {
+    Eigen::Vector3d origin, direction;
+    if (!camera.unproject({feature.u, feature.v}, &origin, &direction)) continue;
+    double x0, y0, z0, x1, y1, z1;
+    rays->getLineByIndex(line++, x0, y0, z0, x1, y1, z1);
+    const mrpt::math::TPoint3D start = obs.sensorPose.inverseComposePoint({x0, y0, z0});
+    const mrpt::math::TPoint3D end = obs.sensorPose.inverseComposePoint({x1, y1, z1});
+    const Eigen::Vector3d from(start.x, start.y, start.z), to(end.x, end.y, end.z);
+    EXPECT_NEAR((to - from).norm(), CObservationTrackedFeatures::kVisualizedRayLength, 1e-9);
+    // Any point along the ray is seen at the feature's pixel (rays are in the robot frame).
+    const Eigen::Vector3d middle = from + 0.5 * (to - from);
+    for (const Eigen::Vector3d& X : {to, middle}) {
+      Eigen::Vector2d pixel;
+      ASSERT_TRUE(camera.project(X, &pixel)) << feature.track;
+      EXPECT_NEAR(pixel.x(), feature.u, 1e-6) << feature.track;
+      EXPECT_NEAR(pixel.y(), feature.v, 1e-6) << feature.track;
+    }
+  }
+}
+
+TEST(ObservationTrackedFeatures, NoModelNoRays) {
+  mrpt::opengl::CSetOfObjects scene;
+  tracked_features().getVisualizationInto(scene);
+  EXPECT_EQ(scene.size(), 0u);
+}
+
+TEST(Registry, RegisteringAgainAsMrptModulesAllowIsHarmless) {
+  registerAllClasses_omnisfm_mrpt();
+  const mrpt::rtti::TRuntimeClassId* id =
+      mrpt::rtti::findRegisteredClass("omnisfm::mrpt_plugin::CObservationTrackedFeatures");
+  ASSERT_NE(id, nullptr);
+  EXPECT_TRUE(id->createObject());
 }
 
 TEST(Registry, KnowsThePluginsClasses) {

@@ -59,5 +59,11 @@ add_test(NAME rawlog_edit_without_plugin
           "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|--describe|-i|${lab_rawlog}"
           "-DEXPECTED=rawlog-edit -p /path/to/libomnisfm_mrpt.so|Stored object has class 'omnisfm::mrpt_plugin::CObservationOmniImage' which is not registered"
           -P ${check})
-set_tests_properties(rawlog_edit_info rawlog_edit_describe rawlog_edit_without_plugin PROPERTIES
+# --export-txt writes the tracked features' table, which must hold exactly the simulated tracks.
+find_package(Python3 REQUIRED COMPONENTS Interpreter)
+add_test(NAME rawlog_edit_export_txt
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/tests/export_txt_matches_tracks.py
+          ${OMNISFM_RAWLOG_EDIT} ${plugin} ${lab_rawlog} ${lab_dir}/tracks.vnl)
+set_tests_properties(rawlog_edit_info rawlog_edit_describe rawlog_edit_without_plugin
+                     rawlog_edit_export_txt PROPERTIES
   LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 120)

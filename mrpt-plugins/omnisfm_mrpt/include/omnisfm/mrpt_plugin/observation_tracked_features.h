@@ -12,12 +12,17 @@
 //   object    model (CCatadioptricCameraModel)
 //   uint32    number of features, then for each: int32 track, double u, double v
 //
-// MRPT headers: the including target must link MRPT (mrpt::obs) itself.
+// Stock tools: `rawlog-edit --export-txt` writes one row per frame (exportTxtDataRow), and a 3D
+// view of the observation (getVisualizationInto) shows each feature's ray off the mirror.
+//
+// MRPT headers: the including target must link MRPT (mrpt::obs, mrpt::opengl) itself.
 
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/opengl/Visualizable.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "omnisfm/mrpt_plugin/catadioptric_camera_model.h"
@@ -29,7 +34,8 @@ struct TrackedFeature {
   double u = 0, v = 0;
 };
 
-class CObservationTrackedFeatures : public mrpt::obs::CObservation {
+class CObservationTrackedFeatures : public mrpt::obs::CObservation,
+                                    public mrpt::opengl::Visualizable {
   DEFINE_SERIALIZABLE(CObservationTrackedFeatures, omnisfm::mrpt_plugin)
 
  public:
@@ -47,6 +53,18 @@ class CObservationTrackedFeatures : public mrpt::obs::CObservation {
     sensorPose = newSensorPose;
   }
   void getDescriptionAsText(std::ostream& o) const override;
+
+  // A row holds the frame, the number of features, then each feature's track, u and v: rows are
+  // as long as their frame has features. MRPT puts the timestamp first.
+  bool exportTxtSupported() const override { return true; }
+  std::string exportTxtHeader() const override;
+  std::string exportTxtDataRow() const override;
+
+  // Each feature's ray, from where it leaves the mirror, kVisualizedRayLength long, in the robot
+  // frame (through sensorPose). Nothing without a model, nor for a pixel the model cannot
+  // unproject.
+  static constexpr double kVisualizedRayLength = 2.0;  // metres
+  void getVisualizationInto(mrpt::opengl::CSetOfObjects& o) const override;
 };
 
 }  // namespace omnisfm::mrpt_plugin
