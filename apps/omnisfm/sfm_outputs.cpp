@@ -11,6 +11,9 @@
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
 #include "residual_plots.h"
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+#include "omnisfm/mrpt_plugin/pose_graph_file.h"
+#endif
 
 namespace omnisfm::app {
 namespace {
@@ -146,6 +149,17 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
   const auto& points = batch_ran ? result.batch.points : result.online_points;
   if (batch_ran)
     io::write_tum_trajectory(dir + "/batch.tum", trajectory(result.batch.cam_from_world, times));
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+  if (batch_ran && !result.batch.pose_covariances.empty()) {
+    // The graph is a view of the batch for MRPT's tools: without it the results still stand.
+    try {
+      mrpt_plugin::write_pose_graph(dir + "/batch.graph", result.batch);
+      mrpt_plugin::write_pose_graph(dir + "/batch.graphbin", result.batch);
+    } catch (const std::runtime_error& e) {
+      std::cerr << "omnisfm: warning: batch.graph and batch.graphbin not written: " << e.what() << "\n";
+    }
+  }
+#endif
   std::ofstream table(dir + "/points.vnl");
   io::VnlogWriter writer(table, {"track", "x", "y", "z"});
   for (const auto& [track, X] : points) writer.row({double(track), X.x(), X.y(), X.z()});

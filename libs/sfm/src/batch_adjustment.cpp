@@ -432,7 +432,10 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   result.solve_seconds = solve_seconds;
   result.variance_factor = 2 * summary.final_cost / variance_dof;
   result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
-  for (const auto& v : poses) result.cam_from_world.push_back(to_pose(v));
+  for (const auto& v : poses) {
+    result.cam_from_world.push_back(to_pose(v));
+    result.pose_parameters.push_back(v);
+  }
   result.points = points;
 
   if (settings.covariances && summary.IsSolutionUsable()) {
@@ -443,9 +446,15 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     covariance_options.num_threads = 2;
     ceres::Covariance covariance(covariance_options);
     std::vector<std::pair<const double*, const double*>> blocks;
-    for (const auto& v : poses)
-      if (problem.HasParameterBlock(v.data()) && !problem.IsParameterBlockConstant(v.data()))
-        blocks.emplace_back(v.data(), v.data());
+    const auto variable = [&](const PoseVector& v) {
+      return problem.HasParameterBlock(v.data()) && !problem.IsParameterBlockConstant(v.data());
+    };
+    for (size_t f = 0; f < poses.size(); ++f) {
+      if (!variable(poses[f])) continue;
+      blocks.emplace_back(poses[f].data(), poses[f].data());
+      if (f + 1 < poses.size() && variable(poses[f + 1]))
+        blocks.emplace_back(poses[f].data(), poses[f + 1].data());
+    }
     for (const auto& [track, p] : points)
       if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
     std::vector<std::pair<double*, int>> extra_blocks;
@@ -461,13 +470,17 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
       // as it is (the pixels' from pixel_sigma).
       const double variance = extra ? 1 : result.variance_factor;
       result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
+      result.consecutive_pose_covariances.assign(poses.empty() ? 0 : poses.size() - 1,
+                                                 Eigen::Matrix<double, 6, 6>::Zero());
       for (size_t f = 0; f < poses.size(); ++f) {
-        if (!problem.HasParameterBlock(poses[f].data()) ||
-            problem.IsParameterBlockConstant(poses[f].data()))
-          continue;
+        if (!variable(poses[f])) continue;
         Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
         covariance.GetCovarianceBlock(poses[f].data(), poses[f].data(), c.data());
         result.pose_covariances[f] = variance * c;
+        if (f + 1 < poses.size() && variable(poses[f + 1])) {
+          covariance.GetCovarianceBlock(poses[f].data(), poses[f + 1].data(), c.data());
+          result.consecutive_pose_covariances[f] = variance * c;
+        }
       }
       for (const auto& [track, p] : points) {
         if (!problem.HasParameterBlock(p.data())) continue;
@@ -484,6 +497,10 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
+}
+
+Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters) {
+  return to_pose(parameters);
 }
 
 ceres::CostFunction* make_projection_cost(const camera::CatadioptricCamera* camera,

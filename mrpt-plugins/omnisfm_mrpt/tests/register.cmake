@@ -13,18 +13,25 @@ omnisfm_add_test(omnisfm_mrpt_tests
     tests/replay_input_test.cpp
     tests/scene_file_test.cpp
     tests/omni_sfm_estimator_test.cpp
+    tests/pose_graph_file_test.cpp
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io omnisfm::sfm mrpt::obs mrpt::img mrpt::io
-       mrpt::poses mrpt::serialization mrpt::opengl opencv_imgcodecs LABELS unit sanitize)
+       mrpt::poses mrpt::serialization mrpt::opengl mrpt::graphs opencv_imgcodecs
+  LABELS unit sanitize)
 # The camera contract's cameras: every inner camera and mirror the model must store.
-target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests)
+target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests
+                           ${CMAKE_CURRENT_SOURCE_DIR}/src)
 target_compile_definitions(omnisfm_mrpt_tests PRIVATE
   OMNISFM_MRPT_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/tests/data")
 
-find_program(OMNISFM_RAWLOG_EDIT rawlog-edit)
-if(NOT OMNISFM_RAWLOG_EDIT)
-  message(WARNING "rawlog-edit not found (Debian: mrpt-apps); the rawlog_edit tests will fail")
-  set(OMNISFM_RAWLOG_EDIT rawlog-edit)
-endif()
+# A stock MRPT app the tests run (Debian: mrpt-apps), found as VARIABLE.
+function(omnisfm_find_mrpt_app variable app)
+  find_program(${variable} ${app})
+  if(NOT ${variable})
+    message(WARNING "${app} not found (Debian: mrpt-apps); the tests that run it will fail")
+    set(${variable} ${app} PARENT_SCOPE)
+  endif()
+endfunction()
+omnisfm_find_mrpt_app(OMNISFM_RAWLOG_EDIT rawlog-edit)
 
 set(lab_dir ${CMAKE_CURRENT_BINARY_DIR}/rawlog_lab)
 set(lab_rawlog ${lab_dir}/dataset.rawlog)
@@ -67,3 +74,18 @@ add_test(NAME rawlog_edit_export_txt
 set_tests_properties(rawlog_edit_info rawlog_edit_describe rawlog_edit_without_plugin
                      rawlog_edit_export_txt PROPERTIES
   LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 120)
+
+# Stock graph-slam on the batch's pose graph (batch.graph, written by sfm beside batch.tum).
+omnisfm_find_mrpt_app(OMNISFM_GRAPH_SLAM graph-slam)
+set(rover_sim ${CMAKE_CURRENT_BINARY_DIR}/graph_rover_sim)
+set(rover_sfm ${CMAKE_CURRENT_BINARY_DIR}/graph_rover_sfm)
+add_test(NAME omnisfm_sfm_rover_graph
+  COMMAND sh -c
+          "$<TARGET_FILE:omnisfm> simulate --scenario rover --out ${rover_sim} && $<TARGET_FILE:omnisfm> sfm --camera ${rover_sim}/camera.ini --tracks ${rover_sim}/tracks.vnl --out ${rover_sfm}")
+set_tests_properties(omnisfm_sfm_rover_graph PROPERTIES
+  LABELS interop FIXTURES_SETUP rover_batch_graph TIMEOUT 300)
+add_test(NAME graph_slam_reads_batch_graph
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/tests/graph_slam_reads_batch_graph.py
+          ${OMNISFM_GRAPH_SLAM} ${rover_sfm}/batch.graph)
+set_tests_properties(graph_slam_reads_batch_graph PROPERTIES
+  LABELS interop FIXTURES_REQUIRED rover_batch_graph TIMEOUT 120)

@@ -80,10 +80,16 @@ struct BatchResult {
   BatchScale scale_source = BatchScale::kNoTranslation;
   double scale_sigma_relative = NAN;
   std::vector<Eigen::Isometry3d> cam_from_world;  // per frame
+  // The same as the batch's parameters, the coordinates of pose_covariances: cam_from_world's
+  // rotation as an angle-axis vector (its angle may pass pi a little), then its translation.
+  std::vector<Eigen::Matrix<double, 6, 1>> pose_parameters;
   std::map<int, Eigen::Vector3d> points;           // per track
   // 6x6 per frame (rotation as angle-axis, then translation; frame 0 is fixed: zero) and 3x3 per
   // point, when asked for and computable; with a held scale, the scale held.
   std::vector<Eigen::Matrix<double, 6, 6>> pose_covariances;
+  // The covariance of frame f's pose with frame f + 1's (rows f, columns f + 1), per frame but the
+  // last; with pose_covariances, what relative poses' uncertainties need.
+  std::vector<Eigen::Matrix<double, 6, 6>> consecutive_pose_covariances;
   std::map<int, Eigen::Matrix3d> point_covariances;
 };
 
@@ -95,6 +101,9 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);
+
+// The pose of the batch's parameters (BatchResult::pose_parameters): cam_from_world.
+Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters);
 
 // The camera the batch optimises with: `camera` with its mirror's valid patch widened by a tenth
 // of its width each way, where the profile allows. A step that carries a point's reflection just

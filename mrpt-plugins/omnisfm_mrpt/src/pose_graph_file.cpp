@@ -1,0 +1,113 @@
+#include "omnisfm/mrpt_plugin/pose_graph_file.h"
+
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DPDFGaussianInf.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <ostream>
+#include <stdexcept>
+
+#include "eigen_poses.h"
+#include "omnisfm/io/atomic_write.h"
+
+namespace omnisfm::mrpt_plugin {
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Vector12 = Eigen::Matrix<double, 12, 1>;
+
+// The relative pose of frame g in frame f, as MRPT's x y z yaw pitch roll, from both frames'
+// batch parameters (BatchResult::pose_parameters).
+Vector6 relative_mrpt_parameters(const Vector12& fg) {
+  const Eigen::Isometry3d relative =
+      sfm::pose_of_parameters(fg.head<6>()) * sfm::pose_of_parameters(fg.tail<6>()).inverse();
+  const mrpt::poses::CPose3D p = pose_of(relative);
+  Vector6 v;
+  v << p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll();
+  return v;
+}
+
+// d(relative MRPT parameters) / d(both frames' batch parameters), by central differences: the
+// map is smooth and the step's error (1e-10 relative) far below any covariance's.
+Eigen::Matrix<double, 6, 12> relative_jacobian(const Vector12& fg) {
+  constexpr double kStep = 1e-6;
+  Eigen::Matrix<double, 6, 12> J;
+  for (int i = 0; i < 12; ++i) {
+    Vector12 plus = fg, minus = fg;
+    plus[i] += kStep;
+    minus[i] -= kStep;
+    Vector6 d = relative_mrpt_parameters(plus) - relative_mrpt_parameters(minus);
+    for (int a = 3; a < 6; ++a) d[a] = mrpt::math::wrapToPi(d[a]);
+    J.col(i) = d / (2 * kStep);
+  }
+  return J;
+}
+
+}  // namespace
+
+std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch) {
+  const size_t frames = batch.cam_from_world.size();
+  if (frames > 0 && (batch.pose_covariances.size() != frames ||
+                     batch.pose_parameters.size() != frames ||
+                     batch.consecutive_pose_covariances.size() != frames - 1))
+    throw std::invalid_argument("consecutive_edges: the batch has no pose covariances");
+  std::vector<PoseGraphEdge> edges;
+  for (size_t f = 0; f + 1 < frames; ++f) {
+    Vector12 fg;
+    fg << batch.pose_parameters[f], batch.pose_parameters[f + 1];
+    Eigen::Matrix<double, 12, 12> joint;
+    joint << batch.pose_covariances[f], batch.consecutive_pose_covariances[f],
+        batch.consecutive_pose_covariances[f].transpose(), batch.pose_covariances[f + 1];
+    const Eigen::Matrix<double, 6, 12> J = relative_jacobian(fg);
+    PoseGraphEdge edge;
+    edge.from = static_cast<int>(f);
+    edge.to = static_cast<int>(f + 1);
+    edge.relative = batch.cam_from_world[f] * batch.cam_from_world[f + 1].inverse();
+    edge.covariance = J * joint * J.transpose();
+    edge.covariance = 0.5 * (edge.covariance + edge.covariance.transpose());
+    edges.push_back(edge);
+  }
+  return edges;
+}
+
+void write_pose_graph(const std::string& path, const sfm::BatchResult& batch) {
+  mrpt::graphs::CNetworkOfPoses3DInf graph;
+  for (size_t f = 0; f < batch.cam_from_world.size(); ++f)
+    graph.nodes[f] = pose_of(batch.cam_from_world[f].inverse());
+  for (const PoseGraphEdge& edge : consecutive_edges(batch)) {
+    const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(edge.covariance);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+        ldlt.vectorD().minCoeff() <= 0)
+      throw std::runtime_error(path + ": the relative pose from frame " +
+                               std::to_string(edge.from) + " to " + std::to_string(edge.to) +
+                               " has a covariance that cannot be inverted");
+    const Eigen::Matrix<double, 6, 6> information =
+        ldlt.solve(Eigen::Matrix<double, 6, 6>::Identity());
+    mrpt::math::CMatrixDouble66 cov_inv;
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) cov_inv(r, c) = 0.5 * (information(r, c) + information(c, r));
+    graph.insertEdge(static_cast<mrpt::graphs::TNodeID>(edge.from),
+                     static_cast<mrpt::graphs::TNodeID>(edge.to),
+                     mrpt::poses::CPose3DPDFGaussianInf(pose_of(edge.relative), cov_inv));
+  }
+  const bool binary = path.size() >= 9 && path.compare(path.size() - 9, 9, ".graphbin") == 0;
+  if (binary) {
+    io::write_atomically(path, [&](const std::string& temporary) {
+      mrpt::io::CFileGZOutputStream file;
+      if (!file.open(temporary, 1))
+        throw std::runtime_error(path + ": cannot be written");
+      auto archive = mrpt::serialization::archiveFrom(file);
+      archive << graph;
+    });
+  } else {
+    io::write_text_atomically(path, [&](std::ostream& out) {
+      out.precision(17);
+      graph.writeAsText(out);
+    });
+  }
+}
+
+}  // namespace omnisfm::mrpt_plugin
