@@ -116,3 +116,11 @@ if(NOT EXISTS "${program}" AND CONFIG)
   set(program "${downstream_build_dir}/${CONFIG}/omnisfm_downstream")  # multi-config generators
 endif()
 run_step("running ${program}" "${program}")
+
+set(slam_program "${downstream_build_dir}/omnisfm_downstream_slam")
+if(NOT EXISTS "${slam_program}" AND CONFIG)
+  set(slam_program "${downstream_build_dir}/${CONFIG}/omnisfm_downstream_slam")
+endif()
+if(EXISTS "${slam_program}")
+  run_step("running ${slam_program}" "${slam_program}")
+endif()

@@ -1,8 +1,12 @@
 #include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
 
+#include <mrpt/img/CImage.h>
+#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/poses/CPosePDF.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
@@ -68,15 +72,32 @@ mrpt::poses::CPose3DPDFGaussian robot_pose_of(const Eigen::Isometry3d& cam_from_
   return pdf;
 }
 
-OmniSfmEstimator::OmniSfmEstimator(const OmniSfmEstimatorOptions& options)
-    : options_(options), collector_(options.sensor_labels, options.gps_origin) {
-  sfm::MotionSensors& sensors = collector_.sensors();
-  sensors.odometry_noise = options.odometry_noise;
-  sensors.gyro_noise = options.gyro_noise;
-  sensors.odometry_scale = options.odometry_scale;
+OmniSfmEstimator::OmniSfmEstimator(const OmniSfmEstimatorOptions& estimator_options)
+    : options_(estimator_options),
+      collector_(estimator_options.sensor_labels, estimator_options.gps_origin) {
+  initialize();
 }
 
 OmniSfmEstimator::~OmniSfmEstimator() = default;
+
+void OmniSfmEstimator::initialize(const mrpt::maps::CSimpleMap& initialMap,
+                                  const mrpt::poses::CPosePDF* x0) {
+  if (!initialMap.empty())
+    throw std::invalid_argument("OmniSfmEstimator builds its own map: it takes no initial map");
+  collector_ = MotionSensorCollector(options_.sensor_labels, options_.gps_origin);
+  sfm::MotionSensors& sensors = collector_.sensors();
+  sensors.odometry_noise = options_.odometry_noise;
+  sensors.gyro_noise = options_.gyro_noise;
+  sensors.odometry_scale = options_.odometry_scale;
+  filter_.reset();
+  tracker_.reset();
+  body_from_cam_ = Eigen::Isometry3d::Identity();
+  map_from_start_ = Eigen::Isometry3d::Identity();
+  if (x0) map_from_start_ = isometry_of(mrpt::poses::CPose3D(x0->getMeanVal()));
+  keyframes_.clear();
+  frames_ = 0;
+  previous_frame_time_ = 0;
+}
 
 bool OmniSfmEstimator::is_camera(const mrpt::obs::CObservation& observation) const {
   return options_.camera_label.empty() || observation.sensorLabel == options_.camera_label;
@@ -92,7 +113,8 @@ void OmniSfmEstimator::start(const camera::CatadioptricCamera& camera,
 }
 
 void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
-                                     double timestamp) {
+                                     double timestamp,
+                                     const mrpt::obs::CObservation::Ptr& observation) {
   const sfm::MotionSensors& sensors = collector_.sensors();
   if (frames_ > 0 && (!sensors.odometry.empty() || !sensors.gyro.empty()))
     filter_->process_frame(frames_, pixels,
@@ -103,6 +125,23 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
   previous_frame_time_ = timestamp;
   collector_.forget_before(timestamp);  // an endless run keeps no sensor history
   ++frames_;
+  if (options.enableMapUpdating) maybe_add_keyframe(observation);
+}
+
+void OmniSfmEstimator::maybe_add_keyframe(const mrpt::obs::CObservation::Ptr& observation) {
+  auto pdf = std::make_shared<mrpt::poses::CPose3DPDFGaussian>();
+  getCurrentPoseEstimation(*pdf);
+  if (keyframes_.size() > 0) {
+    const mrpt::poses::CPose3D moved = pdf->mean - last_keyframe_pose_;
+    const double turned = Eigen::AngleAxisd(isometry_of(moved).linear()).angle();
+    if (moved.norm() < options_.keyframe_distance_m && turned < options_.keyframe_angle_rad &&
+        !options.debugForceInsertion)
+      return;
+  }
+  auto frame = std::make_shared<mrpt::obs::CSensoryFrame>();
+  frame->insert(observation);
+  keyframes_.insert(pdf, frame);
+  last_keyframe_pose_ = pdf->mean;
 }
 
 void OmniSfmEstimator::processActionObservation(mrpt::obs::CActionCollection& action,
@@ -122,7 +161,7 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     std::vector<sfm::TrackPixel> pixels;
     for (const TrackedFeature& f : features->features)
       pixels.push_back({f.track, Eigen::Vector2d(f.u, f.v)});
-    process_frame(pixels, mrpt::Clock::toDouble(features->timestamp));
+    process_frame(pixels, mrpt::Clock::toDouble(features->timestamp), observation);
   } else if (const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation)) {
     if (!filter_) {
       std::optional<camera::CatadioptricCamera> camera = options_.camera;
@@ -143,20 +182,20 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     std::vector<sfm::TrackPixel> pixels;
     for (const track::TrackedPoint& p : tracker_->add(frame, image->sensorLabel))
       pixels.push_back({p.track, p.pixel});
-    process_frame(pixels, mrpt::Clock::toDouble(image->timestamp));
+    process_frame(pixels, mrpt::Clock::toDouble(image->timestamp), observation);
   }
 }
 
 void OmniSfmEstimator::getCurrentPoseEstimation(mrpt::poses::CPose3DPDFGaussian& out) const {
   if (!filter_) {
-    out = mrpt::poses::CPose3DPDFGaussian();
+    out = mrpt::poses::CPose3DPDFGaussian(pose_of(map_from_start_));
     return;
   }
   out = robot_pose_of(filter_->cam_from_world(), filter_->pose_covariance(), body_from_cam_,
-                      body_from_cam_);
+                      mapFromWorld());
 }
 
-mrpt::poses::CPose3DPDFGaussian::Ptr OmniSfmEstimator::getCurrentPoseEstimation() const {
+mrpt::poses::CPose3DPDF::Ptr OmniSfmEstimator::getCurrentPoseEstimation() const {
   auto pdf = std::make_shared<mrpt::poses::CPose3DPDFGaussian>();
   getCurrentPoseEstimation(*pdf);
   return pdf;
@@ -165,8 +204,63 @@ mrpt::poses::CPose3DPDFGaussian::Ptr OmniSfmEstimator::getCurrentPoseEstimation(
 std::map<int, Eigen::Vector3d> OmniSfmEstimator::points() const {
   std::map<int, Eigen::Vector3d> in_map;
   if (!filter_) return in_map;
-  for (const auto& [track, p] : filter_->points()) in_map[track] = body_from_cam_ * p;
+  const Eigen::Isometry3d map_from_world = mapFromWorld();
+  for (const auto& [track, p] : filter_->points()) in_map[track] = map_from_world * p;
   return in_map;
+}
+
+void OmniSfmEstimator::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out) const {
+  out = keyframes_;
+}
+
+unsigned int OmniSfmEstimator::getCurrentlyBuiltMapSize() {
+  return static_cast<unsigned int>(keyframes_.size());
+}
+
+const mrpt::maps::CMultiMetricMap* OmniSfmEstimator::getCurrentlyBuiltMetricMap() const {
+  auto cloud = mrpt::maps::CSimplePointsMap::Create();
+  for (const auto& [track, p] : points())
+    cloud->insertPoint(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                       static_cast<float>(p.z()));
+  metric_map_.maps.clear();
+  metric_map_.maps.push_back(cloud);
+  return &metric_map_;
+}
+
+void OmniSfmEstimator::saveCurrentEstimationToImage(const std::string& file, bool) {
+  std::vector<Eigen::Vector2d> path, cloud;
+  for (size_t k = 0; k < keyframes_.size(); ++k) {
+    const auto& [pdf, frame] = keyframes_.get(k);
+    const mrpt::poses::CPose3D mean = pdf->getMeanVal();
+    path.emplace_back(mean.x(), mean.y());
+  }
+  mrpt::poses::CPose3DPDFGaussian now;
+  getCurrentPoseEstimation(now);
+  path.emplace_back(now.mean.x(), now.mean.y());
+  for (const auto& [track, p] : points()) cloud.emplace_back(p.x(), p.y());
+  Eigen::AlignedBox2d box;
+  for (const auto& p : path) box.extend(p);
+  for (const auto& p : cloud) box.extend(p);
+  constexpr int kSize = 800, kMargin = 20;
+  const double span = std::max(box.sizes().maxCoeff(), 1e-3);
+  const double scale = (kSize - 2 * kMargin) / span;
+  const auto to_pixel = [&](const Eigen::Vector2d& p) {
+    return Eigen::Vector2i(kMargin + static_cast<int>((p.x() - box.min().x()) * scale),
+                           kSize - kMargin - static_cast<int>((p.y() - box.min().y()) * scale));
+  };
+  mrpt::img::CImage image(kSize, kSize, mrpt::img::CH_RGB);
+  image.filledRectangle(0, 0, kSize - 1, kSize - 1, mrpt::img::TColor(255, 255, 255));
+  for (const auto& p : cloud) {
+    const Eigen::Vector2i q = to_pixel(p);
+    image.filledRectangle(q.x() - 1, q.y() - 1, q.x() + 1, q.y() + 1, mrpt::img::TColor(0, 0, 0));
+  }
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Eigen::Vector2i a = to_pixel(path[i - 1]), b = to_pixel(path[i]);
+    image.line(a.x(), a.y(), b.x(), b.y(), mrpt::img::TColor(0, 0, 255), 2);
+  }
+  const Eigen::Vector2i robot = to_pixel(path.back());
+  image.drawCircle(robot.x(), robot.y(), 6, mrpt::img::TColor(255, 0, 0), 2);
+  if (!image.saveToFile(file)) throw std::runtime_error(file + ": the image cannot be saved");
 }
 
 }  // namespace omnisfm::mrpt_plugin

@@ -6,11 +6,16 @@
 #include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
 
 #include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <random>
 
 #include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
@@ -59,7 +64,7 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
   options.odometry_noise.position_sigma = 0.002;
   options.gyro_noise.bias_sigma = 1e-3;
   OmniSfmEstimator estimator(options);
-  EXPECT_EQ(estimator.getCurrentPoseEstimation()->mean.norm(), 0) << "the origin before frame 0";
+  EXPECT_EQ(estimator.getCurrentPoseEstimation()->getMeanVal().norm(), 0) << "the origin before frame 0";
   // Every reading, kept here: the estimator drops those it has used.
   MotionSensorCollector all_readings({}, std::nullopt);
   all_readings.sensors().odometry_scale = options.odometry_scale;
@@ -94,7 +99,9 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
   }
   const Eigen::Isometry3d B = sim::body_from_cam(rover.dataset);
   const Eigen::Isometry3d expected = B * filter.cam_from_world().inverse() * B.inverse();
-  const mrpt::poses::CPose3DPDFGaussian::Ptr pdf = estimator.getCurrentPoseEstimation();
+  const auto pdf = std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(
+      estimator.getCurrentPoseEstimation());
+  ASSERT_TRUE(pdf) << "the pose is a Gaussian";
   EXPECT_LT((isometry(pdf->mean).matrix() - expected.matrix()).norm(), 1e-9);
 
   // Against the truth: the rotation, and the translation in metres. The odometry gives the scale
@@ -210,8 +217,8 @@ TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
     }
   }
   ASSERT_EQ(by_frame.framesProcessed(), kFewFrames);
-  EXPECT_LT((isometry(by_frame.getCurrentPoseEstimation()->mean).matrix() -
-             isometry(by_observation.getCurrentPoseEstimation()->mean).matrix())
+  EXPECT_LT((isometry(by_frame.getCurrentPoseEstimation()->getMeanVal()).matrix() -
+             isometry(by_observation.getCurrentPoseEstimation()->getMeanVal()).matrix())
                 .norm(),
             1e-12);
 
@@ -258,6 +265,96 @@ TEST(OmniSfmEstimator, KeepsNoSensorHistory) {
   EXPECT_LT(10 * most_odometry, all_readings.sensors().odometry.size());
   ASSERT_FALSE(estimator.motionSensors().gyro.empty());
   EXPECT_GE(estimator.motionSensors().gyro.front().timestamp, frame_times[frame_times.size() - 2]);
+}
+
+// What an MRPT application sees holding the estimator as a CMetricMapBuilder*: the pose PDF, the
+// keyframes, the point map and the picture, and initialize starting over.
+TEST(OmniSfmEstimator, IsAnMrptMapBuilder) {
+  const RoverRawlog& rover = rover_rawlog();
+  OmniSfmEstimator estimator;
+  mrpt::slam::CMetricMapBuilder* builder = &estimator;
+  const auto feed = [&] {
+    for (const auto& observation : rover.observations) {
+      mrpt::obs::CActionCollection no_action;
+      mrpt::obs::CSensoryFrame frame;
+      frame.insert(observation);
+      builder->processActionObservation(no_action, frame);
+    }
+  };
+  feed();
+  ASSERT_EQ(estimator.framesProcessed(), static_cast<int>(rover.dataset.world_from_cam.size()));
+
+  const auto pdf =
+      std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(builder->getCurrentPoseEstimation());
+  ASSERT_TRUE(pdf);
+  mrpt::poses::CPose3DPDFGaussian direct;
+  estimator.getCurrentPoseEstimation(direct);
+  EXPECT_EQ(pdf->mean, direct.mean);
+
+  // Keyframes: the first frame, then one each time the robot has moved 1 m or turned 10 deg.
+  mrpt::maps::CSimpleMap keyframes;
+  builder->getCurrentlyBuiltMap(keyframes);
+  ASSERT_EQ(keyframes.size(), builder->getCurrentlyBuiltMapSize());
+  ASSERT_GE(keyframes.size(), 3u);
+  for (size_t k = 0; k < keyframes.size(); ++k) {
+    const auto& [pose, frame] = keyframes.get(k);
+    ASSERT_TRUE(std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(pose)) << k;
+    ASSERT_EQ(frame->size(), 1u);
+    EXPECT_TRUE(frame->getObservationByClass<CObservationTrackedFeatures>()) << k;
+    if (k == 0) continue;
+    const mrpt::poses::CPose3D moved =
+        pose->getMeanVal() - std::get<0>(keyframes.get(k - 1))->getMeanVal();
+    const double turned = Eigen::AngleAxisd(isometry(moved).linear()).angle();
+    EXPECT_TRUE(moved.norm() >= 1.0 || turned >= 10 * M_PI / 180) << k;
+    EXPECT_LT(moved.norm(), 1.2) << "no keyframe skipped: " << k;
+  }
+
+  // The metric map: the estimator's points.
+  const mrpt::maps::CMultiMetricMap* map = builder->getCurrentlyBuiltMetricMap();
+  ASSERT_TRUE(map);
+  const auto cloud = map->mapByClass<mrpt::maps::CSimplePointsMap>();
+  ASSERT_TRUE(cloud);
+  const std::map<int, Eigen::Vector3d> points = estimator.points();
+  ASSERT_EQ(cloud->size(), points.size());
+  ASSERT_GT(points.size(), 10u);
+  size_t i = 0;
+  for (const auto& [track, p] : points) {
+    float x, y, z;
+    cloud->getPoint(i++, x, y, z);
+    EXPECT_NEAR(x, p.x(), 1e-5 * (1 + std::abs(p.x())));
+    EXPECT_NEAR(y, p.y(), 1e-5 * (1 + std::abs(p.y())));
+    EXPECT_NEAR(z, p.z(), 1e-5 * (1 + std::abs(p.z())));
+  }
+
+  const std::string picture = (std::filesystem::temp_directory_path() /
+                               ("omnisfm_builder_" + std::to_string(::getpid()) + ".png"))
+                                  .string();
+  builder->saveCurrentEstimationToImage(picture, false);
+  mrpt::img::CImage image;
+  ASSERT_TRUE(image.loadFromFile(picture));
+  std::filesystem::remove(picture);
+  EXPECT_EQ(image.getWidth(), 800u);
+  EXPECT_EQ(image.getHeight(), 800u);
+
+  // initialize: nothing seen, no keyframes, the start where x0 says; an initial map is refused.
+  const mrpt::poses::CPosePDFGaussian x0(mrpt::poses::CPose2D(2.0, -1.0, 0.5));
+  builder->initialize(mrpt::maps::CSimpleMap(), &x0);
+  EXPECT_EQ(estimator.framesProcessed(), 0);
+  EXPECT_EQ(builder->getCurrentlyBuiltMapSize(), 0u);
+  const mrpt::poses::CPose3D start = builder->getCurrentPoseEstimation()->getMeanVal();
+  EXPECT_NEAR(start.x(), 2.0, 1e-12);
+  EXPECT_NEAR(start.y(), -1.0, 1e-12);
+  EXPECT_NEAR(start.yaw(), 0.5, 1e-12);
+  EXPECT_THROW(builder->initialize(keyframes), std::invalid_argument);
+
+  // Fed again from x0: the same motion, moved there.
+  builder->initialize(mrpt::maps::CSimpleMap(), &x0);
+  builder->enableMapUpdating(false);
+  feed();
+  EXPECT_EQ(builder->getCurrentlyBuiltMapSize(), 0u) << "map updating disabled";
+  const mrpt::poses::CPose3D from_x0 = builder->getCurrentPoseEstimation()->getMeanVal();
+  const mrpt::poses::CPose3D expected = mrpt::poses::CPose3D(x0.mean) + direct.mean;
+  EXPECT_LT((isometry(from_x0).matrix() - isometry(expected).matrix()).norm(), 1e-9);
 }
 
 }  // namespace

@@ -15,7 +15,8 @@ omnisfm_add_test(omnisfm_mrpt_tests
     tests/omni_sfm_estimator_test.cpp
     tests/pose_graph_file_test.cpp
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io omnisfm::sfm mrpt::obs mrpt::img mrpt::io
-       mrpt::poses mrpt::serialization mrpt::opengl mrpt::graphs opencv_imgcodecs
+       mrpt::poses mrpt::serialization mrpt::opengl mrpt::graphs mrpt::slam mrpt::maps
+       opencv_imgcodecs
   LABELS unit sanitize)
 # The camera contract's cameras: every inner camera and mirror the model must store.
 target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests

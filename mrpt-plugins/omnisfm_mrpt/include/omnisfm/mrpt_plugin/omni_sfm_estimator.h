@@ -1,7 +1,7 @@
 #pragma once
-// omnisfm's online estimator with the interface of MRPT's SLAM front ends (CMetricMapBuilder's
-// processActionObservation and getCurrentPoseEstimation), so that an MRPT application feeds it
-// what a rawlog or a live sensor loop delivers and reads the robot's pose with its covariance.
+// omnisfm's online estimator as one of MRPT's SLAM front ends: an mrpt::slam::CMetricMapBuilder,
+// so that an MRPT application holds it as a CMetricMapBuilder*, feeds it what a rawlog or a live
+// sensor loop delivers and reads the robot's pose with its covariance, the keyframes and the map.
 //
 // It wraps the tracker (libs/track) and the online filter (sfm::OnlineFilter): an omnisfm
 // CObservationTrackedFeatures goes to the filter directly; an image (CObservationOmniImage, or a
@@ -16,13 +16,24 @@
 // is the filter's pose covariance carried through that map to MRPT's (x, y, z, yaw, pitch, roll)
 // to first order, with the Jacobian by central differences.
 //
-// MRPT headers: the including target must link MRPT (mrpt::obs, mrpt::poses) itself.
+// The map (CMetricMapBuilder's terms): keyframes, a camera observation with the robot's pose PDF
+// at that moment, taken once the robot has moved keyframe_distance_m or turned keyframe_angle_rad
+// since the last one (as MRPT's ICP builder inserts by distance), while map updating is enabled;
+// and the metric map, the filter's points (points()) as a CSimplePointsMap. Keyframes grow with
+// the distance driven; disable map updating (enableMapUpdating(false)) for a run that must not.
+//
+// MRPT headers: the including target must link MRPT (mrpt::obs, mrpt::poses, mrpt::maps,
+// mrpt::slam) itself.
 
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/slam/CMetricMapBuilder.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <optional>
@@ -52,27 +63,48 @@ struct OmniSfmEstimatorOptions {
   sfm::OdometryNoise odometry_noise;
   sfm::GyroNoise gyro_noise;
   double odometry_scale = 1;
+  // A keyframe once the robot has moved this far, or turned this much, since the last one.
+  double keyframe_distance_m = 1.0;
+  double keyframe_angle_rad = 10 * M_PI / 180;
 };
 
-class OmniSfmEstimator {
+class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
  public:
-  explicit OmniSfmEstimator(const OmniSfmEstimatorOptions& options = {});
-  ~OmniSfmEstimator();
+  explicit OmniSfmEstimator(const OmniSfmEstimatorOptions& estimator_options = {});
+  ~OmniSfmEstimator() override;
   OmniSfmEstimator(const OmniSfmEstimator&) = delete;
   OmniSfmEstimator& operator=(const OmniSfmEstimator&) = delete;
 
+  // Starts again, with no frame seen. x0, when given, is where the robot starts in the map (its
+  // mean; the filter's own uncertainty starts at zero there). Throws std::invalid_argument for a
+  // non-empty initial map: the estimator builds its own.
+  void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
+                  const mrpt::poses::CPosePDF* x0 = nullptr) override;
   // A sensory-frame rawlog's step: the actions (odometry) first, then the observations.
   void processActionObservation(mrpt::obs::CActionCollection& action,
-                                mrpt::obs::CSensoryFrame& observations);
+                                mrpt::obs::CSensoryFrame& observations) override;
   // One observation, as an observation-format rawlog or a live sensor gives it. Throws
   // std::invalid_argument for an image or tracks when no camera is known (a stock
   // CObservationImage without options.camera).
   void processObservation(const mrpt::obs::CObservation::Ptr& observation);
 
-  // The robot's pose in the map frame with its covariance (MRPT's CPose3DPDFGaussian, whose
-  // covariance is over x, y, z, yaw, pitch, roll); the origin, exactly, before the first frame.
-  mrpt::poses::CPose3DPDFGaussian::Ptr getCurrentPoseEstimation() const;
+  // The robot's pose in the map frame with its covariance: a CPose3DPDFGaussian, whose
+  // covariance is over x, y, z, yaw, pitch, roll; the start (the origin, or initialize's x0),
+  // exactly, before the first frame.
+  mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const override;
   void getCurrentPoseEstimation(mrpt::poses::CPose3DPDFGaussian& out) const;
+
+  // The keyframes, each with its CPose3DPDFGaussian and a sensory frame holding its camera
+  // observation.
+  void getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out) const override;
+  unsigned int getCurrentlyBuiltMapSize() override;
+  // A CMultiMetricMap holding one CSimplePointsMap: points() at the time of the call. MRPT's
+  // point maps have no place for each point's covariance; the filter has them.
+  const mrpt::maps::CMultiMetricMap* getCurrentlyBuiltMetricMap() const override;
+  // A top view (x right, y up) of the keyframes' path, the robot and the points, as an image in
+  // the format the file's extension names (CImage::saveToFile). formatEMF_BMP is ignored: MRPT
+  // writes EMF on Windows only. Throws std::runtime_error naming the file when it cannot be saved.
+  void saveCurrentEstimationToImage(const std::string& file, bool formatEMF_BMP = true) override;
 
   int framesProcessed() const { return frames_; }
   // What leaves the filter as it goes (sfm::OnlineFilter::on_point_ended, on_track_rejected):
@@ -91,14 +123,17 @@ class OmniSfmEstimator {
   // dropped once used, so memory stays bounded on an endless run).
   const sfm::MotionSensors& motionSensors() const { return collector_.sensors(); }
   // The estimator's world (the first camera's frame) in the map frame.
-  const Eigen::Isometry3d& mapFromWorld() const { return body_from_cam_; }
+  Eigen::Isometry3d mapFromWorld() const { return map_from_start_ * body_from_cam_; }
 
  private:
   void start(const camera::CatadioptricCamera& camera, const mrpt::poses::CPose3D& camera_pose);
   // The filter propagated by the odometry and gyro collected since the previous frame (when there
   // are any), then updated by the frame's pixels.
-  void process_frame(const std::vector<sfm::TrackPixel>& pixels, double timestamp);
+  void process_frame(const std::vector<sfm::TrackPixel>& pixels, double timestamp,
+                     const mrpt::obs::CObservation::Ptr& observation);
   bool is_camera(const mrpt::obs::CObservation& observation) const;
+  // The frame's observation as a keyframe when the robot has gone far enough from the last.
+  void maybe_add_keyframe(const mrpt::obs::CObservation::Ptr& observation);
 
   OmniSfmEstimatorOptions options_;
   MotionSensorCollector collector_;
@@ -107,6 +142,10 @@ class OmniSfmEstimator {
   sfm::OnlineFilter::TrackRejected track_rejected_;
   std::unique_ptr<track::SequenceTracker> tracker_;
   Eigen::Isometry3d body_from_cam_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d map_from_start_ = Eigen::Isometry3d::Identity();  // initialize's x0
+  mrpt::maps::CSimpleMap keyframes_;
+  mrpt::poses::CPose3D last_keyframe_pose_;
+  mutable mrpt::maps::CMultiMetricMap metric_map_;
   int frames_ = 0;
   double previous_frame_time_ = 0;
 };
