@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <unistd.h>
+
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -58,8 +60,9 @@ inline std::size_t version_byte(const Bytes& bytes, const std::string& class_nam
   return find(bytes, class_name) + class_name.size();
 }
 
+// One per process: ctest --parallel runs tests side by side, each in a process of its own.
 inline std::string temporary_path(const std::string& name) {
-  return ::testing::TempDir() + "/omnisfm_mrpt_" + name;
+  return ::testing::TempDir() + "/omnisfm_mrpt_" + std::to_string(::getpid()) + "_" + name;
 }
 
 inline void write_file(const std::string& path, const Bytes& bytes) {
