@@ -1,6 +1,7 @@
 #include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
 
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -34,6 +35,20 @@ void keep_from_last_at_or_before(std::vector<T>* samples, double timestamp) {
       samples->begin(), samples->end(), timestamp,
       [](double time, const T& sample) { return time < sample.timestamp; });
   if (after - samples->begin() > 1) samples->erase(samples->begin(), after - 1);
+}
+
+// A movement action's increment as the planar wheel model takes it (x, y, yaw); none for other
+// actions and for a 2D movement without its pose change.
+std::optional<mrpt::poses::CPose2D> planar_increment(const mrpt::obs::CAction& action) {
+  if (const auto* planar = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&action)) {
+    if (!planar->poseChange) return std::nullopt;
+    return planar->poseChange->getMeanVal();
+  }
+  if (const auto* spatial = dynamic_cast<const mrpt::obs::CActionRobotMovement3D*>(&action)) {
+    const mrpt::poses::CPose3D& d = spatial->poseChange.mean;
+    return mrpt::poses::CPose2D(d.x(), d.y(), d.yaw());
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -92,18 +107,16 @@ bool MotionSensorCollector::add(const mrpt::obs::CObservation& observation) {
 }
 
 bool MotionSensorCollector::add(const mrpt::obs::CAction& action) {
-  const auto* movement = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&action);
-  if (!movement || !movement->poseChange || odometry_source_ == OdometrySource::kObservations)
-    return false;
+  const std::optional<mrpt::poses::CPose2D> increment = planar_increment(action);
+  if (!increment || odometry_source_ == OdometrySource::kObservations) return false;
   odometry_source_ = OdometrySource::kActions;
   const bool timed = action.timestamp != INVALID_TIMESTAMP;
   const double t = timed ? mrpt::Clock::toDouble(action.timestamp) : 0;
   // The odometry starts at zero where the log starts (or at this first movement).
   if (sensors_.odometry.empty() && !action_pose_pending_)
     add_odometry(first_time_ ? *first_time_ : (timed ? t : 0), Eigen::Vector3d::Zero());
-  const mrpt::poses::CPose2D increment = movement->poseChange->getMeanVal();
   const mrpt::poses::CPose2D composed =
-      mrpt::poses::CPose2D(action_pose_.x(), action_pose_.y(), action_pose_.z()) + increment;
+      mrpt::poses::CPose2D(action_pose_.x(), action_pose_.y(), action_pose_.z()) + *increment;
   action_pose_ = Eigen::Vector3d(composed.x(), composed.y(), composed.phi());
   if (!timed) {
     action_pose_pending_ = true;

@@ -2,6 +2,7 @@
 
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationImage.h>
@@ -85,7 +86,8 @@ OnlineReplaySummary replay_online(const std::string& path, const OnlineReplaySet
     if (auto actions = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(object)) {
       for (std::size_t i = 0; i < actions->size(); ++i)
         summary.odometry +=
-            dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(actions->get(i).get()) != nullptr;
+            dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(actions->get(i).get()) ||
+            dynamic_cast<const mrpt::obs::CActionRobotMovement3D*>(actions->get(i).get());
       estimator.processActionObservation(*actions, none);
       continue;
     }

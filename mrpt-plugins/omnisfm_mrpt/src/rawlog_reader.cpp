@@ -3,6 +3,7 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
@@ -149,6 +150,9 @@ std::string damage_in(const mrpt::serialization::CSerializable& object) {
     for (std::size_t i = 0; i < actions->size(); ++i) {
       const auto* motion = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&actions->get(i));
       if (motion && !is_finite(motion->rawOdometryIncrementReading))
+        return "its odometry is not a finite number";
+      const auto* spatial = dynamic_cast<const mrpt::obs::CActionRobotMovement3D*>(&actions->get(i));
+      if (spatial && !is_finite(spatial->poseChange.mean))
         return "its odometry is not a finite number";
     }
   return "";

@@ -10,6 +10,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <unistd.h>
@@ -180,7 +181,9 @@ TEST(OmniSfmEstimator, CovarianceAgreesWithSampling) {
           << r << "," << c;
 }
 
-TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
+// The odometry as actions, 2D (CActionRobotMovement2D) or 3D (CActionRobotMovement3D, whose
+// planar part the wheel model takes), gives the estimate the odometry observations give.
+void expect_actions_as_observations(bool three_d) {
   const RoverRawlog& rover = rover_rawlog();
   constexpr int kFewFrames = 12;
   OmniSfmEstimator by_observation, by_frame;
@@ -197,11 +200,19 @@ TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
     if (const auto odometry =
             std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(observation)) {
       if (last_odometry) {
-        mrpt::obs::CActionRobotMovement2D movement;
-        movement.computeFromOdometry(odometry->odometry - *last_odometry,
-                                     mrpt::obs::CActionRobotMovement2D::TMotionModelOptions());
-        movement.timestamp = odometry->timestamp;
-        actions.insert(movement);
+        const mrpt::poses::CPose2D increment = odometry->odometry - *last_odometry;
+        if (three_d) {
+          mrpt::obs::CActionRobotMovement3D movement;
+          movement.poseChange.mean = mrpt::poses::CPose3D(increment);
+          movement.timestamp = odometry->timestamp;
+          actions.insert(movement);
+        } else {
+          mrpt::obs::CActionRobotMovement2D movement;
+          movement.computeFromOdometry(increment,
+                                       mrpt::obs::CActionRobotMovement2D::TMotionModelOptions());
+          movement.timestamp = odometry->timestamp;
+          actions.insert(movement);
+        }
       }
       last_odometry = odometry->odometry;
       odometry_seen.push_back(odometry->odometry);
@@ -233,6 +244,10 @@ TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) {
     EXPECT_NEAR(composed[i].pose.z(), relative.phi(), 1e-9) << i;
   }
 }
+
+TEST(OmniSfmEstimator, SensoryFramesWithOdometryActions) { expect_actions_as_observations(false); }
+
+TEST(OmniSfmEstimator, SensoryFramesWith3dOdometryActions) { expect_actions_as_observations(true); }
 
 TEST(OmniSfmEstimator, KeepsNoSensorHistory) {
   // The whole rover run: the estimator holds only the readings from the last frame on, however
