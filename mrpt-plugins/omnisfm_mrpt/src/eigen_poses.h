@@ -19,4 +19,11 @@ inline mrpt::poses::CPose3D pose_of(const Eigen::Isometry3d& T) {
   return mrpt::poses::CPose3D(mrpt::math::CMatrixDouble44(T.matrix()));
 }
 
+// MRPT's parameters of a pose: x, y, z, yaw, pitch, roll (the order of its covariances).
+inline Eigen::Matrix<double, 6, 1> mrpt_parameters_of(const mrpt::poses::CPose3D& p) {
+  Eigen::Matrix<double, 6, 1> v;
+  v << p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll();
+  return v;
+}
+
 }  // namespace omnisfm::mrpt_plugin

@@ -22,12 +22,6 @@ namespace {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-Vector6d mrpt_vector_of(const mrpt::poses::CPose3D& p) {
-  Vector6d v;
-  v << p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll();
-  return v;
-}
-
 // map_from_robot for the filter's pose moved by the error `delta` (rotation left, translation).
 mrpt::poses::CPose3D perturbed_robot_pose(const Eigen::Isometry3d& cam_from_world,
                                           const Vector6d& delta,
@@ -58,9 +52,9 @@ mrpt::poses::CPose3DPDFGaussian robot_pose_of(const Eigen::Isometry3d& cam_from_
   for (int k = 0; k < 6; ++k) {
     Vector6d step = Vector6d::Zero();
     step[k] = kStep;
-    const Vector6d plus = mrpt_vector_of(
+    const Vector6d plus = mrpt_parameters_of(
         perturbed_robot_pose(cam_from_world, step, body_from_cam, map_from_world));
-    const Vector6d minus = mrpt_vector_of(
+    const Vector6d minus = mrpt_parameters_of(
         perturbed_robot_pose(cam_from_world, -step, body_from_cam, map_from_world));
     Vector6d difference = plus - minus;
     for (int a = 3; a < 6; ++a) difference[a] = mrpt::math::wrapToPi(difference[a]);

@@ -24,10 +24,7 @@ using Vector12 = Eigen::Matrix<double, 12, 1>;
 Vector6 relative_mrpt_parameters(const Vector12& fg) {
   const Eigen::Isometry3d relative =
       sfm::pose_of_parameters(fg.head<6>()) * sfm::pose_of_parameters(fg.tail<6>()).inverse();
-  const mrpt::poses::CPose3D p = pose_of(relative);
-  Vector6 v;
-  v << p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll();
-  return v;
+  return mrpt_parameters_of(pose_of(relative));
 }
 
 // d(relative MRPT parameters) / d(both frames' batch parameters), by central differences: the

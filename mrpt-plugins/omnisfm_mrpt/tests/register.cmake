@@ -21,6 +21,12 @@ omnisfm_add_test(omnisfm_mrpt_tests
 # The camera contract's cameras: every inner camera and mirror the model must store.
 target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests
                            ${CMAKE_CURRENT_SOURCE_DIR}/src)
+# The pose graph's consistency over seeds: five batches, too slow for the sanitizers' build.
+omnisfm_add_test(omnisfm_mrpt_consistency_tests
+  SOURCES tests/pose_graph_consistency_test.cpp
+  DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::sfm mrpt::poses LABELS unit)
+target_include_directories(omnisfm_mrpt_consistency_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+
 target_compile_definitions(omnisfm_mrpt_tests PRIVATE
   OMNISFM_MRPT_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/tests/data")
 
