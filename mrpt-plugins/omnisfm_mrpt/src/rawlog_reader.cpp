@@ -251,6 +251,10 @@ std::string RawlogReader::describe_failure(const std::string& mrpt_message) {
     what = "it was stored by a newer version (" + version + ") of its class than this reader knows";
   } else if (file_->checkEOF()) {
     what = "the file ends inside it (truncated)";
+  } else if (mrpt_message.find("Cannot read object streaming version") != std::string::npos) {
+    // The stream ran dry before the object's end flag, which a compressed stream does not
+    // report as its end: a length in the object claimed more than the file holds.
+    what = "the file ends inside it (a length stored in it runs past the end)";
   } else {
     what = "it is corrupt: " + corruption_of(mrpt_message, object_class);
   }

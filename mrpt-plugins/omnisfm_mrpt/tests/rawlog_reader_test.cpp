@@ -9,6 +9,7 @@
 #include <mrpt/obs/CObservationOdometry.h>
 
 #include <cstring>
+#include <filesystem>
 #include <limits>
 
 #include "omnisfm/io/input_error.h"
@@ -191,6 +192,31 @@ TEST_F(DamagedRawlog, DamagedClassNameIsCorrupt) {
   expect_damage(shortened, 1,
                 "object 1: it is corrupt: its class name 'mrpt::obs::CObserva' is the beginning "
                 "of 'mrpt::obs::CObservation");
+}
+
+// A string's stored length that runs past the end of the file: MRPT reads what there is, then
+// finds no end flag. Said in a reader's words, the file not named (its caller names it), in a
+// plain file and in a compressed one (where the stream does not say it has ended).
+TEST_F(DamagedRawlog, LengthPastTheEndSaysTheFileEndsInside) {
+  Bytes bytes = bytes_;
+  const std::size_t text = object_offset(5, comment_.text);
+  const uint32_t too_long = static_cast<uint32_t>(bytes.size() - text + 1000);
+  std::memcpy(&bytes[text - 4], &too_long, 4);
+  const std::string compressed = testing::temporary_path("long_string.rawlog");
+  {
+    mrpt::io::CFileGZOutputStream file(compressed);
+    file.Write(bytes.data(), bytes.size());
+  }
+  for (const Bytes& file : {bytes, testing::read_file(compressed)}) {
+    const auto [objects, problem] = read(file);
+    EXPECT_EQ(objects, 5u);
+    EXPECT_NE(problem.find("object 5 (mrpt::obs::CObservationComment): the file ends inside it"),
+              std::string::npos)
+        << problem;
+    EXPECT_EQ(problem.find("omnisfm_mrpt_"), std::string::npos) << problem;
+    EXPECT_EQ(problem.find("CFileGZInputStream"), std::string::npos) << problem;
+  }
+  std::filesystem::remove(compressed);
 }
 
 TEST_F(DamagedRawlog, NewerClassVersionSaysSo) {
