@@ -156,7 +156,8 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
       mrpt_plugin::write_pose_graph(dir + "/batch.graph", result.batch);
       mrpt_plugin::write_pose_graph(dir + "/batch.graphbin", result.batch);
     } catch (const std::runtime_error& e) {
-      std::cerr << "omnisfm: warning: batch.graph and batch.graphbin not written: " << e.what() << "\n";
+      std::cerr << "omnisfm: warning: batch.graph and batch.graphbin not written: " << e.what()
+                << "\n";
     }
   }
 #endif

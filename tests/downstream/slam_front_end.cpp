@@ -32,14 +32,15 @@ int main() {
     features->timestamp = mrpt::Clock::fromDouble(1e9 + 0.1 * static_cast<double>(f));
     features->frame = static_cast<int>(f);
     for (const auto& o : rover.observations)
-      if (o.frame == static_cast<int>(f)) features->features.push_back({o.track, o.pixel.x(), o.pixel.y()});
+      if (o.frame == static_cast<int>(f))
+        features->features.push_back({o.track, o.pixel.x(), o.pixel.y()});
     mrpt::obs::CActionCollection no_motion;
     mrpt::obs::CSensoryFrame frame;
     frame.insert(features);
     builder->processActionObservation(no_motion, frame);
   }
-  const auto pose =
-      std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(builder->getCurrentPoseEstimation());
+  const auto pose = std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(
+      builder->getCurrentPoseEstimation());
   const unsigned int keyframes = builder->getCurrentlyBuiltMapSize();
   if (estimator->framesProcessed() != static_cast<int>(rover.world_from_cam.size()) || !pose ||
       !std::isfinite(pose->mean.x()) || !std::isfinite(pose->cov(0, 0)) || keyframes < 2) {

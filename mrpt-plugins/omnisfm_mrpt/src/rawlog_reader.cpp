@@ -151,7 +151,8 @@ std::string damage_in(const mrpt::serialization::CSerializable& object) {
       const auto* motion = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&actions->get(i));
       if (motion && !is_finite(motion->rawOdometryIncrementReading))
         return "its odometry is not a finite number";
-      const auto* spatial = dynamic_cast<const mrpt::obs::CActionRobotMovement3D*>(&actions->get(i));
+      const auto* spatial =
+          dynamic_cast<const mrpt::obs::CActionRobotMovement3D*>(&actions->get(i));
       if (spatial && !is_finite(spatial->poseChange.mean))
         return "its odometry is not a finite number";
     }

@@ -65,7 +65,8 @@ TEST(OmniSfmEstimator, PoseIsTheFiltersInTheRobotFrame) {
   options.odometry_noise.position_sigma = 0.002;
   options.gyro_noise.bias_sigma = 1e-3;
   OmniSfmEstimator estimator(options);
-  EXPECT_EQ(estimator.getCurrentPoseEstimation()->getMeanVal().norm(), 0) << "the origin before frame 0";
+  EXPECT_EQ(estimator.getCurrentPoseEstimation()->getMeanVal().norm(), 0)
+      << "the origin before frame 0";
   // Every reading, kept here: the estimator drops those it has used.
   MotionSensorCollector all_readings({}, std::nullopt);
   all_readings.sensors().odometry_scale = options.odometry_scale;
@@ -299,8 +300,8 @@ TEST(OmniSfmEstimator, IsAnMrptMapBuilder) {
   feed();
   ASSERT_EQ(estimator.framesProcessed(), static_cast<int>(rover.dataset.world_from_cam.size()));
 
-  const auto pdf =
-      std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(builder->getCurrentPoseEstimation());
+  const auto pdf = std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(
+      builder->getCurrentPoseEstimation());
   ASSERT_TRUE(pdf);
   mrpt::poses::CPose3DPDFGaussian direct;
   estimator.getCurrentPoseEstimation(direct);

@@ -132,7 +132,8 @@ TEST(PoseGraphFile, EdgeCovarianceIsThatOfSampledRelativePoses) {
   for (int i = 0; i < kDraws; ++i) {
     Eigen::Matrix<double, 12, 1> z;
     for (int k = 0; k < 12; ++k) z[k] = normal(rng);
-    const Eigen::Matrix<double, 12, 1> x = (Eigen::Matrix<double, 12, 1>() << a, b).finished() + L * z;
+    const Eigen::Matrix<double, 12, 1> x =
+        (Eigen::Matrix<double, 12, 1>() << a, b).finished() + L * z;
     const Eigen::Isometry3d relative =
         sfm::pose_of_parameters(x.head<6>()) * sfm::pose_of_parameters(x.tail<6>()).inverse();
     const Vector6 e = difference(mrpt_parameters(relative), mean);

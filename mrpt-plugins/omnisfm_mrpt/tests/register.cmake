@@ -86,11 +86,15 @@ set_tests_properties(rawlog_edit_info rawlog_edit_describe rawlog_edit_without_p
 omnisfm_find_mrpt_app(OMNISFM_GRAPH_SLAM graph-slam)
 set(rover_sim ${CMAKE_CURRENT_BINARY_DIR}/graph_rover_sim)
 set(rover_sfm ${CMAKE_CURRENT_BINARY_DIR}/graph_rover_sfm)
+add_test(NAME omnisfm_simulate_rover_for_graph
+  COMMAND omnisfm simulate --scenario rover --out ${rover_sim})
 add_test(NAME omnisfm_sfm_rover_graph
-  COMMAND sh -c
-          "$<TARGET_FILE:omnisfm> simulate --scenario rover --out ${rover_sim} && $<TARGET_FILE:omnisfm> sfm --camera ${rover_sim}/camera.ini --tracks ${rover_sim}/tracks.vnl --out ${rover_sfm}")
+  COMMAND omnisfm sfm --camera ${rover_sim}/camera.ini --tracks ${rover_sim}/tracks.vnl
+          --out ${rover_sfm})
+set_tests_properties(omnisfm_simulate_rover_for_graph PROPERTIES
+  LABELS interop FIXTURES_SETUP rover_for_graph TIMEOUT 300)
 set_tests_properties(omnisfm_sfm_rover_graph PROPERTIES
-  LABELS interop FIXTURES_SETUP rover_batch_graph TIMEOUT 300)
+  LABELS interop FIXTURES_REQUIRED rover_for_graph FIXTURES_SETUP rover_batch_graph TIMEOUT 300)
 add_test(NAME graph_slam_reads_batch_graph
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/tests/graph_slam_reads_batch_graph.py
           ${OMNISFM_GRAPH_SLAM} ${rover_sfm}/batch.graph)

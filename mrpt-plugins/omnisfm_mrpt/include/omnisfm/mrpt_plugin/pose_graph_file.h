@@ -4,9 +4,9 @@
 // batch's world (world_from_cam), and an EDGE3 from each frame to the next, their relative pose
 // with its information matrix. That matrix inverts the relative pose's covariance, propagated
 // from the batch's joint covariance of the two poses (BatchResult::pose_covariances and
-// consecutive_pose_covariances, over pose_parameters) into MRPT's parameters (x y z yaw pitch roll), so the edges are
-// as certain as the batch is, correlations included. Frame 0 holds the gauge: its covariance is
-// zero. MRPT-free: the omnisfm command links it without seeing MRPT.
+// consecutive_pose_covariances, over pose_parameters) into MRPT's parameters (x y z yaw pitch
+// roll), so the edges are as certain as the batch is, correlations included. Frame 0 holds the
+// gauge: its covariance is zero. MRPT-free: the omnisfm command links it without seeing MRPT.
 
 #include <Eigen/Geometry>
 #include <string>
@@ -30,8 +30,9 @@ std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch);
 // Writes `path` whole or not at all: MRPT's text format (at full precision), or with a name ending
 // in ".graphbin" MRPT's gzip-compressed serialisation of the graph. The text keeps every number,
 // but MRPT 2.5's text loader drops the information between yaw, pitch and roll (it reads them
-// into one triangle of the matrix and then overwrites it from the other), so tools that need the
-// whole matrix read the .graphbin, which graph-slam reads too. Throws what consecutive_edges throws,
+// into one triangle of the matrix and then overwrites it from the other), so programs that need
+// the whole matrix read the .graphbin (graph-slam 2.5 reads only text). Throws what
+// consecutive_edges throws,
 // and std::runtime_error naming `path` when it cannot be written, or when an edge's covariance
 // cannot be inverted.
 void write_pose_graph(const std::string& path, const sfm::BatchResult& batch);
