@@ -1,9 +1,12 @@
 #include "omnisfm/io/atomic_write.h"
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
+#include <sstream>
 
 #include <filesystem>
 #include <fstream>
@@ -16,8 +19,39 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool process_runs(long pid) {
-  return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM);
+// When the task `pid` (a process or a thread: kill() takes either) started, in seconds since the
+// epoch, from /proc; NaN when there is no such task.
+double task_start_time(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return NAN;
+  // Field 22, starttime in clock ticks since boot, counted after the command's closing ')'.
+  std::istringstream fields(line.substr(line.rfind(')') + 2));
+  std::string field;
+  for (int i = 3; i < 22 && fields >> field; ++i) {
+  }
+  double ticks = 0;
+  if (!(fields >> ticks)) return NAN;
+  std::ifstream system_stat("/proc/stat");
+  for (std::string key; system_stat >> key;)
+    if (key == "btime") {
+      double boot = 0;
+      system_stat >> boot;
+      return boot + ticks / static_cast<double>(::sysconf(_SC_CLK_TCK));
+    }
+  return NAN;
+}
+
+// Whether the writer that named `entry` after its PID still runs. Process and thread ids are
+// reused (32,768 of them, and busy machines cycle through them in minutes): a task holding the
+// id now that started after the entry was last written is another one, and its writer is gone.
+bool writer_runs(long pid, const fs::path& entry) {
+  if (pid <= 0 || (::kill(static_cast<pid_t>(pid), 0) != 0 && errno != EPERM)) return false;
+  struct ::stat status {};
+  const double started = task_start_time(pid);
+  if (std::isnan(started) || ::stat(entry.c_str(), &status) != 0) return true;
+  const double written = static_cast<double>(status.st_mtim.tv_sec) + 1e-9 * status.st_mtim.tv_nsec;
+  return started <= written + 1.0;  // /proc's boot time is in whole seconds
 }
 
 }  // namespace
@@ -35,7 +69,7 @@ void remove_abandoned_temporaries(const fs::path& folder, const std::string& pre
       continue;
     const std::string pid = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
     if (pid.find_first_not_of("0123456789") != std::string::npos || pid.size() > 9) continue;
-    if (process_runs(std::stol(pid))) continue;
+    if (writer_runs(std::stol(pid), entry.path())) continue;
     std::error_code ignored;
     fs::remove_all(entry.path(), ignored);
   }

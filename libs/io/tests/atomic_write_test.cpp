@@ -1,6 +1,9 @@
 #include "omnisfm/io/atomic_write.h"
 
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -87,6 +90,25 @@ TEST_F(AtomicWriteTest, TheNextWriteRemovesWhatAKilledWriterLeft) {
   EXPECT_FALSE(fs::exists(abandoned));
   EXPECT_TRUE(fs::exists(running));
   EXPECT_TRUE(fs::exists(other));  // another file's temporaries are its own writer's business
+  EXPECT_EQ(contents(), "new\n");
+}
+
+// Ids come back: a temporary whose id a task started after it was written holds is abandoned.
+TEST_F(AtomicWriteTest, AnIdReusedSinceIsNotTheWriter) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::pause();
+    ::_exit(0);
+  }
+  ASSERT_GT(child, 0);
+  const fs::path abandoned = dir_ / ("out.tmp-" + std::to_string(child) + ".ini");
+  std::ofstream(abandoned) << "half";
+  const ::timespec an_hour_ago[2] = {{::time(nullptr) - 3600, 0}, {::time(nullptr) - 3600, 0}};
+  ASSERT_EQ(::utimensat(AT_FDCWD, abandoned.c_str(), an_hour_ago, 0), 0);
+  write_text_atomically(target_, [](std::ostream& out) { out << "new\n"; });
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  EXPECT_FALSE(fs::exists(abandoned)) << "the child started after the file was written";
   EXPECT_EQ(contents(), "new\n");
 }
 
