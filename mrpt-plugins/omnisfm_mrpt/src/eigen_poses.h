@@ -2,6 +2,7 @@
 // Rigid transforms between Eigen (the estimators' type) and MRPT's CPose3D. Inside the plugin only.
 
 #include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Geometry>
@@ -24,6 +25,26 @@ inline Eigen::Matrix<double, 6, 1> mrpt_parameters_of(const mrpt::poses::CPose3D
   Eigen::Matrix<double, 6, 1> v;
   v << p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll();
   return v;
+}
+
+// d mrpt_parameters_of(pose(x)) / dx at x by central differences, the angles' differences
+// wrapped: how the estimators carry a covariance into MRPT's parameters. The map is smooth away
+// from pitch = +-90 degrees, and a step of 1e-6 leaves errors near 1e-10, far below any
+// covariance they report.
+template <int N, typename PoseOf>
+Eigen::Matrix<double, 6, N> mrpt_parameters_jacobian(const PoseOf& pose,
+                                                     const Eigen::Matrix<double, N, 1>& x) {
+  constexpr double kStep = 1e-6;
+  Eigen::Matrix<double, 6, N> J;
+  for (int i = 0; i < N; ++i) {
+    Eigen::Matrix<double, N, 1> plus = x, minus = x;
+    plus[i] += kStep;
+    minus[i] -= kStep;
+    Eigen::Matrix<double, 6, 1> d = mrpt_parameters_of(pose(plus)) - mrpt_parameters_of(pose(minus));
+    for (int a = 3; a < 6; ++a) d[a] = mrpt::math::wrapToPi(d[a]);
+    J.col(i) = d / (2 * kStep);
+  }
+  return J;
 }
 
 }  // namespace omnisfm::mrpt_plugin

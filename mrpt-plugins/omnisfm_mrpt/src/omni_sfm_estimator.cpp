@@ -2,7 +2,6 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/poses/CPosePDF.h>
 
@@ -45,21 +44,10 @@ mrpt::poses::CPose3DPDFGaussian robot_pose_of(const Eigen::Isometry3d& cam_from_
                                               const Eigen::Isometry3d& map_from_world) {
   const mrpt::poses::CPose3D mean =
       perturbed_robot_pose(cam_from_world, Vector6d::Zero(), body_from_cam, map_from_world);
-  // Central differences: the map is smooth away from pitch = +-90 degrees, and a step of 1e-6
-  // leaves errors near 1e-10, far below any covariance a filter reports.
-  constexpr double kStep = 1e-6;
-  Eigen::Matrix<double, 6, 6> J;
-  for (int k = 0; k < 6; ++k) {
-    Vector6d step = Vector6d::Zero();
-    step[k] = kStep;
-    const Vector6d plus = mrpt_parameters_of(
-        perturbed_robot_pose(cam_from_world, step, body_from_cam, map_from_world));
-    const Vector6d minus = mrpt_parameters_of(
-        perturbed_robot_pose(cam_from_world, -step, body_from_cam, map_from_world));
-    Vector6d difference = plus - minus;
-    for (int a = 3; a < 6; ++a) difference[a] = mrpt::math::wrapToPi(difference[a]);
-    J.col(k) = difference / (2 * kStep);
-  }
+  const auto perturbed = [&](const Vector6d& delta) {
+    return perturbed_robot_pose(cam_from_world, delta, body_from_cam, map_from_world);
+  };
+  const Eigen::Matrix<double, 6, 6> J = mrpt_parameters_jacobian<6>(perturbed, Vector6d::Zero());
   mrpt::poses::CPose3DPDFGaussian pdf;
   pdf.mean = mean;
   pdf.cov = mrpt::math::CMatrixDouble66(Eigen::Matrix<double, 6, 6>(J * covariance * J.transpose()));
@@ -123,15 +111,18 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
 }
 
 void OmniSfmEstimator::maybe_add_keyframe(const mrpt::obs::CObservation::Ptr& observation) {
-  auto pdf = std::make_shared<mrpt::poses::CPose3DPDFGaussian>();
-  getCurrentPoseEstimation(*pdf);
+  // The mean alone each frame; the covariance only for a keyframe.
+  const mrpt::poses::CPose3D pose = pose_of(mapFromWorld() * filter_->cam_from_world().inverse() *
+                                            body_from_cam_.inverse());
   if (keyframes_.size() > 0) {
-    const mrpt::poses::CPose3D moved = pdf->mean - last_keyframe_pose_;
+    const mrpt::poses::CPose3D moved = pose - last_keyframe_pose_;
     const double turned = Eigen::AngleAxisd(isometry_of(moved).linear()).angle();
     if (moved.norm() < options_.keyframe_distance_m && turned < options_.keyframe_angle_rad &&
         !options.debugForceInsertion)
       return;
   }
+  auto pdf = std::make_shared<mrpt::poses::CPose3DPDFGaussian>();
+  getCurrentPoseEstimation(*pdf);
   auto frame = std::make_shared<mrpt::obs::CSensoryFrame>();
   frame->insert(observation);
   keyframes_.insert(pdf, frame);

@@ -2,11 +2,12 @@
 
 #include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DPDFGaussianInf.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
+#include <cmath>
 #include <ostream>
 #include <stdexcept>
 
@@ -18,29 +19,15 @@ namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 using Vector12 = Eigen::Matrix<double, 12, 1>;
+// The relative scale uncertainty given to a scale the images do not fix at all: lengths then
+// carry no information, while the information matrix stays finite.
+constexpr double kUnknownScaleSigma = 10;
 
-// The relative pose of frame g in frame f, as MRPT's x y z yaw pitch roll, from both frames'
-// batch parameters (BatchResult::pose_parameters).
-Vector6 relative_mrpt_parameters(const Vector12& fg) {
-  const Eigen::Isometry3d relative =
-      sfm::pose_of_parameters(fg.head<6>()) * sfm::pose_of_parameters(fg.tail<6>()).inverse();
-  return mrpt_parameters_of(pose_of(relative));
-}
-
-// d(relative MRPT parameters) / d(both frames' batch parameters), by central differences: the
-// map is smooth and the step's error (1e-10 relative) far below any covariance's.
-Eigen::Matrix<double, 6, 12> relative_jacobian(const Vector12& fg) {
-  constexpr double kStep = 1e-6;
-  Eigen::Matrix<double, 6, 12> J;
-  for (int i = 0; i < 12; ++i) {
-    Vector12 plus = fg, minus = fg;
-    plus[i] += kStep;
-    minus[i] -= kStep;
-    Vector6 d = relative_mrpt_parameters(plus) - relative_mrpt_parameters(minus);
-    for (int a = 3; a < 6; ++a) d[a] = mrpt::math::wrapToPi(d[a]);
-    J.col(i) = d / (2 * kStep);
-  }
-  return J;
+// The relative pose of frame g in frame f from both frames' batch parameters
+// (BatchResult::pose_parameters).
+mrpt::poses::CPose3D relative_pose(const Vector12& fg) {
+  return pose_of(sfm::pose_of_parameters(fg.head<6>()) *
+                 sfm::pose_of_parameters(fg.tail<6>()).inverse());
 }
 
 }  // namespace
@@ -58,12 +45,24 @@ std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch) {
     Eigen::Matrix<double, 12, 12> joint;
     joint << batch.pose_covariances[f], batch.consecutive_pose_covariances[f],
         batch.consecutive_pose_covariances[f].transpose(), batch.pose_covariances[f + 1];
-    const Eigen::Matrix<double, 6, 12> J = relative_jacobian(fg);
+    const Eigen::Matrix<double, 6, 12> J = mrpt_parameters_jacobian<12>(relative_pose, fg);
     PoseGraphEdge edge;
     edge.from = static_cast<int>(f);
     edge.to = static_cast<int>(f + 1);
     edge.relative = batch.cam_from_world[f] * batch.cam_from_world[f + 1].inverse();
     edge.covariance = J * joint * J.transpose();
+    // A scale held at the filter's is the batch's assumption, not its knowledge: the batch's
+    // covariance is conditional on it. Each edge then carries the scale's uncertainty as the
+    // images alone give it, along its own translation (edges cannot share it as they should).
+    if (batch.scale_source == sfm::BatchScale::kHeldAtStart) {
+      const double sigma = std::min(std::isfinite(batch.scale_sigma_relative)
+                                        ? batch.scale_sigma_relative
+                                        : kUnknownScaleSigma,
+                                    kUnknownScaleSigma);
+      Vector6 along_scale = Vector6::Zero();
+      along_scale.head<3>() = edge.relative.translation();
+      edge.covariance += sigma * sigma * along_scale * along_scale.transpose();
+    }
     edge.covariance = 0.5 * (edge.covariance + edge.covariance.transpose());
     edges.push_back(edge);
   }

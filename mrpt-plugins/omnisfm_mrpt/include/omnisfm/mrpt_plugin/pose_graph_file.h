@@ -6,7 +6,9 @@
 // from the batch's joint covariance of the two poses (BatchResult::pose_covariances and
 // consecutive_pose_covariances, over pose_parameters) into MRPT's parameters (x y z yaw pitch
 // roll), so the edges are as certain as the batch is, correlations included. Frame 0 holds the
-// gauge: its covariance is zero. MRPT-free: the omnisfm command links it without seeing MRPT.
+// gauge: its covariance is zero. Where the batch held the scale at the filter's (its covariance
+// then conditional on that scale), each edge's translation also carries the scale's uncertainty
+// as the images give it (BatchResult::scale_sigma_relative, at most 10). MRPT-free: the omnisfm command links it without seeing MRPT.
 
 #include <Eigen/Geometry>
 #include <string>
