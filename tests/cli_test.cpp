@@ -1061,6 +1061,31 @@ TEST_F(CliTest, RunStreamsTheOnlineEstimatorOnADriveRawlog) {
 }
 #endif
 
+// --slam-rawlog writes the batch's estimate for stock SLAM apps (kf-slam runs on it in the plugin's
+// tests), and is refused, writing nothing, where it cannot be written whole.
+TEST_F(CliTest, RunWritesASlamRawlogOrRefusesIt) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);
+  const Outcome run = omnisfm("run lab/dataset.rawlog --out result --slam-rawlog lab/slam.rawlog");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("slam rawlog lab/slam.rawlog: 41 frames"), std::string::npos) << run.out;
+  EXPECT_NE(read_all(dir_ / "result/report.txt").find("slam rawlog lab/slam.rawlog"),
+            std::string::npos);
+  EXPECT_GT(fs::file_size(dir_ / "lab/slam.rawlog"), 10000u);
+
+  const Outcome inside = omnisfm("run lab/dataset.rawlog --out result --slam-rawlog result/s.rawlog");
+  EXPECT_EQ(inside.status, 2);
+  EXPECT_NE(inside.err.find("result/s.rawlog: is inside the --out folder"), std::string::npos)
+      << inside.err;
+  write("online.ini", "[sfm]\nbatch = false\n");
+  const Outcome online = omnisfm(
+      "run lab/dataset.rawlog --out online --config online.ini --slam-rawlog lab/online.rawlog");
+  EXPECT_EQ(online.status, 2);
+  EXPECT_NE(online.err.find("online.ini: --slam-rawlog needs the batch"), std::string::npos)
+      << online.err;
+  EXPECT_FALSE(fs::exists(dir_ / "online"));
+  EXPECT_FALSE(fs::exists(dir_ / "lab/online.rawlog"));
+}
+
 TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {
   ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);
   const fs::path rawlog = dir_ / "lab/dataset.rawlog";

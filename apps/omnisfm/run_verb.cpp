@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -14,6 +16,7 @@
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
 #include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/mrpt_plugin/scene_file.h"
+#include "omnisfm/mrpt_plugin/slam_rawlog.h"
 #include "online_outputs.h"
 #include "output_folder.h"
 #include "run_settings.h"
@@ -157,11 +160,43 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   return report.str();
 }
 
+bool is_inside(const std::string& file, const std::string& folder) {
+  const std::filesystem::path f = std::filesystem::weakly_canonical(std::filesystem::absolute(file));
+  const std::filesystem::path d =
+      std::filesystem::weakly_canonical(std::filesystem::absolute(folder));
+  const auto mismatch = std::mismatch(d.begin(), d.end(), f.begin(), f.end());
+  return mismatch.first == d.end();
+}
+
+// `--slam-rawlog`: the batch's estimate for stock SLAM apps. Returns the report's line.
+std::string write_slam_rawlog(const std::string& path, const mrpt_plugin::ReplayInput& in,
+                              const sfm::SfmResult& result) {
+  if (result.batch.pose_covariances.empty())
+    throw std::runtime_error(path + ": not written: the batch computed no covariances");
+  const mrpt_plugin::SlamRawlogSummary summary = mrpt_plugin::write_slam_rawlog(
+      path, *in.camera, in.tracks, result.batch, in.frame_times, in.sensors.body_from_cam,
+      result.batch.final_rms_px);
+  using Summary = mrpt_plugin::SlamRawlogSummary;
+  std::ostringstream line;
+  line << std::setprecision(3) << "slam rawlog " << path << ": " << summary.frames << " frames, "
+       << summary.measurements << " landmark measurements; their sigmas, median and 95 %:";
+  const auto quantiles = [&](const std::vector<double>& sigmas, double unit, const char* name) {
+    line << " " << name << " " << Summary::quantile(sigmas, 0.5) * unit << ", "
+         << Summary::quantile(sigmas, 0.95) * unit;
+  };
+  quantiles(summary.range_sigmas, 1, "range (m)");
+  quantiles(summary.yaw_sigmas, 180 / M_PI, "yaw (deg)");
+  quantiles(summary.pitch_sigmas, 180 / M_PI, "pitch (deg)");
+  line << " (kf-slam weighs all alike: std_sensor_range, std_sensor_yaw_deg and "
+          "std_sensor_pitch_deg at the 95 % values)\n";
+  return line.str();
+}
+
 }  // namespace
 
 void add_run_verb(CLI::App& app) {
   struct Options {
-    std::string rawlog, out, config, camera, ground_truth;
+    std::string rawlog, out, config, camera, ground_truth, slam_rawlog;
     bool strict = false;
   };
   auto o = std::make_shared<Options>();
@@ -188,12 +223,28 @@ void add_run_verb(CLI::App& app) {
                    "A TUM trajectory of the truth, one pose per frame: adds the error figures "
                    "(after a similarity and a rigid alignment) and plots");
   verb->add_flag("--strict", o->strict, "A damaged rawlog is an error (exit 2), not a warning");
+  verb->add_option("--slam-rawlog", o->slam_rawlog,
+                   "Also write the batch's estimate as a rawlog of stock MRPT classes for stock "
+                   "SLAM apps (kf-slam with share/omnisfm/config/kf-slam-6d.ini): per frame the "
+                   "robot's increment with its covariance (CActionRobotMovement3D) and the "
+                   "tracks' points as range, yaw and pitch from the camera "
+                   "(CObservationBearingRange, landmark id = track id); needs the batch");
   verb->callback([o] {
     RunSettings settings = read_run_settings(o->config);
+    if (!o->slam_rawlog.empty() && is_inside(o->slam_rawlog, o->out))
+      throw io::InputError(o->slam_rawlog, 0,
+                           "is inside the --out folder, which the run replaces whole: put it "
+                           "beside it");
     if (!o->camera.empty()) settings.replay.camera = io::read_camera_file(o->camera);
+    // The points' uncertainty as the cameras see them (the measurements' ranges).
+    if (!o->slam_rawlog.empty()) settings.sfm.batch.point_pose_covariances = true;
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
     if (!settings.sfm.run_batch) {
+      if (!o->slam_rawlog.empty())
+        throw io::InputError(o->config, 0,
+                             "--slam-rawlog needs the batch's covariances: [sfm] batch = false "
+                             "leaves none");
       std::string report;
       write_folder(o->out, [&](const std::string& dir) {
         report = stream_online_run(o->rawlog, settings, o->strict, dir);
@@ -262,6 +313,8 @@ void add_run_verb(CLI::App& app) {
     }
 
     write_folder(o->out, [&](const std::string& dir) {
+      // First: a failure here leaves the folder as it was, and the report names the file.
+      if (!o->slam_rawlog.empty()) report << write_slam_rawlog(o->slam_rawlog, in, result);
       write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
       mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
       if (geodetic)

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -457,6 +458,15 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     }
     for (const auto& [track, p] : points)
       if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
+    std::set<std::pair<int, int>> seen_from;  // (track, frame)
+    if (settings.point_pose_covariances)
+      for (const auto& o : used_observations) {
+        const auto point = points.find(o.track);
+        if (point == points.end() || !problem.HasParameterBlock(point->second.data()) ||
+            !variable(poses[o.frame]) || !seen_from.emplace(o.track, o.frame).second)
+          continue;
+        blocks.emplace_back(point->second.data(), poses[o.frame].data());
+      }
     std::vector<std::pair<double*, int>> extra_blocks;
     if (extra)
       for (const auto& [block, size] : extra->blocks_with_covariance())
@@ -487,6 +497,11 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
         Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c;
         covariance.GetCovarianceBlock(p.data(), p.data(), c.data());
         result.point_covariances[track] = variance * c;
+      }
+      for (const auto& [track, frame] : seen_from) {
+        Eigen::Matrix<double, 3, 6, Eigen::RowMajor> c;
+        covariance.GetCovarianceBlock(points.at(track).data(), poses[frame].data(), c.data());
+        result.point_pose_covariances[{track, frame}] = variance * c;
       }
       for (const auto& [block, size] : extra_blocks) {
         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(size, size);

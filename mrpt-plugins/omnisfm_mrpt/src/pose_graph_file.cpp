@@ -23,16 +23,17 @@ using Vector12 = Eigen::Matrix<double, 12, 1>;
 // carry no information, while the information matrix stays finite.
 constexpr double kUnknownScaleSigma = 10;
 
-// The relative pose of frame g in frame f from both frames' batch parameters
+// The relative pose of frame g's body in frame f's from both frames' batch parameters
 // (BatchResult::pose_parameters).
-mrpt::poses::CPose3D relative_pose(const Vector12& fg) {
-  return pose_of(sfm::pose_of_parameters(fg.head<6>()) *
-                 sfm::pose_of_parameters(fg.tail<6>()).inverse());
+Eigen::Isometry3d relative_pose(const Vector12& fg, const Eigen::Isometry3d& body_from_cam) {
+  return body_from_cam * sfm::pose_of_parameters(fg.head<6>()) *
+         sfm::pose_of_parameters(fg.tail<6>()).inverse() * body_from_cam.inverse();
 }
 
 }  // namespace
 
-std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch) {
+std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch,
+                                             const Eigen::Isometry3d& body_from_cam) {
   const size_t frames = batch.cam_from_world.size();
   if (frames > 0 && (batch.pose_covariances.size() != frames ||
                      batch.pose_parameters.size() != frames ||
@@ -45,11 +46,15 @@ std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch) {
     Eigen::Matrix<double, 12, 12> joint;
     joint << batch.pose_covariances[f], batch.consecutive_pose_covariances[f],
         batch.consecutive_pose_covariances[f].transpose(), batch.pose_covariances[f + 1];
-    const Eigen::Matrix<double, 6, 12> J = mrpt_parameters_jacobian<12>(relative_pose, fg);
+    const auto relative_of = [&](const Vector12& x) {
+      return pose_of(relative_pose(x, body_from_cam));
+    };
+    const Eigen::Matrix<double, 6, 12> J = mrpt_parameters_jacobian<12>(relative_of, fg);
     PoseGraphEdge edge;
     edge.from = static_cast<int>(f);
     edge.to = static_cast<int>(f + 1);
-    edge.relative = batch.cam_from_world[f] * batch.cam_from_world[f + 1].inverse();
+    edge.relative = body_from_cam * batch.cam_from_world[f] * batch.cam_from_world[f + 1].inverse() *
+                    body_from_cam.inverse();
     edge.covariance = J * joint * J.transpose();
     // A scale held at the filter's is the batch's assumption, not its knowledge: the batch's
     // covariance is conditional on it. Each edge then carries the scale's uncertainty as the

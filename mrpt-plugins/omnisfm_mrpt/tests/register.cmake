@@ -14,6 +14,7 @@ omnisfm_add_test(omnisfm_mrpt_tests
     tests/scene_file_test.cpp
     tests/omni_sfm_estimator_test.cpp
     tests/pose_graph_file_test.cpp
+    tests/slam_rawlog_test.cpp
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io omnisfm::sfm mrpt::obs mrpt::img mrpt::io
        mrpt::poses mrpt::serialization mrpt::opengl mrpt::graphs mrpt::slam mrpt::maps
        opencv_imgcodecs
@@ -23,7 +24,7 @@ target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs
                            ${CMAKE_CURRENT_SOURCE_DIR}/src)
 # The pose graph's consistency over seeds: five batches, too slow for the sanitizers' build.
 omnisfm_add_test(omnisfm_mrpt_consistency_tests
-  SOURCES tests/pose_graph_consistency_test.cpp
+  SOURCES tests/pose_graph_consistency_test.cpp tests/slam_rawlog_consistency_test.cpp
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::sfm mrpt::poses LABELS unit)
 target_include_directories(omnisfm_mrpt_consistency_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
 
@@ -100,3 +101,49 @@ add_test(NAME graph_slam_reads_batch_graph
           ${OMNISFM_GRAPH_SLAM} ${rover_sfm}/batch.graph)
 set_tests_properties(graph_slam_reads_batch_graph PROPERTIES
   LABELS interop FIXTURES_REQUIRED rover_batch_graph TIMEOUT 120)
+
+# Stock kf-slam on the rawlog of stock classes that `omnisfm run --slam-rawlog` writes for the
+# simulated rover (odometry, gyro and vision fused): its path within 2 % of the distance of the
+# truth after a rigid alignment. rawlog-edit reads that rawlog without the plugin.
+omnisfm_find_mrpt_app(OMNISFM_KF_SLAM kf-slam)
+set(kf_rover ${CMAKE_CURRENT_BINARY_DIR}/kf_slam_rover)
+add_test(NAME omnisfm_simulate_rover_for_kf_slam
+  COMMAND omnisfm simulate --scenario rover --out ${kf_rover}_sim --rawlog)
+set_tests_properties(omnisfm_simulate_rover_for_kf_slam PROPERTIES
+  LABELS interop FIXTURES_SETUP rover_for_kf_slam TIMEOUT 300)
+add_test(NAME omnisfm_run_slam_rawlog
+  COMMAND omnisfm run ${kf_rover}_sim/dataset.rawlog --out ${kf_rover}_run
+          --slam-rawlog ${kf_rover}_sim/slam.rawlog)
+set_tests_properties(omnisfm_run_slam_rawlog PROPERTIES
+  LABELS interop FIXTURES_REQUIRED rover_for_kf_slam FIXTURES_SETUP rover_slam_rawlog TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "slam rawlog [^\n]*: 150 frames, [0-9]+ landmark measurements")
+add_test(NAME rawlog_edit_info_slam_rawlog
+  COMMAND ${CMAKE_COMMAND}
+          "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|--info|-i|${kf_rover}_sim/slam.rawlog"
+          "-DEXPECTED=Overall number of objects         : 300|Actions/SensoryFrame format       : Yes|OMNI_LANDMARKS /    150"
+          "-DUNEXPECTED=exception"
+          -P ${check})
+add_executable(kf_slam_follows_truth tests/kf_slam_follows_truth.cpp)
+target_link_libraries(kf_slam_follows_truth PRIVATE omnisfm::eval omnisfm::io mrpt::obs mrpt::io
+                      mrpt::poses mrpt::serialization)
+target_include_directories(kf_slam_follows_truth PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+omnisfm_warnings(kf_slam_follows_truth)
+add_test(NAME kf_slam_follows_truth
+  COMMAND kf_slam_follows_truth ${OMNISFM_KF_SLAM}
+          ${PROJECT_SOURCE_DIR}/share/omnisfm/config/kf-slam-6d.ini ${kf_rover}_sim/slam.rawlog
+          ${kf_rover}_sim/ground_truth.tum ${kf_rover}_sim 2)
+set_tests_properties(rawlog_edit_info_slam_rawlog kf_slam_follows_truth PROPERTIES
+  LABELS interop FIXTURES_REQUIRED rover_slam_rawlog TIMEOUT 300)
+# The same on the lab, whose camera hangs upside down on the robot: the increments are the robot's,
+# and kf-slam puts the camera back at sensorLocationOnRobot.
+add_test(NAME omnisfm_run_lab_slam_rawlog
+  COMMAND omnisfm run ${lab_rawlog} --out ${lab_dir}_run --slam-rawlog ${lab_dir}/slam.rawlog)
+set_tests_properties(omnisfm_run_lab_slam_rawlog PROPERTIES
+  LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog FIXTURES_SETUP lab_slam_rawlog TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "slam rawlog [^\n]*: 41 frames, [0-9]+ landmark measurements")
+add_test(NAME kf_slam_follows_truth_lab
+  COMMAND kf_slam_follows_truth ${OMNISFM_KF_SLAM}
+          ${PROJECT_SOURCE_DIR}/share/omnisfm/config/kf-slam-6d.ini ${lab_dir}/slam.rawlog
+          ${lab_dir}/ground_truth.tum ${lab_dir} 2)
+set_tests_properties(kf_slam_follows_truth_lab PROPERTIES
+  LABELS interop FIXTURES_REQUIRED lab_slam_rawlog TIMEOUT 300)

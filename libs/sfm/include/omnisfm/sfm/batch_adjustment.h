@@ -31,6 +31,9 @@ struct BatchSettings {
   double huber_px = 0;        // a Huber loss of this width; 0 for plain least squares
   int max_iterations = 200;
   bool covariances = true;    // pose and point covariances (dense, for problems of moderate size)
+  // With covariances, also each observation's point with its frame's pose: what a point's
+  // uncertainty as seen from a camera needs (the scale, shared by both, mostly cancels in it).
+  bool point_pose_covariances = false;
   // Solve with the scene's inverse scale as a parameter of its own first: the scale is weakly
   // observed and the filter's can be far off, which the plain problem takes many iterations to
   // walk. Not with motion sensors' terms that fix the scale themselves (odometry, GPS).
@@ -91,6 +94,10 @@ struct BatchResult {
   // last; with pose_covariances, what relative poses' uncertainties need.
   std::vector<Eigen::Matrix<double, 6, 6>> consecutive_pose_covariances;
   std::map<int, Eigen::Matrix3d> point_covariances;
+  // With BatchSettings::point_pose_covariances: keyed (track, frame), per observation used whose
+  // frame is not the fixed first, the covariance of the point (rows) with the frame's pose
+  // parameters (columns, as pose_covariances').
+  std::map<std::pair<int, int>, Eigen::Matrix<double, 3, 6>> point_pose_covariances;
 };
 
 // observations: every observation to use (outliers already removed); cam_from_world: a start for

@@ -20,14 +20,17 @@ namespace omnisfm::mrpt_plugin {
 
 struct PoseGraphEdge {
   int from = 0, to = 0;
-  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  // cam_from of `to` in `from`
+  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  // the pose of `to` in `from`
   // Over MRPT's pose parameters x y z yaw pitch roll, in that order.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
-// The edges between consecutive frames. Throws std::invalid_argument when the batch has no
-// covariances for its poses.
-std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch);
+// The edges between consecutive frames: the cameras' relative poses, or with `body_from_cam` those
+// of the frame it places on each camera (a robot's body carrying it). Throws
+// std::invalid_argument when the batch has no covariances for its poses.
+std::vector<PoseGraphEdge> consecutive_edges(
+    const sfm::BatchResult& batch,
+    const Eigen::Isometry3d& body_from_cam = Eigen::Isometry3d::Identity());
 
 // Writes `path` whole or not at all: MRPT's text format (at full precision), or with a name ending
 // in ".graphbin" MRPT's gzip-compressed serialisation of the graph. The text keeps every number,
