@@ -1124,7 +1124,7 @@ TEST_F(CliTest, RunReplaysTheImagesBeforeADamagedObject) {
   };
   ASSERT_EQ(gzip("-dc", "lab/dataset.rawlog", "plain.rawlog"), 0);
   std::string bytes = read_all(dir_ / "plain.rawlog");
-  const std::string image_class = "omnisfm::mrpt_plugin::CObservationOmniImage";
+  const std::string image_class = "mrpt::obs::CObservationImage";
   const std::string image_header = char(0x80 | image_class.size()) + image_class;
   size_t image = bytes.find(image_header);
   for (int i = 0; i < 12 && image != std::string::npos; ++i)

@@ -136,7 +136,9 @@ void OmniSfmEstimator::processActionObservation(mrpt::obs::CActionCollection& ac
 }
 
 void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& observation) {
-  if (!observation || collector_.add(*observation) || !is_camera(*observation)) return;
+  if (!observation || collector_.add(*observation) || !is_camera(*observation) ||
+      image_models_.note(*observation))
+    return;
   if (const auto features = std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation)) {
     if (!filter_) {
       if (!options_.camera && !features->model.has_camera())
@@ -150,11 +152,12 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
   } else if (const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation)) {
     if (!filter_) {
       std::optional<camera::CatadioptricCamera> camera = options_.camera;
-      if (const auto omni = std::dynamic_pointer_cast<CObservationOmniImage>(image))
-        if (!camera && omni->model.has_camera()) camera = omni->model.camera();
+      if (const CCatadioptricCameraModel* model = image_models_.model_for(*image))
+        if (!camera) camera = model->camera();
       if (!camera)
         throw std::invalid_argument(
-            "a stock CObservationImage carries no camera model: give the camera");
+            "a stock CObservationImage with no camera model before it (CObservationCameraModel "
+            "under its label): give the camera");
       start(*camera, image->cameraPose);
       tracker_ = std::make_unique<track::SequenceTracker>(*camera, options_.tracker);
     }

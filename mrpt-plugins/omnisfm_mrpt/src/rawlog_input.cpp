@@ -14,13 +14,15 @@ RawlogReadResult for_each_rawlog_image(const std::string& path,
   use_external_images_of(path);
   RawlogReader reader(path);
   RawlogReadResult result;
+  ImageCameraModels models;
   while (const auto object = reader.next()) {
     const std::size_t index = reader.index() - 1;
     std::string damage;
     for_each_observation(object, [&](const mrpt::obs::CObservation::Ptr& observation) {
+      if (models.note(*observation)) return;
       const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation);
       if (!image || !damage.empty() || !has_label(*image, sensor_label)) return;
-      std::optional<RawlogImage> loaded = load_rawlog_image(*image, index, &damage);
+      std::optional<RawlogImage> loaded = load_rawlog_image(*image, index, models, &damage);
       if (!loaded) return;
       visit(*loaded);
       ++result.used;

@@ -42,7 +42,8 @@ void use_external_images_of(const std::string& rawlog_path) {
 }
 
 std::optional<RawlogImage> load_rawlog_image(mrpt::obs::CObservationImage& image,
-                                             std::size_t index, std::string* damage) {
+                                             std::size_t index, const ImageCameraModels& models,
+                                             std::string* damage) {
   RawlogImage out;
   try {
     image.load();
@@ -56,8 +57,7 @@ std::optional<RawlogImage> load_rawlog_image(mrpt::obs::CObservationImage& image
   out.timestamp = mrpt::Clock::toDouble(image.timestamp);
   out.sensor_label = image.sensorLabel;
   out.robot_from_cam = isometry_of(image.cameraPose);
-  if (const auto* omni = dynamic_cast<const CObservationOmniImage*>(&image))
-    if (omni->model.has_camera()) out.camera = omni->model.camera();
+  if (const CCatadioptricCameraModel* model = models.model_for(image)) out.camera = model->camera();
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "omnisfm/io/tracks_file.h"
+#include "omnisfm/mrpt_plugin/image_camera_models.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/mrpt_plugin/rawlog_input.h"
 
@@ -25,10 +26,12 @@ void for_each_observation(const mrpt::serialization::CSerializable::Ptr& object,
 // Points MRPT at the rawlog's external images, where its tools look for them.
 void use_external_images_of(const std::string& rawlog_path);
 
-// The image observation (the rawlog's object `index`), its image loaded and made grey; empty,
-// with *damage saying why (describe_damage's wording), when the image cannot be loaded.
+// The image observation (the rawlog's object `index`), its image loaded and made grey, its camera
+// from `models`; empty, with *damage saying why (describe_damage's wording), when the image cannot
+// be loaded.
 std::optional<RawlogImage> load_rawlog_image(mrpt::obs::CObservationImage& image,
-                                             std::size_t index, std::string* damage);
+                                             std::size_t index, const ImageCameraModels& models,
+                                             std::string* damage);
 
 // The frame's features as observations of frame number `frame`, appended to *observations.
 void append_tracked_features(const CObservationTrackedFeatures& features, int frame,

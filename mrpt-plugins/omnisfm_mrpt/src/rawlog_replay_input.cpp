@@ -85,7 +85,9 @@ class ReplayPass {
 
   void add(const mrpt::obs::CObservation::Ptr& observation, std::size_t index,
            std::string* damage) {
-    if (collector_.add(*observation) || !has_label(*observation, options_.camera_label)) return;
+    if (collector_.add(*observation) || !has_label(*observation, options_.camera_label) ||
+        models_.note(*observation))
+      return;
     if (const auto* features = dynamic_cast<const CObservationTrackedFeatures*>(observation.get())) {
       note_camera(features->sensorPose, features->model);
       if (options_.vision == ReplayVision::kImages) return;
@@ -101,8 +103,8 @@ class ReplayPass {
     const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation);
     if (!image) return;
     ++images_;
-    if (const auto* omni = dynamic_cast<const CObservationOmniImage*>(image.get()))
-      note_camera(image->cameraPose, omni->model);
+    if (const CCatadioptricCameraModel* model = models_.model_for(*image))
+      note_camera(image->cameraPose, *model);
     else if (!body_from_cam_)
       body_from_cam_ = isometry_of(image->cameraPose);
     if (!images_are_vision() || image_damage_) return;
@@ -123,14 +125,15 @@ class ReplayPass {
         // An error only if the images turn out to be the vision.
         if (untracked_.empty())
           untracked_ = "object " + std::to_string(index) +
-                       " is a stock CObservationImage, which carries no camera model: give the "
+                       " is a stock CObservationImage with no camera model before it "
+                       "(CObservationCameraModel under its label): give the "
                        "camera file (--camera)";
         return;
       }
       if (!untracked_.empty()) return;
       tracker_ = std::make_unique<track::SequenceTracker>(*camera, options_.tracker);
     }
-    const std::optional<RawlogImage> image = load_rawlog_image(observation, index, damage);
+    const std::optional<RawlogImage> image = load_rawlog_image(observation, index, models_, damage);
     if (!image) return;
     track::SequenceFrame frame;
     frame.index = tracker_->frames();
@@ -152,6 +155,7 @@ class ReplayPass {
   ReplayInput* input_;
   MotionSensorCollector collector_;
   std::optional<Eigen::Isometry3d> body_from_cam_;
+  ImageCameraModels models_;
   std::optional<camera::CatadioptricCamera> first_model_;
   std::vector<io::TrackObservation> features_;
   std::vector<double> feature_times_;

@@ -7,6 +7,7 @@
 #include <mrpt/core/initializer.h>
 
 #include "omnisfm/mrpt_plugin/catadioptric_camera_model.h"
+#include "omnisfm/mrpt_plugin/observation_camera_model.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
@@ -15,6 +16,7 @@ namespace omnisfm::mrpt_plugin {
 void registerAllClasses_omnisfm_mrpt() {
   using mrpt::rtti::registerClass;
   registerClass(CLASS_ID(CCatadioptricCameraModel));
+  registerClass(CLASS_ID(CObservationCameraModel));
   registerClass(CLASS_ID(CObservationOmniImage));
   registerClass(CLASS_ID(CObservationTrackedFeatures));
 }

@@ -16,6 +16,7 @@
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/mrpt_plugin/gps_fix_quality.h"
 #include "omnisfm/mrpt_plugin/local_enu_frame.h"
+#include "omnisfm/mrpt_plugin/observation_camera_model.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
@@ -202,13 +203,23 @@ class RawlogWriter {
     out_ << gps;
   }
 
+  // Stock images, so that stock tools show and handle them, after their model (the first frame's).
   void write_image(int frame) {
+    const auto timestamp = time(d_.timestamps[static_cast<std::size_t>(frame)]);
+    if (frame == 0) {
+      CObservationCameraModel model;
+      model.timestamp = timestamp;
+      model.sensorLabel = kOmniCameraLabel;
+      model.sensorPose = camera_pose_;
+      model.model.set_camera(d_.camera);
+      out_ << model;
+    }
     const std::string file = options_.image_file(frame);
-    CObservationOmniImage image;
-    image.timestamp = time(d_.timestamps[static_cast<std::size_t>(frame)]);
+    mrpt::obs::CObservationImage image;
+    image.timestamp = timestamp;
     image.sensorLabel = kOmniCameraLabel;
     image.cameraPose = camera_pose_;
-    image.set_camera(d_.camera);
+    image.cameraParams = inner_camera_params(d_.camera);
     if (!image.image.loadFromFile(file, 0))
       throw std::runtime_error(file + ": cannot read the image of frame " + std::to_string(frame));
     out_ << image;

@@ -9,6 +9,8 @@
 
 #include <sstream>
 
+#include "omnisfm/mrpt_plugin/image_camera_models.h"
+#include "omnisfm/mrpt_plugin/observation_camera_model.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/mrpt_plugin/register_classes.h"
@@ -84,6 +86,59 @@ TEST(ObservationOmniImage, RefusesAVersionItDoesNotKnow) {
   testing::Bytes bytes = testing::to_bytes(omni_image());
   bytes[testing::version_byte(bytes, "omnisfm::mrpt_plugin::CObservationOmniImage")] = 1;
   EXPECT_THROW(testing::from_bytes(bytes), std::exception);
+}
+
+CObservationCameraModel camera_model(const std::string& label) {
+  CObservationCameraModel obs;
+  obs.timestamp = mrpt::Clock::fromDouble(1e9 + 1);
+  obs.sensorLabel = label;
+  obs.sensorPose = mrpt::poses::CPose3D(0.1, 0.2, 0.3, 0.4, 0.5, 0.6);
+  obs.model.set_camera(sim::default_rig(64, 48));
+  return obs;
+}
+
+TEST(ObservationCameraModel, KeepsTheModelAndThePose) {
+  const CObservationCameraModel original = camera_model("OMNI_CAMERA");
+  const auto read = testing::round_trip<CObservationCameraModel>(original);
+  ASSERT_TRUE(read);
+  EXPECT_EQ(read->timestamp, original.timestamp);
+  EXPECT_EQ(read->sensorLabel, "OMNI_CAMERA");
+  EXPECT_EQ(read->sensorPose, original.sensorPose);
+  ASSERT_TRUE(read->model.has_camera());
+  EXPECT_EQ(read->model.camera().params(), original.model.camera().params());
+  std::ostringstream text;
+  read->getDescriptionAsText(text);
+  EXPECT_NE(text.str().find("Camera model (omnisfm) of the stock CObservationImage observations "
+                            "labelled 'OMNI_CAMERA'"),
+            std::string::npos)
+      << text.str();
+  EXPECT_NE(text.str().find("Catadioptric camera model: pinhole camera, equiangular mirror"),
+            std::string::npos);
+  testing::Bytes bytes = testing::to_bytes(original);
+  bytes[testing::version_byte(bytes, "omnisfm::mrpt_plugin::CObservationCameraModel")] = 1;
+  EXPECT_THROW(testing::from_bytes(bytes), std::exception);
+}
+
+// A stock image takes the last model seen under its label; an omnisfm image keeps its own.
+TEST(ImageCameraModels, GiveAStockImageTheLastModelOfItsLabel) {
+  ImageCameraModels models;
+  mrpt::obs::CObservationImage stock;
+  stock.sensorLabel = "OMNI_CAMERA";
+  EXPECT_EQ(models.model_for(stock), nullptr);
+  EXPECT_FALSE(models.note(stock));
+  EXPECT_TRUE(models.note(camera_model("OTHER")));
+  EXPECT_EQ(models.model_for(stock), nullptr);
+  CObservationCameraModel first = camera_model("OMNI_CAMERA");
+  EXPECT_TRUE(models.note(first));
+  ASSERT_NE(models.model_for(stock), nullptr);
+  EXPECT_EQ(models.model_for(stock)->camera().params(), first.model.camera().params());
+  CObservationCameraModel second = camera_model("OMNI_CAMERA");
+  second.model.set_camera(sim::default_rig(128, 96));
+  models.note(second);
+  EXPECT_EQ(models.model_for(stock)->camera().image_width(), 128);
+  const CObservationOmniImage omni = omni_image();
+  ASSERT_NE(models.model_for(omni), nullptr);
+  EXPECT_EQ(models.model_for(omni)->camera().image_width(), 64);
 }
 
 CObservationTrackedFeatures tracked_features() {

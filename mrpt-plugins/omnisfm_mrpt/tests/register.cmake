@@ -53,26 +53,27 @@ set_tests_properties(omnisfm_simulate_rawlog PROPERTIES
   LABELS interop FIXTURES_SETUP mrpt_lab_rawlog
   PASS_REGULAR_EXPRESSION "dataset.rawlog with 41 images, 41 tracked frames, 401 odometry, 4001 gyro readings")
 
-# --info parses every object: 1 comment, 41 images, 41 tracked frames, 401 odometry, 4001 gyro.
+# --info parses every object: 1 comment, the camera model and 41 stock images (OMNI_CAMERA), 41
+# tracked frames, 401 odometry, 4001 gyro.
 add_test(NAME rawlog_edit_info
   COMMAND ${CMAKE_COMMAND}
           "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|-p|${plugin}|--info|-i|${lab_rawlog}"
-          "-DEXPECTED=Overall number of objects         : 4485|OMNI_CAMERA /     41 /1.000|OMNI_TRACKS /     41 /1.000|ODOMETRY /    401 /10.000|IMU /   4001 /100.000"
+          "-DEXPECTED=Overall number of objects         : 4486|OMNI_CAMERA /     42 /|OMNI_TRACKS /     41 /1.000|ODOMETRY /    401 /10.000|IMU /   4001 /100.000"
           "-DUNEXPECTED=exception"
           -P ${check})
 # --describe prints each object's getDescriptionAsText.
 add_test(NAME rawlog_edit_describe
   COMMAND ${CMAKE_COMMAND}
           "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|-p|${plugin}|--describe|-i|${lab_rawlog}"
-          "-DEXPECTED=ClassName: omnisfm::mrpt_plugin::CObservationOmniImage|ClassName: omnisfm::mrpt_plugin::CObservationTrackedFeatures|Catadioptric camera model: pinhole camera, equiangular mirror, 256x192 pixels|Tracked features (omnisfm): frame 40, 44 features|ClassName: mrpt::obs::CObservationOdometry|ClassName: mrpt::obs::CObservationIMU"
+          "-DEXPECTED=ClassName: omnisfm::mrpt_plugin::CObservationCameraModel|ClassName: mrpt::obs::CObservationImage|ClassName: omnisfm::mrpt_plugin::CObservationTrackedFeatures|Catadioptric camera model: pinhole camera, equiangular mirror, 256x192 pixels|Tracked features (omnisfm): frame 40, 44 features|ClassName: mrpt::obs::CObservationOdometry|ClassName: mrpt::obs::CObservationIMU"
           "-DUNEXPECTED=exception"
           -P ${check})
-# Without the plugin rawlog-edit stops at the first image and names its class; the rawlog's
+# Without the plugin rawlog-edit stops at the camera model and names its class; the rawlog's
 # leading comment, which --describe prints, says to load libomnisfm_mrpt.so.
 add_test(NAME rawlog_edit_without_plugin
   COMMAND ${CMAKE_COMMAND}
           "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|--describe|-i|${lab_rawlog}"
-          "-DEXPECTED=rawlog-edit -p /path/to/libomnisfm_mrpt.so|Stored object has class 'omnisfm::mrpt_plugin::CObservationOmniImage' which is not registered"
+          "-DEXPECTED=rawlog-edit -p /path/to/libomnisfm_mrpt.so|Stored object has class 'omnisfm::mrpt_plugin::CObservationCameraModel' which is not registered"
           -P ${check})
 # --export-txt writes the tracked features' table, which must hold exactly the simulated tracks.
 find_package(Python3 REQUIRED COMPONENTS Interpreter)
@@ -147,3 +148,11 @@ add_test(NAME kf_slam_follows_truth_lab
           ${lab_dir}/ground_truth.tum ${lab_dir} 2)
 set_tests_properties(kf_slam_follows_truth_lab PROPERTIES
   LABELS interop FIXTURES_REQUIRED lab_slam_rawlog TIMEOUT 300)
+
+# Stock rawlog-edit --externalize stores every rendered lab image as a file (they are stock
+# CObservationImage), --list-images lists them, and omnisfm tracks them as it tracks the original.
+add_test(NAME rawlog_edit_externalize
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/tests/externalize_keeps_images.py
+          ${OMNISFM_RAWLOG_EDIT} ${plugin} ${lab_rawlog} $<TARGET_FILE:omnisfm> 41)
+set_tests_properties(rawlog_edit_externalize PROPERTIES
+  LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 120)

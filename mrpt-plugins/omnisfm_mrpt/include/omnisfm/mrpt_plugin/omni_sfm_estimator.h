@@ -5,7 +5,8 @@
 //
 // It wraps the tracker (libs/track) and the online filter (sfm::OnlineFilter): an omnisfm
 // CObservationTrackedFeatures goes to the filter directly; an image (CObservationOmniImage, or a
-// stock CObservationImage when the options give the camera) goes through the tracker first.
+// stock CObservationImage after a CObservationCameraModel of its label, or when the options give
+// the camera) goes through the tracker first.
 // Odometry, gyro and GPS observations and CActionRobotMovement2D actions are collected as
 // sfm::MotionSensors (motion_sensor_collector.h) for the estimators that fuse them.
 //
@@ -40,6 +41,7 @@
 #include <string>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/mrpt_plugin/image_camera_models.h"
 #include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/track/tracker_settings.h"
@@ -141,6 +143,7 @@ class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
   sfm::OnlineFilter::PointEnded point_ended_;
   sfm::OnlineFilter::TrackRejected track_rejected_;
   std::unique_ptr<track::SequenceTracker> tracker_;
+  ImageCameraModels image_models_;
   Eigen::Isometry3d body_from_cam_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d map_from_start_ = Eigen::Isometry3d::Identity();  // initialize's x0
   mrpt::maps::CSimpleMap keyframes_;

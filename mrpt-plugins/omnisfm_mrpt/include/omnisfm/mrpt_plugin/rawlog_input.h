@@ -38,7 +38,8 @@ struct RawlogImage {
   double timestamp = 0;          // seconds since the Unix epoch
   std::string sensor_label;
   cv::Mat grey;  // CV_8UC1; colour images are converted
-  // From a CObservationOmniImage; empty for a stock CObservationImage.
+  // From a CObservationOmniImage, or for a stock CObservationImage the CObservationCameraModel
+  // before it under its label; empty when neither is there.
   std::optional<camera::CatadioptricCamera> camera;
   Eigen::Isometry3d robot_from_cam = Eigen::Isometry3d::Identity();
 };

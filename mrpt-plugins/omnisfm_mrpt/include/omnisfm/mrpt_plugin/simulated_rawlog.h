@@ -3,8 +3,10 @@
 // time-ordered sequence of CObservation objects, gzip-compressed as MRPT's tools write it):
 //   - first, a CObservationComment with the simulation's settings and the sensors' true errors
 //     (an INI section [omnisfm_simulation]), for whoever checks an estimator against them;
-//   - per frame, a CObservationTrackedFeatures (label OMNI_TRACKS) and, when image files are
-//     given, a CObservationOmniImage (label OMNI_CAMERA), both carrying the camera model;
+//   - per frame, a CObservationTrackedFeatures (label OMNI_TRACKS, carrying the camera model)
+//     and, when image files are given, a stock mrpt::obs::CObservationImage (label OMNI_CAMERA),
+//     whose model a CObservationCameraModel of the same label carries, written once before the
+//     first image (stock tools show and externalise stock images only);
 //   - wheel odometry, mrpt::obs::CObservationOdometry (label ODOMETRY), for planar motion only;
 //   - a gyro, mrpt::obs::CObservationIMU (label IMU) with the angular rates only,
 // from sim::simulate_dead_reckoning (its header states the sensor models);
