@@ -330,9 +330,12 @@ TEST_F(CliTest, SimulateWritesACompleteDataset) {
     EXPECT_TRUE(fs::exists(dir_ / "crane" / file)) << file;
   EXPECT_EQ(VnlogTable::read((dir_ / "crane/outliers_gt.vnl").string()).num_rows(), 10u);
   EXPECT_EQ(VnlogTable::read((dir_ / "crane/frames.vnl").string()).num_rows(), 140u);
-  // The same seed gives the same files.
+  // The same seed gives the same files; a run killed while writing (its id beyond any running
+  // process's) leaves a folder the next run removes.
+  fs::create_directories(dir_ / ".again.partial-99999999");
   ASSERT_EQ(omnisfm("simulate --scenario crane --out again --seed 3 --noise 0.1").status, 0);
   EXPECT_EQ(read_all(dir_ / "crane/tracks.vnl"), read_all(dir_ / "again/tracks.vnl"));
+  EXPECT_FALSE(fs::exists(dir_ / ".again.partial-99999999"));
 }
 
 TEST_F(CliTest, SimulateRejectsBadInputAndWritesNothing) {

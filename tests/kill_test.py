@@ -195,13 +195,16 @@ def main():
                         shutil.copy(source, target)
         abandoned = sum(len(hidden_leftovers(os.path.join(leftovers, f))) for f in output_folders)
         run(verb.new_cmd(leftovers))
+        remaining = 0
         for folder in output_folders:
             left = hidden_leftovers(os.path.join(leftovers, folder))
+            remaining += len(left)
             if left:
                 failures.append("%s: a completed run left the killed runs' %s" % (verb.name, left))
         print("%-12s %.2f s uninterrupted; after %d kills: %d outputs the earlier result, %d the "
-              "new one; %d temporaries left by the kills, removed by the next run" %
-              (verb.name, duration, args.trials, outcomes["earlier"], outcomes["new"], abandoned))
+              "new one; %d temporaries left by the kills, %d of them removed by the next run" %
+              (verb.name, duration, args.trials, outcomes["earlier"], outcomes["new"], abandoned,
+               abandoned - remaining))
 
     shutil.rmtree(work, ignore_errors=True)
     for failure in failures:

@@ -39,7 +39,7 @@ TEST(RunSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
        {"vision", "camera_label", "odometry_label", "gyro_label", "gps_label",
         "odometry_position_sigma", "odometry_heading_sigma", "odometry_scale",
         "odometry_scale_sigma", "gyro_noise_density", "gyro_bias_sigma", "gyro_bias_walk",
-        "max_tracks", "min_ncc"})
+        "max_tracks", "min_ncc", "keyframe_distance_m", "keyframe_angle_deg"})
     EXPECT_TRUE(section.has(key)) << key;
   const RunSettings read = read_run_settings(example_path());
   const RunSettings defaults;
@@ -59,6 +59,8 @@ TEST(RunSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(read.replay.tracker.max_tracks, defaults.replay.tracker.max_tracks);
   EXPECT_EQ(read.replay.tracker.min_ncc, defaults.replay.tracker.min_ncc);
   EXPECT_EQ(read.sfm.filter.pixel_sigma, defaults.sfm.filter.pixel_sigma);
+  EXPECT_EQ(read.keyframe_distance_m, defaults.keyframe_distance_m);
+  EXPECT_NEAR(read.keyframe_angle_rad, defaults.keyframe_angle_rad, 1e-15);
 }
 
 TEST(RunSettings, EveryKeyLandsInItsField) {

@@ -20,11 +20,11 @@
 #include "omnisfm/calib/cross_validation.h"
 #include "omnisfm/calib/projection_uncertainty.h"
 #include "omnisfm/calib/staged_calibration.h"
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/checkerboard_files.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/target_files.h"
-#include "output_folder.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -130,7 +130,7 @@ std::string report_folder_for(const std::string& camera_file) {
 // one's. Returns what gnuplot could not draw.
 std::string write_report(const std::string& folder, const calib::CalibrationOutcome& outcome) {
   std::string note;
-  write_folder(folder, [&](const std::string& dir) {
+  io::write_folder_atomically(folder, [&](const std::string& dir) {
     note = calib::write_calibration_report(dir, outcome);
   });
   return note;

@@ -15,6 +15,7 @@
 
 #include "omnisfm/eval/track_accuracy.h"
 #include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/tracks_file.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/dataset_writer.h"
@@ -24,7 +25,6 @@
 #include "omnisfm/track/frames_file.h"
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
-#include "output_folder.h"
 #include "residual_plots.h"
 #include "sfm_outputs.h"
 #include "trajectory_plots.h"
@@ -91,7 +91,7 @@ void add_demo_verb(CLI::App& app) {
     tracking << "tracking    frames  tracks  median    95th pct  mistracked  reacquired (wrong)"
                 "  ms per frame\n"
              << "                            error against the truth   (> 1 px)\n";
-    write_folder(*out, [&](const std::string& root) {
+    io::write_folder_atomically(*out, [&](const std::string& root) {
       for (const PaperFigures& paper : kPaper) {
         sim::SimulationOptions options;
         options.scenario = paper.scenario;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "geodetic_output.h"
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tum_trajectory.h"
@@ -18,7 +19,6 @@
 #include "omnisfm/mrpt_plugin/scene_file.h"
 #include "omnisfm/mrpt_plugin/slam_rawlog.h"
 #include "online_outputs.h"
-#include "output_folder.h"
 #include "run_settings.h"
 #include "sfm_outputs.h"
 #include "terminal_progress.h"
@@ -246,7 +246,7 @@ void add_run_verb(CLI::App& app) {
                              "--slam-rawlog needs the batch's covariances: [sfm] batch = false "
                              "leaves none");
       std::string report;
-      write_folder(o->out, [&](const std::string& dir) {
+      io::write_folder_atomically(o->out, [&](const std::string& dir) {
         report = stream_online_run(o->rawlog, settings, o->strict, dir);
         if (truth.empty()) return;
         report += compare_written_online_with_truth(dir, truth, o->ground_truth, true);
@@ -312,7 +312,7 @@ void add_run_verb(CLI::App& app) {
       report << comparison.report;
     }
 
-    write_folder(o->out, [&](const std::string& dir) {
+    io::write_folder_atomically(o->out, [&](const std::string& dir) {
       // First: a failure here leaves the folder as it was, and the report names the file.
       if (!o->slam_rawlog.empty()) report << write_slam_rawlog(o->slam_rawlog, in, result);
       write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tracks_file.h"
 #include "omnisfm/io/tum_trajectory.h"
@@ -15,7 +16,6 @@
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sfm/settings_file.h"
 #include "online_outputs.h"
-#include "output_folder.h"
 #include "sfm_outputs.h"
 #include "verb_inputs.h"
 #include "terminal_progress.h"
@@ -143,7 +143,7 @@ void add_sfm_verb(CLI::App& app) {
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
     if (!settings.run_batch) {
       std::string report;
-      write_folder(o->out, [&](const std::string& dir) {
+      io::write_folder_atomically(o->out, [&](const std::string& dir) {
         report = stream_online_sfm(camera, o->tracks, settings, dir);
         if (!truth.empty())
           report += compare_written_online_with_truth(dir, truth, o->ground_truth, false);
@@ -183,7 +183,7 @@ void add_sfm_verb(CLI::App& app) {
       report << comparison.report;
     }
 
-    write_folder(o->out, [&](const std::string& dir) {
+    io::write_folder_atomically(o->out, [&](const std::string& dir) {
       write_sfm_outputs(dir, result, settings.run_batch, times, report.str());
       write_sfm_plots(dir, camera, tracks, result, settings.run_batch, comparison);
     });

@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "omnisfm/io/input_error.h"
+
 namespace omnisfm::io {
 namespace {
 
@@ -110,6 +112,39 @@ TEST_F(AtomicWriteTest, AnIdReusedSinceIsNotTheWriter) {
   ::waitpid(child, nullptr, 0);
   EXPECT_FALSE(fs::exists(abandoned)) << "the child started after the file was written";
   EXPECT_EQ(contents(), "new\n");
+}
+
+// A folder replaced whole: its new files only, and what a killed writer left beside it gone
+// (every writing verb and `simulate` write their folders so).
+TEST_F(AtomicWriteTest, AFolderIsReplacedWholeAndAKilledWritersFolderGoes) {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const fs::path folder = dir_ / "result";
+  fs::create_directories(folder);
+  std::ofstream(folder / "old.txt") << "old\n";
+  const fs::path partial = dir_ / (".result.partial-" + std::to_string(child));
+  const fs::path previous = dir_ / (".result.previous-" + std::to_string(child));
+  fs::create_directories(partial);
+  fs::create_directories(previous);
+  write_folder_atomically(folder.string(), [](const std::string& into) {
+    std::ofstream(fs::path(into) / "new.txt") << "new\n";
+  });
+  EXPECT_FALSE(fs::exists(partial));
+  EXPECT_FALSE(fs::exists(previous));
+  EXPECT_TRUE(fs::exists(folder / "new.txt"));
+  EXPECT_FALSE(fs::exists(folder / "old.txt"));
+  EXPECT_EQ(files(), 1);
+
+  EXPECT_THROW(write_folder_atomically(folder.string(),
+                                       [](const std::string&) { throw std::runtime_error("x"); }),
+               std::runtime_error);
+  EXPECT_TRUE(fs::exists(folder / "new.txt"));
+  EXPECT_EQ(files(), 1);
+  EXPECT_THROW(write_folder_atomically((dir_ / "missing" / "result").string(),
+                                       [](const std::string&) {}),
+               InputError);
 }
 
 }  // namespace

@@ -1,12 +1,12 @@
 #include "omnisfm/sim/dataset_writer.h"
 
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
@@ -81,39 +81,10 @@ void write_contents(const Dataset& d, const fs::path& dir, const FrameImageWrite
 
 void write_dataset(const Dataset& dataset, const std::string& dir,
                    const FrameImageWriter& write_image, const FolderWriter& write_more) {
-  const fs::path target = fs::absolute(dir).lexically_normal();
-  const fs::path parent = target.parent_path();
-  const std::string stem = target.filename().string();
-  std::error_code ec;
-  if (!fs::is_directory(parent, ec))
-    throw std::runtime_error(dir + ": the folder " + parent.string() + " does not exist");
-  if (fs::exists(target, ec) && !fs::is_directory(target, ec))
-    throw std::runtime_error(dir + ": exists and is not a folder");
-
-  const std::string suffix = std::to_string(::getpid());
-  const fs::path partial = parent / ("." + stem + ".partial-" + suffix);
-  const fs::path previous = parent / ("." + stem + ".previous-" + suffix);
-  fs::remove_all(partial, ec);
-  if (!fs::create_directory(partial, ec))
-    throw std::runtime_error(dir + ": cannot create a folder in " + parent.string() + ": " +
-                             ec.message());
-  try {
-    write_contents(dataset, partial, write_image);
-    if (write_more) write_more(partial.string());
-  } catch (...) {
-    fs::remove_all(partial, ec);
-    throw;
-  }
-  // Swap the finished folder into place; the old one goes only once the new one is there.
-  const bool replacing = fs::exists(target, ec);
-  if (replacing) fs::rename(target, previous, ec);
-  if (ec || (fs::rename(partial, target, ec), ec)) {
-    const std::string why = ec.message();
-    if (replacing && !fs::exists(target)) fs::rename(previous, target, ec);
-    fs::remove_all(partial, ec);
-    throw std::runtime_error(dir + ": cannot move the dataset into place: " + why);
-  }
-  if (replacing) fs::remove_all(previous, ec);
+  io::write_folder_atomically(dir, [&](const std::string& folder) {
+    write_contents(dataset, folder, write_image);
+    if (write_more) write_more(folder);
+  });
 }
 
 }  // namespace omnisfm::sim

@@ -2,7 +2,9 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/system/string_utils.h>
 #include <mrpt/poses/CPosePDF.h>
 
 #include <algorithm>
@@ -14,6 +16,7 @@
 #include "omnisfm/track/track_images.h"
 
 #include "eigen_poses.h"
+#include "omnisfm/sfm/settings_file.h"
 #include "grey_image.h"
 
 namespace omnisfm::mrpt_plugin {
@@ -52,6 +55,71 @@ mrpt::poses::CPose3DPDFGaussian robot_pose_of(const Eigen::Isometry3d& cam_from_
   pdf.mean = mean;
   pdf.cov = mrpt::math::CMatrixDouble66(Eigen::Matrix<double, 6, 6>(J * covariance * J.transpose()));
   return pdf;
+}
+
+namespace {
+
+// `name` of `source` as omnisfm's INI sections are read: each value without a trailing comment.
+io::IniSection section_of(const mrpt::config::CConfigFileBase& source, const std::string& name) {
+  std::string file = "(INI text)";
+  if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
+    file = f->getAssociatedFile();
+  io::IniSection section(file, name, 0);
+  std::vector<std::string> keys;
+  source.getAllKeys(name, keys);
+  for (const std::string& key : keys) {
+    std::string value = source.read_string(name, key, "");
+    value = value.substr(0, std::min({value.find('#'), value.find(';'), value.find("//")}));
+    section.set(key, mrpt::system::trim(value));
+  }
+  return section;
+}
+
+}  // namespace
+
+RunOptions OmniSfmEstimatorOptions::run_options() const {
+  RunOptions run;
+  run.replay.tracker = tracker;
+  run.replay.camera_label = camera_label;
+  run.replay.odometry_label = sensor_labels.odometry;
+  run.replay.gyro_label = sensor_labels.gyro;
+  run.replay.gps_label = sensor_labels.gps;
+  run.replay.gps_origin = gps_origin;
+  run.odometry_noise = odometry_noise;
+  run.gyro_noise = gyro_noise;
+  run.odometry_scale = odometry_scale;
+  run.keyframe_distance_m = keyframe_distance_m;
+  run.keyframe_angle_rad = keyframe_angle_rad;
+  return run;
+}
+
+void OmniSfmEstimatorOptions::set_run_options(const RunOptions& run) {
+  tracker = run.replay.tracker;
+  camera_label = run.replay.camera_label;
+  sensor_labels = {run.replay.odometry_label, run.replay.gyro_label, run.replay.gps_label};
+  gps_origin = run.replay.gps_origin;
+  odometry_noise = run.odometry_noise;
+  gyro_noise = run.gyro_noise;
+  odometry_scale = run.odometry_scale;
+  keyframe_distance_m = run.keyframe_distance_m;
+  keyframe_angle_rad = run.keyframe_angle_rad;
+}
+
+void OmniSfmEstimatorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                                 const std::string& section) {
+  RunOptions run = run_options();
+  read_run_options(section_of(source, section), &run);
+  sfm::FilterSettings read_filter = filter;
+  if (section != "sfm" && source.sectionExists("sfm"))
+    read_filter = sfm::read_sfm_settings(section_of(source, "sfm")).filter;
+  set_run_options(run);
+  filter = read_filter;
+}
+
+void OmniSfmEstimatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                                               const std::string& section) const {
+  const io::IniSection keys = run_options_section(run_options(), section);
+  for (const io::IniEntry& entry : keys.entries()) target.write(section, entry.key, entry.value);
 }
 
 OmniSfmEstimator::OmniSfmEstimator(const OmniSfmEstimatorOptions& estimator_options)

@@ -25,4 +25,12 @@ void remove_abandoned_temporaries(const std::filesystem::path& folder, const std
 void write_text_atomically(const std::string& path,
                            const std::function<void(std::ostream& out)>& write);
 
+// A folder written whole or not at all: `write` fills a temporary folder beside `dir` (it receives
+// its path), which then replaces `dir` in one atomic swap, so that `dir` is at every moment the
+// earlier folder or the new one; what killed writers left beside it goes first. Throws InputError
+// when the folder's parent is not a writable folder or `dir` is a file; rethrows what `write`
+// throws, after removing the temporary folder.
+void write_folder_atomically(const std::string& dir,
+                             const std::function<void(const std::string& folder)>& write);
+
 }  // namespace omnisfm::io

@@ -16,7 +16,8 @@ using FrameImageWriter = std::function<void(int frame, const std::string& path)>
 using FolderWriter = std::function<void(const std::string& dir)>;
 
 // Everything is written into a temporary folder beside `dir` and moved into place only when
-// complete, so a failure never leaves a dataset that looks whole; an existing `dir` is replaced.
+// complete (io::write_folder_atomically), so a failure or a kill never leaves a dataset that
+// looks whole; an existing `dir` is replaced.
 // Throws std::runtime_error naming the folder when it cannot be written.
 void write_dataset(const Dataset& dataset, const std::string& dir,
                    const FrameImageWriter& write_image = nullptr,

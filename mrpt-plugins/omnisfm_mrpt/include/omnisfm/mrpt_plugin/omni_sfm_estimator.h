@@ -26,6 +26,7 @@
 // MRPT headers: the including target must link MRPT (mrpt::obs, mrpt::poses, mrpt::maps,
 // mrpt::slam) itself.
 
+#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -43,6 +44,7 @@
 #include "omnisfm/camera/catadioptric_camera.h"
 #include "omnisfm/mrpt_plugin/image_camera_models.h"
 #include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
+#include "omnisfm/mrpt_plugin/run_options.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/track/tracker_settings.h"
 
@@ -52,7 +54,12 @@ class SequenceTracker;
 
 namespace omnisfm::mrpt_plugin {
 
-struct OmniSfmEstimatorOptions {
+// Loadable from an INI file as MRPT's builders' options are (loadFromConfigFile): the section
+// given holds the keys of `omnisfm run`'s [run] section (run_options.h), and a section [sfm], when
+// the file has one, the online filter's keys of `omnisfm sfm`'s [sfm] (sfm/settings_file.h; its
+// batch keys are read and not used). The shipped share/omnisfm/config/omnisfm.ini loads with
+// section "run". A key of neither, or a bad value, is an io::InputError naming the file and key.
+struct OmniSfmEstimatorOptions : public mrpt::config::CLoadableOptions {
   sfm::FilterSettings filter;
   track::TrackerSettings tracker;
   // The camera; without one, the model the first omnisfm observation carries.
@@ -68,6 +75,16 @@ struct OmniSfmEstimatorOptions {
   // A keyframe once the robot has moved this far, or turned this much, since the last one.
   double keyframe_distance_m = 1.0;
   double keyframe_angle_rad = 10 * M_PI / 180;
+
+  // The same options in the replay's terms, and back (the filter and the camera apart).
+  RunOptions run_options() const;
+  void set_run_options(const RunOptions& run);
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                          const std::string& section) override;
+  // Writes the section's keys (not [sfm]'s).
+  void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                        const std::string& section) const override;
 };
 
 class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
