@@ -14,7 +14,7 @@ packages=(
   libmrpt-dev mrpt-apps
   libmrcal-dev mrcal python3-mrcal mrgingham
   libcli11-dev libgtest-dev libbenchmark-dev
-  gnuplot-nox python3
+  gnuplot-nox python3 xvfb xauth
   clang libclang-rt-14-dev
 )
 

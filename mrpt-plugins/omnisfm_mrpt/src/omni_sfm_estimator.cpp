@@ -208,6 +208,7 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
       image_models_.note(*observation))
     return;
   if (const auto features = std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation)) {
+    if (tracker_) return;  // the camera's images came first: they are the vision
     if (!filter_) {
       if (!options_.camera && !features->model.has_camera())
         throw std::invalid_argument("tracked features without a camera model: give the camera");
@@ -218,6 +219,7 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
       pixels.push_back({f.track, Eigen::Vector2d(f.u, f.v)});
     process_frame(pixels, mrpt::Clock::toDouble(features->timestamp), observation);
   } else if (const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation)) {
+    if (filter_ && !tracker_) return;  // tracked features came first: they are the vision
     if (!filter_) {
       std::optional<camera::CatadioptricCamera> camera = options_.camera;
       if (const CCatadioptricCameraModel* model = image_models_.model_for(*image))
@@ -229,8 +231,6 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
       start(*camera, image->cameraPose);
       tracker_ = std::make_unique<track::SequenceTracker>(*camera, options_.tracker);
     }
-    if (!tracker_)
-      throw std::invalid_argument("images and tracked features from one camera: use one kind");
     image->load();
     track::SequenceFrame frame;
     frame.index = tracker_->frames();

@@ -285,6 +285,26 @@ TEST(OmniSfmEstimator, KeepsNoSensorHistory) {
 
 // What an MRPT application sees holding the estimator as a CMetricMapBuilder*: the pose PDF, the
 // keyframes, the point map and the picture, and initialize starting over.
+// The first kind of camera observation is the vision: images after the tracks came are ignored
+// (the images-first order runs in the omnisfm_slam_app test on the rendered lab's rawlog).
+TEST(OmniSfmEstimator, TakesOneKindOfCameraObservation) {
+  OmniSfmEstimator estimator;
+  int frames = 0;
+  for (const auto& observation : rover_rawlog().observations) {
+    estimator.processObservation(observation);
+    if (!dynamic_cast<const CObservationTrackedFeatures*>(observation.get())) continue;
+    ++frames;
+    auto image = std::make_shared<mrpt::obs::CObservationImage>();
+    image->sensorLabel = "OMNI_TRACKS";
+    image->timestamp = observation->timestamp;
+    image->image = mrpt::img::CImage(64, 48, mrpt::img::CH_GRAY);
+    EXPECT_NO_THROW(estimator.processObservation(image));
+    EXPECT_EQ(estimator.framesProcessed(), frames);
+    if (frames == kFrames) break;
+  }
+  EXPECT_EQ(frames, kFrames);
+}
+
 TEST(OmniSfmEstimator, IsAnMrptMapBuilder) {
   const RoverRawlog& rover = rover_rawlog();
   OmniSfmEstimator estimator;

@@ -157,3 +157,33 @@ add_test(NAME rawlog_edit_externalize
           ${OMNISFM_RAWLOG_EDIT} ${plugin} ${lab_rawlog} $<TARGET_FILE:omnisfm> 41)
 set_tests_properties(rawlog_edit_externalize PROPERTIES
   LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 120)
+
+# omnisfm-slam, the example MRPT application, on the rendered lab's rawlog (its images and their
+# tracks: the first kind to arrive, the images, is the vision, each frame once): its scenes, path
+# and top view; then with its live window, under a virtual display (Debian: xvfb).
+set(slam_app_out ${CMAKE_CURRENT_BINARY_DIR}/omnisfm_slam_lab)
+add_test(NAME omnisfm_slam_app
+  COMMAND ${CMAKE_COMMAND}
+          "-DCOMMAND=$<TARGET_FILE:omnisfm-slam>|${lab_rawlog}|--out|${slam_app_out}|--scene-every|20"
+          "-DEXPECTED=omnisfm-slam: 41 camera frames|wrote ${slam_app_out}/final.3Dscene"
+          "-DUNEXPECTED=warning"
+          -P ${check})
+add_test(NAME omnisfm_slam_app_outputs
+  COMMAND ${Python3_EXECUTABLE} -c
+          "import pathlib, sys; d = pathlib.Path(sys.argv[1]); rows = [l for l in (d / 'estimated_path.tum').read_text().splitlines() if not l.startswith('#')]; assert len(rows) == 41, len(rows); assert all(len(r.split()) == 8 for r in rows); assert all((d / f).stat().st_size > 1000 for f in ('final.3Dscene', 'omnisfm_slam_00020.3Dscene', 'omnisfm_slam_00040.3Dscene', 'top.png')); assert (d / 'top.png').read_bytes().startswith(bytes([137, 80, 78, 71]))"
+          ${slam_app_out})
+set_tests_properties(omnisfm_slam_app PROPERTIES
+  LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog FIXTURES_SETUP slam_app_lab TIMEOUT 300)
+set_tests_properties(omnisfm_slam_app_outputs PROPERTIES
+  LABELS interop FIXTURES_REQUIRED slam_app_lab TIMEOUT 60)
+find_program(OMNISFM_XVFB_RUN xvfb-run)
+if(NOT OMNISFM_XVFB_RUN)
+  message(WARNING "xvfb-run not found (Debian: xvfb); the live-window test will fail")
+  set(OMNISFM_XVFB_RUN xvfb-run)
+endif()
+add_test(NAME omnisfm_slam_app_live
+  COMMAND ${OMNISFM_XVFB_RUN} -a $<TARGET_FILE:omnisfm-slam> ${lab_rawlog}
+          --out ${slam_app_out}_live --scene-every 0 --live)
+set_tests_properties(omnisfm_slam_app_live PROPERTIES
+  LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 300
+  PASS_REGULAR_EXPRESSION "omnisfm-slam: 41 camera frames")

@@ -6,7 +6,9 @@
 // It wraps the tracker (libs/track) and the online filter (sfm::OnlineFilter): an omnisfm
 // CObservationTrackedFeatures goes to the filter directly; an image (CObservationOmniImage, or a
 // stock CObservationImage after a CObservationCameraModel of its label, or when the options give
-// the camera) goes through the tracker first.
+// the camera) goes through the tracker first. The first kind to arrive is the vision and the other
+// is ignored, so that a rawlog holding both a camera's images and their tracks (`omnisfm simulate
+// --render --rawlog`) gives each frame once.
 // Odometry, gyro and GPS observations and CActionRobotMovement2D actions are collected as
 // sfm::MotionSensors (motion_sensor_collector.h) for the estimators that fuse them.
 //

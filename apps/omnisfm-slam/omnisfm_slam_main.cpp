@@ -1,0 +1,236 @@
+// omnisfm-slam: an MRPT SLAM application built on omnisfm's estimator, written the way MRPT's own
+// kf-slam and icp-slam are, to copy into an existing SLAM app. It holds OmniSfmEstimator as a
+// mrpt::slam::CMetricMapBuilder*, reads a rawlog of either format with
+// CRawlog::getActionObservationPairOrObservation, and saves what it built as MRPT does: a
+// .3Dscene every --scene-every camera frames and at the end (the robot's path, the points, the
+// robot), the robot's path as a TUM trajectory, and a top view. With --live and a display, a
+// CDisplayWindow3D shows the scene as it grows (--screenshot saves its last image).
+//
+//   omnisfm-slam DATASET.rawlog --out DIR [--config omnisfm.ini] [--scene-every N] [--live]
+
+#include <CLI/CLI.hpp>
+#include <mrpt/gui/CDisplayWindow3D.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CGridPlaneXY.h>
+#include <mrpt/opengl/CPointCloud.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/stock_objects.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/slam/CMetricMapBuilder.h>
+#include <mrpt/system/os.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "omnisfm/io/atomic_write.h"
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
+
+namespace {
+
+// What has been built so far, as the scene kf-slam and icp-slam save: a ground grid, the path in
+// red, the points, and the robot's axes.
+mrpt::opengl::COpenGLScene::Ptr scene_of(const std::vector<mrpt::poses::CPose3D>& path,
+                                         mrpt::slam::CMetricMapBuilder& builder) {
+  auto scene = mrpt::opengl::COpenGLScene::Create();
+  auto grid = mrpt::opengl::CGridPlaneXY::Create(-20, 20, -20, 20, 0, 1);
+  grid->setColor(0.7f, 0.7f, 0.7f);
+  scene->insert(grid);
+  auto lines = mrpt::opengl::CSetOfLines::Create();
+  lines->setColor(1, 0, 0);
+  lines->setLineWidth(2);
+  for (size_t i = 1; i < path.size(); ++i)
+    lines->appendLine(path[i - 1].x(), path[i - 1].y(), path[i - 1].z(), path[i].x(), path[i].y(),
+                      path[i].z());
+  scene->insert(lines);
+  auto cloud = mrpt::opengl::CPointCloud::Create();
+  cloud->setColor(0, 0, 0.8f);
+  cloud->setPointSize(3);
+  if (const auto* map = builder.getCurrentlyBuiltMetricMap()) {
+    if (const auto points = map->mapByClass<mrpt::maps::CSimplePointsMap>())
+      cloud->loadFromPointsMap(points.get());
+  }
+  scene->insert(cloud);
+  if (!path.empty()) {
+    auto robot = mrpt::opengl::stock_objects::CornerXYZ(0.3f);
+    robot->setPose(path.back());
+    scene->insert(robot);
+  }
+  return scene;
+}
+
+bool is_uniform(const mrpt::img::CImage& image) {
+  if (image.isEmpty()) return true;
+  const mrpt::img::CImage grey = image.grayscale();
+  const uint8_t first = grey.at<uint8_t>(0, 0);
+  for (int y = 0; y < grey.getHeight(); y += 2)
+    for (int x = 0; x < grey.getWidth(); x += 2)
+      if (grey.at<uint8_t>(x, y) != first) return false;
+  return true;
+}
+
+void save_scene(const mrpt::opengl::COpenGLScene& scene, const std::string& path) {
+  omnisfm::io::write_atomically(path, [&](const std::string& temporary) {
+    if (!scene.saveToFile(temporary)) throw std::runtime_error(path + ": cannot be written");
+  });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "omnisfm's online estimator in an MRPT SLAM application: a rawlog in, the robot's path "
+      "(estimated_path.tum), .3Dscene files and a top view (top.png) out"};
+  std::string rawlog, out, config, screenshot;
+  int scene_every = 50;
+  bool live = false;
+  app.add_option("rawlog", rawlog, "The rawlog (either format; load nothing: this program links "
+                                   "the plugin)")
+      ->required();
+  app.add_option("--out", out, "Output folder (made when missing)")->required();
+  app.add_option("--config", config,
+                 "An INI file whose [run] section (and [sfm], the filter's) sets the estimator's "
+                 "options, as share/omnisfm/config/omnisfm.ini");
+  app.add_option("--scene-every", scene_every,
+                 "Save omnisfm_slam_NNNNN.3Dscene every this many camera frames (0: only "
+                 "final.3Dscene)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--live", live, "Show the scene in a CDisplayWindow3D as it grows (needs a display)");
+  app.add_option("--screenshot", screenshot,
+                 "With --live: save the window's last image as this PNG file");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    omnisfm::mrpt_plugin::OmniSfmEstimatorOptions options;
+    if (!config.empty()) {
+      if (!std::filesystem::is_regular_file(config))
+        throw omnisfm::io::InputError(config, 0, "cannot be read");
+      options.loadFromConfigFile(mrpt::config::CConfigFile(config), "run");
+    }
+    if (!std::filesystem::is_regular_file(rawlog))
+      throw omnisfm::io::InputError(rawlog, 0, "cannot be read");
+    std::filesystem::create_directories(out);
+
+    auto estimator = std::make_unique<omnisfm::mrpt_plugin::OmniSfmEstimator>(options);
+    mrpt::slam::CMetricMapBuilder* builder = estimator.get();
+    builder->initialize();
+
+    mrpt::gui::CDisplayWindow3D::Ptr window;
+    if (live) {
+      if (!std::getenv("DISPLAY"))
+        throw std::runtime_error("--live needs a display (DISPLAY is not set)");
+      window = mrpt::gui::CDisplayWindow3D::Create("omnisfm-slam", 800, 600);
+      window->setCameraZoom(12);
+      if (!screenshot.empty()) window->captureImagesStart();
+    }
+
+    mrpt::io::CFileGZInputStream file(rawlog);
+    auto archive = mrpt::serialization::archiveFrom(file);
+    mrpt::obs::CActionCollection::Ptr actions;
+    mrpt::obs::CSensoryFrame::Ptr frame;
+    mrpt::obs::CObservation::Ptr observation;
+    size_t entry = 0;
+    std::vector<mrpt::poses::CPose3D> path;
+    std::vector<double> times;
+    for (;;) {
+      bool more = false;
+      try {
+        more = mrpt::obs::CRawlog::getActionObservationPairOrObservation(archive, actions, frame,
+                                                                        observation, entry);
+      } catch (const std::exception& e) {
+        std::cerr << "omnisfm-slam: warning: " << rawlog << ": stopped at entry " << entry
+                  << ", which cannot be read\n";
+        break;
+      }
+      if (!more) break;
+      const int frames = estimator->framesProcessed();
+      if (observation)
+        estimator->processObservation(observation);
+      else if (actions && frame)
+        builder->processActionObservation(*actions, *frame);
+      if (estimator->framesProcessed() == frames) continue;
+
+      const auto pose = builder->getCurrentPoseEstimation();
+      path.push_back(pose->getMeanVal());
+      times.push_back(mrpt::Clock::toDouble(
+          observation ? observation->timestamp : (*frame->begin())->timestamp));
+      const bool save = scene_every > 0 && path.size() % static_cast<size_t>(scene_every) == 0;
+      if (!save && !window) continue;
+      const auto scene = scene_of(path, *builder);
+      if (save) {
+        std::ostringstream name;
+        name << out << "/omnisfm_slam_" << std::setw(5) << std::setfill('0') << path.size()
+             << ".3Dscene";
+        save_scene(*scene, name.str());
+      }
+      if (window) {
+        mrpt::opengl::COpenGLScene::Ptr& shown = window->get3DSceneAndLock();
+        shown = scene;
+        window->unlockAccess3DScene();
+        window->forceRepaint();
+      }
+    }
+    if (path.empty()) throw omnisfm::io::InputError(rawlog, 0, "holds no camera frame");
+
+    const auto scene = scene_of(path, *builder);
+    save_scene(*scene, out + "/final.3Dscene");
+    omnisfm::io::write_text_atomically(out + "/estimated_path.tum", [&](std::ostream& tum) {
+      tum << "# timestamp tx ty tz qx qy qz qw (the robot in the map frame)\n"
+          << std::setprecision(17);
+      for (size_t i = 0; i < path.size(); ++i) {
+        mrpt::math::CQuaternionDouble q;
+        path[i].getAsQuaternion(q);
+        tum << times[i] << " " << path[i].x() << " " << path[i].y() << " " << path[i].z() << " "
+            << q.x() << " " << q.y() << " " << q.z() << " " << q.r() << "\n";
+      }
+    });
+    builder->saveCurrentEstimationToImage(out + "/top.png");
+    if (window) {
+      window->get3DSceneAndLock() = scene;
+      window->unlockAccess3DScene();
+      window->forceRepaint();
+      if (!screenshot.empty()) {
+        // The window renders in its own thread: wait for a frame that shows the scene.
+        mrpt::img::CImage image;
+        for (int tries = 0; tries < 100; ++tries) {
+          window->forceRepaint();
+          std::this_thread::sleep_for(std::chrono::milliseconds(100));
+          if (window->getLastWindowImage(image) && !is_uniform(image)) break;
+        }
+        if (image.isEmpty() || is_uniform(image) || !image.saveToFile(screenshot))
+          throw std::runtime_error(screenshot + ": the window showed nothing to save");
+      }
+    }
+    const auto pose = std::dynamic_pointer_cast<mrpt::poses::CPose3DPDFGaussian>(
+        builder->getCurrentPoseEstimation());
+    std::cout << "omnisfm-slam: " << path.size() << " camera frames, "
+              << builder->getCurrentlyBuiltMapSize() << " keyframes; the robot at "
+              << path.back().x() << " " << path.back().y() << " " << path.back().z();
+    if (pose) std::cout << " +- " << std::sqrt(pose->cov(0, 0)) << " m (x)";
+    std::cout << "; wrote " << out << "/final.3Dscene, estimated_path.tum, top.png\n";
+    return 0;
+  } catch (const omnisfm::io::InputError& e) {
+    std::cerr << "omnisfm-slam: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "omnisfm-slam: " << e.what() << "\n";
+    return 1;
+  }
+}
