@@ -1,5 +1,6 @@
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
 
+#include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservationImage.h>
 
@@ -166,6 +167,16 @@ class ReplayPass {
   std::optional<ImageDamage> image_damage_;
 };
 
+// The pass's last word: a damaged image counts only when the images are the vision.
+void finish(ReplayPass& pass, ReplayInput* input) {
+  pass.finish();
+  if (pass.image_damage() && input->vision == "images") {
+    input->read.objects = pass.image_damage()->index;
+    input->read.problem = pass.image_damage()->problem;
+  }
+  input->read.used = input->frame_times.size();
+}
+
 }  // namespace
 
 ReplayInput read_replay_input(const std::string& path, const ReplayOptions& options,
@@ -180,12 +191,27 @@ ReplayInput read_replay_input(const std::string& path, const ReplayOptions& opti
     if (!pass.add(object, reader.index() - 1, &damage)) break;
   input.read.objects = damage.empty() ? reader.index() : reader.index() - 1;
   input.read.problem = damage.empty() ? reader.problem() : damage;
-  pass.finish();
-  if (pass.image_damage() && input.vision == "images") {
-    input.read.objects = pass.image_damage()->index;
-    input.read.problem = pass.image_damage()->problem;
+  finish(pass, &input);
+  return input;
+}
+
+ReplayInput read_replay_input(const mrpt::maps::CSimpleMap& map, const ReplayOptions& options,
+                              const ReplayProgress& progress) {
+  ReplayInput input;
+  input.camera = options.camera;
+  const std::string source = "the simple map";
+  ReplayPass pass(source, options, progress, &input);
+  std::string damage;
+  size_t used = 0;
+  for (; used < map.size(); ++used) {
+    const auto [pose, frame] = map.get(used);
+    if (!frame) continue;
+    // Loading an image (its external file) changes the observation's cache, not its meaning.
+    if (!pass.add(std::const_pointer_cast<mrpt::obs::CSensoryFrame>(frame), used, &damage)) break;
   }
-  input.read.used = input.frame_times.size();
+  input.read.objects = used;
+  input.read.problem = damage;
+  finish(pass, &input);
   return input;
 }
 

@@ -26,7 +26,9 @@ target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs
 # The pose graph's consistency over seeds: five batches, too slow for the sanitizers' build.
 omnisfm_add_test(omnisfm_mrpt_consistency_tests
   SOURCES tests/pose_graph_consistency_test.cpp tests/slam_rawlog_consistency_test.cpp
-  DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::sfm mrpt::poses LABELS unit)
+          tests/omni_sfm_batch_estimator_test.cpp
+  DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::sfm omnisfm::eval mrpt::poses mrpt::obs mrpt::maps
+       mrpt::serialization mrpt::slam LABELS unit)
 target_include_directories(omnisfm_mrpt_consistency_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
 
 target_compile_definitions(omnisfm_mrpt_tests PRIVATE

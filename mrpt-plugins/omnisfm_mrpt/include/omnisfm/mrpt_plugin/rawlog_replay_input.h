@@ -24,6 +24,10 @@
 #include "omnisfm/sfm/motion_sensors.h"
 #include "omnisfm/track/tracker_settings.h"
 
+namespace mrpt::maps {
+class CSimpleMap;
+}
+
 namespace omnisfm::mrpt_plugin {
 
 enum class ReplayVision {
@@ -62,6 +66,10 @@ using ReplayProgress = std::function<void(int, int)>;
 // must be tracked without a camera (a stock CObservationImage and no `camera`) or an image is not
 // the camera's size.
 ReplayInput read_replay_input(const std::string& path, const ReplayOptions& options,
+                              const ReplayProgress& progress = nullptr);
+// The same from a simple map's sensory frames, in order (their poses are not used); messages name
+// "the simple map".
+ReplayInput read_replay_input(const mrpt::maps::CSimpleMap& map, const ReplayOptions& options,
                               const ReplayProgress& progress = nullptr);
 
 }  // namespace omnisfm::mrpt_plugin
