@@ -42,6 +42,7 @@
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
+#include "omnisfm/mrpt_plugin/rawlog_input.h"
 
 namespace {
 
@@ -141,6 +142,8 @@ int main(int argc, char** argv) {
       if (!screenshot.empty()) window->captureImagesStart();
     }
 
+    // External images (rawlog-edit --externalize) are in a folder beside the rawlog.
+    omnisfm::mrpt_plugin::use_external_images_of(rawlog);
     mrpt::io::CFileGZInputStream file(rawlog);
     auto archive = mrpt::serialization::archiveFrom(file);
     mrpt::obs::CActionCollection::Ptr actions;
@@ -169,8 +172,7 @@ int main(int argc, char** argv) {
 
       const auto pose = builder->getCurrentPoseEstimation();
       path.push_back(pose->getMeanVal());
-      times.push_back(mrpt::Clock::toDouble(
-          observation ? observation->timestamp : (*frame->begin())->timestamp));
+      times.push_back(estimator->lastFrameTime());
       const bool save = scene_every > 0 && path.size() % static_cast<size_t>(scene_every) == 0;
       if (!save && !window) continue;
       const auto scene = scene_of(path, *builder);

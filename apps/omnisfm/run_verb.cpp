@@ -237,7 +237,13 @@ void add_run_verb(CLI::App& app) {
                            "beside it");
     if (!o->camera.empty()) settings.replay.camera = io::read_camera_file(o->camera);
     // The points' uncertainty as the cameras see them (the measurements' ranges).
-    if (!o->slam_rawlog.empty()) settings.sfm.batch.point_pose_covariances = true;
+    if (!o->slam_rawlog.empty()) {
+      if (settings.sfm.run_batch && !settings.sfm.batch.covariances)
+        throw io::InputError(o->config, 0,
+                             "--slam-rawlog needs the batch's covariances: [sfm] covariances = "
+                             "false leaves none");
+      settings.sfm.batch.point_pose_covariances = true;
+    }
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
     if (!settings.sfm.run_batch) {

@@ -143,10 +143,24 @@ void write_folder_atomically(const std::string& dir,
     fs::remove_all(partial, ec);
     return;
   }
-  // A file system without the swap: two renames, with the earlier folder kept aside between them.
+  const int swap_error = errno;
+  const auto fail = [&](const std::string& why) {
+    fs::remove_all(partial, ec);
+    throw std::runtime_error(dir + ": cannot move the new folder into place: " + why);
+  };
+  if (swap_error != EINVAL && swap_error != ENOSYS && swap_error != ENOTSUP)
+    fail(std::generic_category().message(swap_error));
+  // A file system without the swap: two renames, with the earlier folder kept aside between them
+  // and put back if the second fails.
   const fs::path previous = parent / (hidden + ".previous-" + pid);
-  fs::rename(target, previous);
-  fs::rename(partial, target);
+  fs::rename(target, previous, ec);
+  if (ec) fail(ec.message());
+  fs::rename(partial, target, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    fs::rename(previous, target, ec);
+    fail(why);
+  }
   fs::remove_all(previous, ec);
 }
 

@@ -437,7 +437,10 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     result.cam_from_world.push_back(to_pose(v));
     result.pose_parameters.push_back(v);
   }
-  result.points = points;
+  // Only the points the problem held: a start point whose observations were all left out was
+  // not adjusted, and its track is not the batch's.
+  for (const auto& [track, p] : points)
+    if (problem.HasParameterBlock(p.data())) result.points[track] = p;
 
   if (settings.covariances && summary.IsSolutionUsable()) {
     ceres::Covariance::Options covariance_options;

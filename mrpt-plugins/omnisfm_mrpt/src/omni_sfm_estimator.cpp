@@ -80,6 +80,7 @@ io::IniSection section_of(const mrpt::config::CConfigFileBase& source, const std
 RunOptions OmniSfmEstimatorOptions::run_options() const {
   RunOptions run;
   run.replay.tracker = tracker;
+  run.replay.vision = vision;
   run.replay.camera_label = camera_label;
   run.replay.odometry_label = sensor_labels.odometry;
   run.replay.gyro_label = sensor_labels.gyro;
@@ -95,6 +96,7 @@ RunOptions OmniSfmEstimatorOptions::run_options() const {
 
 void OmniSfmEstimatorOptions::set_run_options(const RunOptions& run) {
   tracker = run.replay.tracker;
+  vision = run.replay.vision;
   camera_label = run.replay.camera_label;
   sensor_labels = {run.replay.odometry_label, run.replay.gyro_label, run.replay.gps_label};
   gps_origin = run.replay.gps_origin;
@@ -141,6 +143,7 @@ void OmniSfmEstimator::initialize(const mrpt::maps::CSimpleMap& initialMap,
   sensors.odometry_scale = options_.odometry_scale;
   filter_.reset();
   tracker_.reset();
+  image_models_ = ImageCameraModels();
   body_from_cam_ = Eigen::Isometry3d::Identity();
   map_from_start_ = Eigen::Isometry3d::Identity();
   if (x0) map_from_start_ = isometry_of(mrpt::poses::CPose3D(x0->getMeanVal()));

@@ -23,9 +23,6 @@ namespace omnisfm::mrpt_plugin {
 void for_each_observation(const mrpt::serialization::CSerializable::Ptr& object,
                           const std::function<void(const mrpt::obs::CObservation::Ptr&)>& visit);
 
-// Points MRPT at the rawlog's external images, where its tools look for them.
-void use_external_images_of(const std::string& rawlog_path);
-
 // The image observation (the rawlog's object `index`), its image loaded and made grey, its camera
 // from `models`; empty, with *damage saying why (describe_damage's wording), when the image cannot
 // be loaded.

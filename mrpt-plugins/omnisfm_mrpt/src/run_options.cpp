@@ -7,8 +7,9 @@
 namespace omnisfm::mrpt_plugin {
 namespace {
 
-ReplayVision vision_of(const io::IniSection& s) {
-  const std::string v = s.get_string("vision", "auto");
+ReplayVision vision_of(const io::IniSection& s, ReplayVision current) {
+  if (!s.has("vision")) return current;
+  const std::string v = s.get_string("vision");
   if (v == "auto") return ReplayVision::kAuto;
   if (v == "tracks") return ReplayVision::kTrackedFeatures;
   if (v == "images") return ReplayVision::kImages;
@@ -30,7 +31,7 @@ const char* vision_name(ReplayVision vision) {
 
 void read_run_options(const io::IniSection& s, RunOptions* options) {
   ReplayOptions& r = options->replay;
-  r.vision = vision_of(s);
+  r.vision = vision_of(s, r.vision);
   r.camera_label = s.get_string("camera_label", r.camera_label);
   r.odometry_label = s.get_string("odometry_label", r.odometry_label);
   r.gyro_label = s.get_string("gyro_label", r.gyro_label);

@@ -201,11 +201,11 @@ SlamRawlogSummary write_slam_rawlog(const std::string& path,
       landmarks->fieldOfView_pitch = static_cast<float>(M_PI);
       landmarks->validCovariances = true;
       landmarks->sensor_std_range =
-          static_cast<float>(SlamRawlogSummary::quantile(summary.range_sigmas, 0.5));
+          static_cast<float>(SlamRawlogSummary::quantile(summary.range_sigmas, 0.95));
       landmarks->sensor_std_yaw =
-          static_cast<float>(SlamRawlogSummary::quantile(summary.yaw_sigmas, 0.5));
+          static_cast<float>(SlamRawlogSummary::quantile(summary.yaw_sigmas, 0.95));
       landmarks->sensor_std_pitch =
-          static_cast<float>(SlamRawlogSummary::quantile(summary.pitch_sigmas, 0.5));
+          static_cast<float>(SlamRawlogSummary::quantile(summary.pitch_sigmas, 0.95));
       for (const BearingRange& m : measured[f]) {
         mrpt::obs::CObservationBearingRange::TMeasurement measurement;
         measurement.range = static_cast<float>(m.range);

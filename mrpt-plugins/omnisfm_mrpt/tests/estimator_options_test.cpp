@@ -51,6 +51,7 @@ TEST(EstimatorOptions, EveryKeyLandsInItsField) {
 pixel_sigma = 0.7   # a comment
 update_iterations = 3
 [slam]
+vision = images
 camera_label = CAM
 odometry_label = WHEELS
 gyro_label = GYRO   // MRPT's comment
@@ -72,6 +73,7 @@ keyframe_angle_deg = 20
   o.loadFromConfigFile(mrpt::config::CConfigFile(path), "slam");
   EXPECT_EQ(o.filter.pixel_sigma, 0.7);
   EXPECT_EQ(o.filter.update_iterations, 3);
+  EXPECT_EQ(o.vision, ReplayVision::kImages);
   EXPECT_EQ(o.camera_label, "CAM");
   EXPECT_EQ(o.sensor_labels.odometry, "WHEELS");
   EXPECT_EQ(o.sensor_labels.gyro, "GYRO");
@@ -96,6 +98,7 @@ keyframe_angle_deg = 20
   o.saveToConfigFile(memory, "slam");
   OmniSfmEstimatorOptions back;
   back.loadFromConfigFile(memory, "slam");
+  EXPECT_EQ(back.vision, ReplayVision::kImages);
   EXPECT_EQ(back.camera_label, "CAM");
   EXPECT_EQ(back.sensor_labels.gps, "FIX");
   EXPECT_EQ(back.gps_origin->longitude_deg, -79.9);

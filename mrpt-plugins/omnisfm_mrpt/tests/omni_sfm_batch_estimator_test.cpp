@@ -73,7 +73,7 @@ TEST(OmniSfmBatchEstimator, GivesTheRobotsPosesWithHonestCovariancesOverSeeds) {
       }
       tally.add(e.dot(pdf.cov.asEigen().ldlt().solve(e)));
     }
-    // The fused rover batch: within 1 % of distance without any alignment.
+    // The fused rover batch: within 1 % of distance after a rigid alignment.
     const eval::TrajectoryErrors errors = eval::trajectory_errors(estimate, truth, false);
     EXPECT_LT(errors.translation_error_percent, 1.0) << seed;
   }

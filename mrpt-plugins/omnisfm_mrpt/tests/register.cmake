@@ -156,7 +156,8 @@ set_tests_properties(kf_slam_follows_truth_lab PROPERTIES
 # CObservationImage), --list-images lists them, and omnisfm tracks them as it tracks the original.
 add_test(NAME rawlog_edit_externalize
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/tests/externalize_keeps_images.py
-          ${OMNISFM_RAWLOG_EDIT} ${plugin} ${lab_rawlog} $<TARGET_FILE:omnisfm> 41)
+          ${OMNISFM_RAWLOG_EDIT} ${plugin} ${lab_rawlog} $<TARGET_FILE:omnisfm> 41
+          $<TARGET_FILE:omnisfm-slam>)
 set_tests_properties(rawlog_edit_externalize PROPERTIES
   LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 120)
 

@@ -37,7 +37,7 @@ NeesTally measurements_against_truth(const std::string& scenario, std::uint64_t 
            bearing_range_measurements(d.camera, r.batch, static_cast<int>(f), frame,
                                       r.batch.final_rms_px)) {
         const Eigen::Vector3d truth =
-            spherical_coordinates(true_cam_from_world * d.track_points[m.track]);
+            spherical_coordinates(true_cam_from_world * d.track_points.at(static_cast<size_t>(m.track)));
         Eigen::Vector3d e(m.range - truth[0], std::remainder(m.yaw - truth[1], 2 * M_PI),
                           m.pitch - truth[2]);
         c.add(e.dot(m.covariance.ldlt().solve(e)));

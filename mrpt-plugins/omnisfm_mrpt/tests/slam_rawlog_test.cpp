@@ -190,7 +190,11 @@ TEST(SlamRawlog, IsReadByMrptAsActionsAndObservationPairs) {
               1e-12);
     EXPECT_TRUE(landmarks->validCovariances);
     for (const auto& m : landmarks->sensedData) {
-      EXPECT_EQ(r.batch.points.count(m.landmarkID), 1u) << m.landmarkID;
+      // A track the batch kept: adjusted (with its covariance), not an outlier.
+      EXPECT_EQ(r.batch.point_covariances.count(m.landmarkID), 1u) << m.landmarkID;
+      EXPECT_TRUE(std::none_of(r.outliers.begin(), r.outliers.end(),
+                               [&](const auto& o) { return o.track == m.landmarkID; }))
+          << m.landmarkID;
       EXPECT_GT(m.range, 0);
       EXPECT_GT(m.covariance(0, 0), 0);
     }

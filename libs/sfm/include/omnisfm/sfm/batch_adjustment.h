@@ -86,7 +86,9 @@ struct BatchResult {
   // The same as the batch's parameters, the coordinates of pose_covariances: cam_from_world's
   // rotation as an angle-axis vector (its angle may pass pi a little), then its translation.
   std::vector<Eigen::Matrix<double, 6, 1>> pose_parameters;
-  std::map<int, Eigen::Vector3d> points;           // per track
+  // Per track the problem held: a start point none of whose observations could be projected
+  // (or whose track was left out) has none.
+  std::map<int, Eigen::Vector3d> points;
   // 6x6 per frame (rotation as angle-axis, then translation; frame 0 is fixed: zero) and 3x3 per
   // point, when asked for and computable; with a held scale, the scale held.
   std::vector<Eigen::Matrix<double, 6, 6>> pose_covariances;

@@ -67,6 +67,9 @@ struct OmniSfmEstimatorOptions : public mrpt::config::CLoadableOptions {
   // The camera; without one, the model the first omnisfm observation carries.
   std::optional<camera::CatadioptricCamera> camera;
   std::string camera_label;  // the camera's (or its tracks') sensor label; empty: any
+  // OmniSfmBatchEstimator's choice of vision ([run] vision); OmniSfmEstimator takes the first
+  // kind of camera observation to arrive.
+  ReplayVision vision = ReplayVision::kAuto;
   MotionSensorLabels sensor_labels;
   std::optional<GeodeticPoint> gps_origin;
   // The dead reckoning's noise models, and the wheels' scale (true distance per distance read,
@@ -128,6 +131,8 @@ class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
   void saveCurrentEstimationToImage(const std::string& file, bool formatEMF_BMP = true) override;
 
   int framesProcessed() const { return frames_; }
+  // The last camera frame's time, seconds since the Unix epoch (0 before any).
+  double lastFrameTime() const { return frames_ > 0 ? previous_frame_time_ : 0; }
   // What leaves the filter as it goes (sfm::OnlineFilter::on_point_ended, on_track_rejected):
   // points in the estimator's world, the first camera's frame. Set before the first frame.
   void onPointEnded(sfm::OnlineFilter::PointEnded callback) { point_ended_ = std::move(callback); }

@@ -44,6 +44,12 @@ struct RawlogImage {
   Eigen::Isometry3d robot_from_cam = Eigen::Isometry3d::Identity();
 };
 
+// Points MRPT (mrpt::img::CImage's images path, a process-wide setting) at the rawlog's external
+// images, where its tools put them (`rawlog-edit --externalize`: X_Images beside X.rawlog). The
+// readers here call it; a program reading rawlogs through MRPT itself calls it once per rawlog
+// (MRPT 2.5's CRawlog::detectImagesDirectory drops the separator before the folder's name).
+void use_external_images_of(const std::string& rawlog_path);
+
 // Calls `visit` for every image observation in file order, including those inside sensory
 // frames; with a non-empty `sensor_label`, only for that sensor's. An external image that cannot
 // be loaded is damage at its object. Throws io::InputError when the file cannot be opened; rethrows

@@ -12,7 +12,8 @@
 //     does not pass through the camera's origin, so the bearing is the point's, not the ray's;
 //     it carries the pixel's noise, and the range the batch's uncertainty of the point along
 //     the ray as seen from the camera (bearing_range_measurements). Each measurement's 3x3 covariance is set (validCovariances), and sensor_std_* hold
-//     their medians: kf-slam uses one noise for all, its ini's std_sensor_*.
+//     their 0.95 quantiles (one noise for all, as kf-slam takes its ini's std_sensor_*: smaller
+//     would overweigh the measurements that deserve least).
 // The robot is the body frame (x forward, y left, z up); robot_k = world_from_cam_k cam_from_body.
 // Tracks the batch did not keep (outliers, too few frames) are left out.
 //
