@@ -1087,6 +1087,15 @@ TEST_F(CliTest, RunWritesASlamRawlogOrRefusesIt) {
       << online.err;
   EXPECT_FALSE(fs::exists(dir_ / "online"));
   EXPECT_FALSE(fs::exists(dir_ / "lab/online.rawlog"));
+  // A folder that cannot be written is refused before the rawlog is written, and no temporary
+  // stays. (The rawlog takes its place only after the folder; a failure while the folder is
+  // written, which no input here causes, then leaves the earlier rawlog.)
+  const Outcome no_folder =
+      omnisfm("run lab/dataset.rawlog --out missing/result --slam-rawlog lab/later.rawlog");
+  EXPECT_EQ(no_folder.status, 2) << no_folder.err;
+  EXPECT_FALSE(fs::exists(dir_ / "lab/later.rawlog"));
+  for (const auto& entry : fs::directory_iterator(dir_ / "lab"))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
 }
 
 TEST_F(CliTest, RunReplaysTheValidPartOfADamagedRawlog) {

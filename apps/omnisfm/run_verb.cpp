@@ -168,13 +168,14 @@ bool is_inside(const std::string& file, const std::string& folder) {
   return mismatch.first == d.end();
 }
 
-// `--slam-rawlog`: the batch's estimate for stock SLAM apps. Returns the report's line.
-std::string write_slam_rawlog(const std::string& path, const mrpt_plugin::ReplayInput& in,
-                              const sfm::SfmResult& result) {
+// `--slam-rawlog`: the batch's estimate for stock SLAM apps, into `file` (the rawlog `path` once
+// renamed). Returns the report's line.
+std::string write_slam_rawlog(const std::string& file, const std::string& path,
+                              const mrpt_plugin::ReplayInput& in, const sfm::SfmResult& result) {
   if (result.batch.pose_covariances.empty())
     throw std::runtime_error(path + ": not written: the batch computed no covariances");
   const mrpt_plugin::SlamRawlogSummary summary = mrpt_plugin::write_slam_rawlog(
-      path, *in.camera, in.tracks, result.batch, in.frame_times, in.sensors.body_from_cam,
+      file, *in.camera, in.tracks, result.batch, in.frame_times, in.sensors.body_from_cam,
       result.batch.final_rms_px);
   using Summary = mrpt_plugin::SlamRawlogSummary;
   std::ostringstream line;
@@ -318,16 +319,26 @@ void add_run_verb(CLI::App& app) {
       report << comparison.report;
     }
 
-    io::write_folder_atomically(o->out, [&](const std::string& dir) {
-      // First: a failure here leaves the folder as it was, and the report names the file.
-      if (!o->slam_rawlog.empty()) report << write_slam_rawlog(o->slam_rawlog, in, result);
-      write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
-      mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
-      if (geodetic)
-        write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times,
-                                  mrpt_plugin::LocalEnuFrame(*in.gps_origin));
-      write_sfm_plots(dir, *in.camera, in.tracks, result, batch_ran, comparison);
-    });
+    const auto write_outputs = [&] {
+      io::write_folder_atomically(o->out, [&](const std::string& dir) {
+        write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
+        mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
+        if (geodetic)
+          write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times,
+                                    mrpt_plugin::LocalEnuFrame(*in.gps_origin));
+        write_sfm_plots(dir, *in.camera, in.tracks, result, batch_ran, comparison);
+      });
+    };
+    if (o->slam_rawlog.empty()) {
+      write_outputs();
+    } else {
+      // The rawlog is written first (the report names it) and takes its place only once the
+      // folder has: a failure in either leaves both as they were.
+      io::write_atomically(o->slam_rawlog, [&](const std::string& temporary) {
+        report << write_slam_rawlog(temporary, o->slam_rawlog, in, result);
+        write_outputs();
+      });
+    }
     std::cout << report.str();
   });
 }
