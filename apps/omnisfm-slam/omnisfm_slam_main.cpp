@@ -2,8 +2,8 @@
 // kf-slam and icp-slam are, to copy into an existing SLAM app. It holds OmniSfmEstimator as a
 // mrpt::slam::CMetricMapBuilder*, reads a rawlog of either format with
 // CRawlog::getActionObservationPairOrObservation, and saves what it built as MRPT does: a
-// .3Dscene every --scene-every camera frames and at the end (the robot's path, the points, the
-// robot), the robot's path as a TUM trajectory, and a top view. With --live and a display, a
+// .3Dscene every --scene-every camera frames and at the end (the robot's path, axes along it, the
+// points: scene_file.h), the robot's path as a TUM trajectory, and a top view. With --live and a display, a
 // CDisplayWindow3D shows the scene as it grows (--screenshot saves its last image).
 //
 //   omnisfm-slam DATASET.rawlog --out DIR [--config omnisfm.ini] [--scene-every N] [--live]
@@ -12,15 +12,9 @@
 #include <mrpt/gui/CDisplayWindow3D.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/maps/CMultiMetricMap.h>
-#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/opengl/COpenGLScene.h>
-#include <mrpt/opengl/CGridPlaneXY.h>
-#include <mrpt/opengl/CPointCloud.h>
-#include <mrpt/opengl/CSetOfLines.h>
-#include <mrpt/opengl/stock_objects.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/slam/CMetricMapBuilder.h>
@@ -43,38 +37,22 @@
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
 #include "omnisfm/mrpt_plugin/rawlog_input.h"
+#include "omnisfm/mrpt_plugin/scene.h"
 
 namespace {
 
-// What has been built so far, as the scene kf-slam and icp-slam save: a ground grid, the path in
-// red, the points, and the robot's axes.
+// What has been built so far: the robot's path and the estimator's points, as omnisfm run's
+// scene.3Dscene shows a result (scene_file.h).
 mrpt::opengl::COpenGLScene::Ptr scene_of(const std::vector<mrpt::poses::CPose3D>& path,
-                                         mrpt::slam::CMetricMapBuilder& builder) {
-  auto scene = mrpt::opengl::COpenGLScene::Create();
-  auto grid = mrpt::opengl::CGridPlaneXY::Create(-20, 20, -20, 20, 0, 1);
-  grid->setColor(0.7f, 0.7f, 0.7f);
-  scene->insert(grid);
-  auto lines = mrpt::opengl::CSetOfLines::Create();
-  lines->setColor(1, 0, 0);
-  lines->setLineWidth(2);
-  for (size_t i = 1; i < path.size(); ++i)
-    lines->appendLine(path[i - 1].x(), path[i - 1].y(), path[i - 1].z(), path[i].x(), path[i].y(),
-                      path[i].z());
-  scene->insert(lines);
-  auto cloud = mrpt::opengl::CPointCloud::Create();
-  cloud->setColor(0, 0, 0.8f);
-  cloud->setPointSize(3);
-  if (const auto* map = builder.getCurrentlyBuiltMetricMap()) {
-    if (const auto points = map->mapByClass<mrpt::maps::CSimplePointsMap>())
-      cloud->loadFromPointsMap(points.get());
+                                         const omnisfm::mrpt_plugin::OmniSfmEstimator& estimator) {
+  omnisfm::mrpt_plugin::SceneContents contents;
+  for (const mrpt::poses::CPose3D& pose : path) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.matrix() = pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
+    contents.world_from_cam.push_back(T);
   }
-  scene->insert(cloud);
-  if (!path.empty()) {
-    auto robot = mrpt::opengl::stock_objects::CornerXYZ(0.3f);
-    robot->setPose(path.back());
-    scene->insert(robot);
-  }
-  return scene;
+  contents.points = estimator.points();
+  return omnisfm::mrpt_plugin::make_scene(contents);
 }
 
 bool is_uniform(const mrpt::img::CImage& image) {
@@ -175,7 +153,7 @@ int main(int argc, char** argv) {
       times.push_back(estimator->lastFrameTime());
       const bool save = scene_every > 0 && path.size() % static_cast<size_t>(scene_every) == 0;
       if (!save && !window) continue;
-      const auto scene = scene_of(path, *builder);
+      const auto scene = scene_of(path, *estimator);
       if (save) {
         std::ostringstream name;
         name << out << "/omnisfm_slam_" << std::setw(5) << std::setfill('0') << path.size()
@@ -191,7 +169,7 @@ int main(int argc, char** argv) {
     }
     if (path.empty()) throw omnisfm::io::InputError(rawlog, 0, "holds no camera frame");
 
-    const auto scene = scene_of(path, *builder);
+    const auto scene = scene_of(path, *estimator);
     save_scene(*scene, out + "/final.3Dscene");
     omnisfm::io::write_text_atomically(out + "/estimated_path.tum", [&](std::ostream& tum) {
       tum << "# timestamp tx ty tz qx qy qz qw (the robot in the map frame)\n"

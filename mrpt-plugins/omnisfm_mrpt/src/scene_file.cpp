@@ -1,5 +1,7 @@
 #include "omnisfm/mrpt_plugin/scene_file.h"
 
+#include "omnisfm/mrpt_plugin/scene.h"
+
 #include <mrpt/opengl/CEllipsoid3D.h>
 #include <mrpt/opengl/CGridPlaneXY.h>
 #include <mrpt/opengl/COpenGLScene.h>
@@ -48,8 +50,9 @@ mrpt::opengl::CGridPlaneXY::Ptr ground(const SceneContents& s) {
 
 }  // namespace
 
-void write_scene_file(const std::string& path, const SceneContents& s) {
-  mrpt::opengl::COpenGLScene scene;
+mrpt::opengl::COpenGLScene::Ptr make_scene(const SceneContents& s) {
+  auto scene_pointer = mrpt::opengl::COpenGLScene::Create();
+  mrpt::opengl::COpenGLScene& scene = *scene_pointer;
   scene.insert(ground(s));
   scene.insert(polyline(s.world_from_cam, "trajectory", mrpt::img::TColor(30, 60, 230)));
   if (!s.online_world_from_cam.empty())
@@ -90,9 +93,13 @@ void write_scene_file(const std::string& path, const SceneContents& s) {
     ellipsoids->insert(ellipsoid);
   }
   scene.insert(ellipsoids);
+  return scene_pointer;
+}
 
+void write_scene_file(const std::string& path, const SceneContents& s) {
+  const auto scene = make_scene(s);
   io::write_atomically(path, [&](const std::string& temporary_path) {
-    if (!scene.saveToFile(temporary_path)) throw std::runtime_error(path + ": cannot write");
+    if (!scene->saveToFile(temporary_path)) throw std::runtime_error(path + ": cannot write");
   });
 }
 
