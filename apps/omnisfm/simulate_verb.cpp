@@ -58,7 +58,7 @@ void add_simulate_verb(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({1, 4, 9, 16, 25}));
   verb->add_flag("--rawlog", *rawlog,
-                 "Also write dataset.rawlog for MRPT (load libomnisfm_mrpt.so to read it): "
+                 "Also write dataset.rawlog for MRPT (load libomnisfm_mrpt_classes.so to read it): "
                  "tracks, the images with --render, wheel odometry that drifts, a biased gyro");
   verb->add_flag("--gps", *gps,
                  "With --rawlog and the rover or the drive: the outdoor variant, whose rawlog also holds GPS "

@@ -20,6 +20,13 @@ inline mrpt::poses::CPose3D pose_of(const Eigen::Isometry3d& T) {
   return mrpt::poses::CPose3D(mrpt::math::CMatrixDouble44(T.matrix()));
 }
 
+// Whether two transforms are one pose, stored twice: within a micrometre and a microradian.
+inline bool same_pose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  constexpr double kTolerance = 1e-6;
+  return (a.translation() - b.translation()).norm() <= kTolerance &&
+         Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() <= kTolerance;
+}
+
 // MRPT's parameters of a pose: x, y, z, yaw, pitch, roll (the order of its covariances).
 inline Eigen::Matrix<double, 6, 1> mrpt_parameters_of(const mrpt::poses::CPose3D& p) {
   Eigen::Matrix<double, 6, 1> v;

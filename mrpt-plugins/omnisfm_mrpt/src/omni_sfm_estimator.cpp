@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "omnisfm/io/number_text.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/sfm/motion_prediction.h"
@@ -165,6 +166,19 @@ void OmniSfmEstimator::start(const camera::CatadioptricCamera& camera,
   if (track_rejected_) filter_->on_track_rejected(track_rejected_);
 }
 
+void OmniSfmEstimator::require_next_frame(const mrpt::poses::CPose3D& pose,
+                                          double timestamp) const {
+  if (frames_ > 0 && timestamp < previous_frame_time_)
+    throw std::invalid_argument(
+        "a camera frame at " + io::format_double(timestamp) + " s after one at " +
+        io::format_double(previous_frame_time_) + " s: the observations are out of time order");
+  if (!same_pose(isometry_of(pose), body_from_cam_))
+    throw std::invalid_argument(
+        "the camera's pose on the robot " + pose.asString() + " is not the first frame's " +
+        pose_of(body_from_cam_).asString() +
+        ": one camera label is one camera, fixed on the robot");
+}
+
 void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
                                      double timestamp,
                                      const mrpt::obs::CObservation::Ptr& observation) {
@@ -212,6 +226,8 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     return;
   if (const auto features = std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation)) {
     if (tracker_) return;  // the camera's images came first: they are the vision
+    if (filter_)
+      require_next_frame(features->sensorPose, mrpt::Clock::toDouble(features->timestamp));
     if (!filter_) {
       if (!options_.camera && !features->model.has_camera())
         throw std::invalid_argument("tracked features without a camera model: give the camera");
@@ -223,6 +239,7 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     process_frame(pixels, mrpt::Clock::toDouble(features->timestamp), observation);
   } else if (const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation)) {
     if (filter_ && !tracker_) return;  // tracked features came first: they are the vision
+    if (filter_) require_next_frame(image->cameraPose, mrpt::Clock::toDouble(image->timestamp));
     if (!filter_) {
       std::optional<camera::CatadioptricCamera> camera = options_.camera;
       if (const CCatadioptricCameraModel* model = image_models_.model_for(*image))

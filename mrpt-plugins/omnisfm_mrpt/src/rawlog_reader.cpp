@@ -189,9 +189,9 @@ std::string describe_damage(std::size_t index, const std::string& object_class,
 
 std::string unregistered_class_advice(const std::string& class_name) {
   if (class_name.rfind("omnisfm::", 0) == 0) {
-    return "it is one of omnisfm's classes: load the plugin that defines it, libomnisfm_mrpt.so "
-           "(rawlog-edit -p /path/to/libomnisfm_mrpt.so; a rawlog from a newer omnisfm needs "
-           "that version's plugin)";
+    return "it is one of omnisfm's classes: load the plugin library that defines it, "
+           "libomnisfm_mrpt_classes.so (rawlog-edit -p /path/to/libomnisfm_mrpt_classes.so; a "
+           "rawlog from a newer omnisfm needs that version's library)";
   }
   return "load the library that defines it (MRPT tools: -p /path/to/plugin.so)";
 }

@@ -9,6 +9,7 @@
 
 #include "eigen_poses.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/io/number_text.h"
 #include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
@@ -92,8 +93,11 @@ class ReplayPass {
     if (const auto* features = dynamic_cast<const CObservationTrackedFeatures*>(observation.get())) {
       note_camera(features->sensorPose, features->model);
       if (options_.vision == ReplayVision::kImages) return;
+      const double time = mrpt::Clock::toDouble(features->timestamp);
+      if (feature_times_.empty()) vision_pose_.reset();  // images tracked so far are not the vision
+      require_next_frame(features->sensorPose, time, feature_times_, index);
       const int frame = static_cast<int>(feature_times_.size());
-      feature_times_.push_back(mrpt::Clock::toDouble(features->timestamp));
+      feature_times_.push_back(time);
       append_tracked_features(*features, frame, &features_);
       // With kAuto, the images tracked so far are not the vision.
       tracker_.reset();
@@ -109,6 +113,8 @@ class ReplayPass {
     else if (!body_from_cam_)
       body_from_cam_ = isometry_of(image->cameraPose);
     if (!images_are_vision() || image_damage_) return;
+    require_next_frame(image->cameraPose, mrpt::Clock::toDouble(image->timestamp), image_times_,
+                       index);
     if (options_.vision == ReplayVision::kImages) return track(*image, index, damage);
     std::string problem;
     try {
@@ -145,6 +151,23 @@ class ReplayPass {
     if (progress_) progress_(tracker_->frames(), 0);
   }
 
+  // A camera frame comes after the previous one, from the camera's one pose on the robot.
+  void require_next_frame(const mrpt::poses::CPose3D& pose, double time,
+                          const std::vector<double>& previous_times, std::size_t index) {
+    const std::string object = "object " + std::to_string(index) + ": ";
+    if (!previous_times.empty() && time < previous_times.back())
+      throw io::InputError(path_, 0,
+                           object + "a camera frame at " + io::format_double(time) +
+                               " s after one at " + io::format_double(previous_times.back()) +
+                               " s: the observations are out of time order");
+    if (!vision_pose_) vision_pose_ = isometry_of(pose);
+    if (!same_pose(isometry_of(pose), *vision_pose_))
+      throw io::InputError(path_, 0,
+                           object + "the camera's pose on the robot " + pose.asString() +
+                               " is not the first frame's " + pose_of(*vision_pose_).asString() +
+                               ": one camera label is one camera, fixed on the robot");
+  }
+
   void note_camera(const mrpt::poses::CPose3D& pose, const CCatadioptricCameraModel& model) {
     if (!body_from_cam_) body_from_cam_ = isometry_of(pose);
     if (!first_model_ && model.has_camera()) first_model_ = model.camera();
@@ -156,6 +179,7 @@ class ReplayPass {
   ReplayInput* input_;
   MotionSensorCollector collector_;
   std::optional<Eigen::Isometry3d> body_from_cam_;
+  std::optional<Eigen::Isometry3d> vision_pose_;  // the camera's pose on the robot, first frame
   ImageCameraModels models_;
   std::optional<camera::CatadioptricCamera> first_model_;
   std::vector<io::TrackObservation> features_;

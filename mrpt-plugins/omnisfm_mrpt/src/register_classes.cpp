@@ -1,6 +1,6 @@
 // Registers the plugin's classes with MRPT's class registry when the library is loaded, whether it
-// is linked or opened as a plugin (`rawlog-edit -p libomnisfm_mrpt.so`): reading a rawlog finds a
-// class by its stored name in that registry.
+// is linked or opened as a plugin (`rawlog-edit -p libomnisfm_mrpt_classes.so`): reading a rawlog
+// finds a class by its stored name in that registry.
 
 #include "omnisfm/mrpt_plugin/register_classes.h"
 

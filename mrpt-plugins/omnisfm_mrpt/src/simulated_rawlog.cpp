@@ -57,8 +57,8 @@ std::string settings_text(const sim::Dataset& d, const SimulatedRawlogOptions& o
   const auto f = [](double x) { return io::format_double(x); };
   std::ostringstream text;
   text << "# Simulated by omnisfm. Its omnidirectional images and tracked features are omnisfm's\n"
-       << "# classes: MRPT tools read them with the plugin libomnisfm_mrpt.so, e.g.\n"
-       << "#   rawlog-edit -p /path/to/libomnisfm_mrpt.so --info -i dataset.rawlog\n"
+       << "# classes: MRPT tools read them with the plugin libomnisfm_mrpt_classes.so, e.g.\n"
+       << "#   rawlog-edit -p /path/to/libomnisfm_mrpt_classes.so --info -i dataset.rawlog\n"
        << "[omnisfm_simulation]\n"
        << "scenario = " << d.scenario << "\n"
        << "sensor_seed = " << s.seed << "\n"

@@ -305,6 +305,47 @@ TEST(OmniSfmEstimator, TakesOneKindOfCameraObservation) {
   EXPECT_EQ(frames, kFrames);
 }
 
+// A camera frame earlier than the previous one, or from another pose on the robot, is refused and
+// changes nothing.
+TEST(OmniSfmEstimator, RefusesFramesOutOfTimeOrderOrFromAnotherCameraPose) {
+  OmniSfmEstimator estimator;
+  std::shared_ptr<CObservationTrackedFeatures> last;
+  for (const auto& observation : rover_rawlog().observations) {
+    estimator.processObservation(observation);
+    if (auto f = std::dynamic_pointer_cast<CObservationTrackedFeatures>(observation)) last = f;
+    if (estimator.framesProcessed() == 5) break;
+  }
+  ASSERT_TRUE(last);
+  const mrpt::poses::CPose3DPDFGaussian before = [&] {
+    mrpt::poses::CPose3DPDFGaussian p;
+    estimator.getCurrentPoseEstimation(p);
+    return p;
+  }();
+
+  auto earlier = std::make_shared<CObservationTrackedFeatures>(*last);
+  earlier->timestamp = last->timestamp - std::chrono::milliseconds(100);
+  try {
+    estimator.processObservation(earlier);
+    ADD_FAILURE() << "a frame earlier than the previous one was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("out of time order"), std::string::npos) << e.what();
+  }
+  auto moved = std::make_shared<CObservationTrackedFeatures>(*last);
+  moved->timestamp = last->timestamp + std::chrono::milliseconds(100);
+  moved->sensorPose.x_incr(0.05);
+  try {
+    estimator.processObservation(moved);
+    ADD_FAILURE() << "a frame from another camera pose was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("is not the first frame's"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(estimator.framesProcessed(), 5);
+  mrpt::poses::CPose3DPDFGaussian after;
+  estimator.getCurrentPoseEstimation(after);
+  EXPECT_EQ(after.mean.asString(), before.mean.asString());
+  EXPECT_EQ(after.cov, before.cov);
+}
+
 TEST(OmniSfmEstimator, IsAnMrptMapBuilder) {
   const RoverRawlog& rover = rover_rawlog();
   OmniSfmEstimator estimator;

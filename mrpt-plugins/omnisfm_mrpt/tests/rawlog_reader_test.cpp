@@ -169,7 +169,7 @@ TEST_F(DamagedRawlog, UnregisteredClassSaysWhichLibraryToLoad) {
   const std::string problem = expect_damage(
       patched(2, "CObservationTrackedFeatures", "CObservationFutureFeatures2"), 2,
       "object 2: its class 'omnisfm::mrpt_plugin::CObservationFutureFeatures2' is not registered");
-  EXPECT_NE(problem.find("load the plugin that defines it, libomnisfm_mrpt.so"), std::string::npos)
+  EXPECT_NE(problem.find("load the plugin library that defines it, libomnisfm_mrpt_classes.so"), std::string::npos)
       << problem;
   expect_damage(patched(1, "CObservationOdometry", "CObservationRadarXYZ"), 1,
                 "'mrpt::obs::CObservationRadarXYZ' is not registered: load the library that "
@@ -262,9 +262,9 @@ TEST(RawlogReader, MissingFileIsAnInputError) {
 
 TEST(RawlogReader, AdviceForUnregisteredClasses) {
   EXPECT_NE(
-      unregistered_class_advice("omnisfm::mrpt_plugin::CObservationX").find("libomnisfm_mrpt.so"),
+      unregistered_class_advice("omnisfm::mrpt_plugin::CObservationX").find("libomnisfm_mrpt_classes.so"),
       std::string::npos);
-  EXPECT_EQ(unregistered_class_advice("mrpt::obs::CObservationX").find("libomnisfm_mrpt.so"),
+  EXPECT_EQ(unregistered_class_advice("mrpt::obs::CObservationX").find("libomnisfm_mrpt_classes.so"),
             std::string::npos);
 }
 

@@ -46,7 +46,9 @@ omnisfm_find_mrpt_app(OMNISFM_RAWLOG_EDIT rawlog-edit)
 
 set(lab_dir ${CMAKE_CURRENT_BINARY_DIR}/rawlog_lab)
 set(lab_rawlog ${lab_dir}/dataset.rawlog)
-set(plugin $<TARGET_FILE:omnisfm_mrpt>)
+# Stock tools load the classes' library; the whole plugin, which links it, serves as well.
+set(plugin $<TARGET_FILE:omnisfm_mrpt_classes>)
+set(full_plugin $<TARGET_FILE:omnisfm_mrpt>)
 set(check ${CMAKE_CURRENT_SOURCE_DIR}/tests/check_output.cmake)
 
 add_test(NAME omnisfm_simulate_rawlog
@@ -67,16 +69,16 @@ add_test(NAME rawlog_edit_info
 # --describe prints each object's getDescriptionAsText.
 add_test(NAME rawlog_edit_describe
   COMMAND ${CMAKE_COMMAND}
-          "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|-p|${plugin}|--describe|-i|${lab_rawlog}"
+          "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|-p|${full_plugin}|--describe|-i|${lab_rawlog}"
           "-DEXPECTED=ClassName: omnisfm::mrpt_plugin::CObservationCameraModel|ClassName: mrpt::obs::CObservationImage|ClassName: omnisfm::mrpt_plugin::CObservationTrackedFeatures|Catadioptric camera model: pinhole camera, equiangular mirror, 256x192 pixels|Tracked features (omnisfm): frame 40, 44 features|ClassName: mrpt::obs::CObservationOdometry|ClassName: mrpt::obs::CObservationIMU"
           "-DUNEXPECTED=exception"
           -P ${check})
 # Without the plugin rawlog-edit stops at the camera model and names its class; the rawlog's
-# leading comment, which --describe prints, says to load libomnisfm_mrpt.so.
+# leading comment, which --describe prints, says to load libomnisfm_mrpt_classes.so.
 add_test(NAME rawlog_edit_without_plugin
   COMMAND ${CMAKE_COMMAND}
           "-DCOMMAND=${OMNISFM_RAWLOG_EDIT}|--describe|-i|${lab_rawlog}"
-          "-DEXPECTED=rawlog-edit -p /path/to/libomnisfm_mrpt.so|Stored object has class 'omnisfm::mrpt_plugin::CObservationCameraModel' which is not registered"
+          "-DEXPECTED=rawlog-edit -p /path/to/libomnisfm_mrpt_classes.so|Stored object has class 'omnisfm::mrpt_plugin::CObservationCameraModel' which is not registered"
           -P ${check})
 # --export-txt writes the tracked features' table, which must hold exactly the simulated tracks.
 find_package(Python3 REQUIRED COMPONENTS Interpreter)
@@ -86,6 +88,13 @@ add_test(NAME rawlog_edit_export_txt
 set_tests_properties(rawlog_edit_info rawlog_edit_describe rawlog_edit_without_plugin
                      rawlog_edit_export_txt PROPERTIES
   LABELS interop FIXTURES_REQUIRED mrpt_lab_rawlog TIMEOUT 120)
+# The classes' library needs MRPT's obs and nothing of the estimators, replay or geodesy.
+add_test(NAME plugin_classes_library_needs_only_obs
+  COMMAND ${CMAKE_COMMAND} "-DCOMMAND=readelf|-d|${plugin}"
+          "-DEXPECTED=Shared library: [libmrpt-obs.so"
+          "-DUNEXPECTED=[libomnisfm_mrpt.so|[libmrpt-slam.so|[libmrpt-maps.so|[libmrpt-graphs.so|[libmrpt-gui.so|[libGeographic|[libceres.so|[libopencv_imgproc.so|[libopencv_video.so"
+          -P ${check})
+set_tests_properties(plugin_classes_library_needs_only_obs PROPERTIES LABELS unit)
 
 # Stock graph-slam on the batch's pose graph (batch.graph, written by sfm beside batch.tum).
 omnisfm_find_mrpt_app(OMNISFM_GRAPH_SLAM graph-slam)

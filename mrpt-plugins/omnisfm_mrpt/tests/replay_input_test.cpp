@@ -22,6 +22,7 @@
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
 #include "omnisfm/mrpt_plugin/simulated_rawlog.h"
 #include "omnisfm/sim/scenario.h"
+#include "omnisfm/io/input_error.h"
 #include "serialization_helpers.h"
 
 namespace omnisfm::mrpt_plugin {
@@ -293,6 +294,45 @@ TEST(DamagedReplay, TheValidPartIsReplayedAndTheObjectNamed) {
   EXPECT_EQ(in.frame_times.size(), frames_before);
   EXPECT_GT(frames_before, 40u);
   EXPECT_LT(in.sensors.gyro.back().timestamp, rover.options.start_time + rover.dataset.timestamps.back());
+}
+
+// Camera frames that go back in time, or come from another pose on the robot under the same label,
+// are refused with the file and the object; frames at one time are taken (a rig without a clock).
+TEST(BadReplay, FramesOutOfTimeOrderOrFromAnotherCameraPoseAreRefused) {
+  const auto frame = [](double time, double camera_height) {
+    auto features = std::make_shared<CObservationTrackedFeatures>();
+    features->timestamp = mrpt::Clock::fromDouble(time);
+    features->sensorPose = mrpt::poses::CPose3D(0, 0, camera_height, 0, 0, 0);
+    for (int track = 0; track < 8; ++track)
+      features->features.push_back({track, 100.0 + track, 200.0});
+    return features;
+  };
+  ReplayOptions options;
+  options.camera = sim::default_rig(1024, 768);
+  const std::string path = testing::temporary_path("bad_frames.rawlog");
+  const auto refusal = [&](const std::vector<std::shared_ptr<CObservationTrackedFeatures>>& frames) {
+    std::vector<const mrpt::serialization::CSerializable*> raw;
+    for (const auto& f : frames) raw.push_back(f.get());
+    testing::write_plain_rawlog(path, raw);
+    try {
+      read_replay_input(path, options);
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+
+  EXPECT_EQ(refusal({frame(10, 1), frame(10, 1), frame(11, 1)}), "");
+  const std::string backwards = refusal({frame(10, 1), frame(11, 1), frame(10.5, 1)});
+  EXPECT_NE(backwards.find(path), std::string::npos) << backwards;
+  EXPECT_NE(backwards.find("object 2: a camera frame at 10.5 s after one at 11 s: the observations "
+                           "are out of time order"),
+            std::string::npos)
+      << backwards;
+  const std::string moved = refusal({frame(10, 1), frame(11, 1.2)});
+  EXPECT_NE(moved.find(path), std::string::npos) << moved;
+  EXPECT_NE(moved.find("object 1: the camera's pose on the robot"), std::string::npos) << moved;
+  EXPECT_NE(moved.find("is not the first frame's"), std::string::npos) << moved;
 }
 
 }  // namespace

@@ -66,7 +66,7 @@ TEST(SimulatedRawlog, HoldsTheLabAsStated) {
   const auto comment =
       std::dynamic_pointer_cast<mrpt::obs::CObservationComment>(contents.objects[0]);
   ASSERT_TRUE(comment);
-  EXPECT_NE(comment->text.find("libomnisfm_mrpt.so"), std::string::npos);
+  EXPECT_NE(comment->text.find("libomnisfm_mrpt_classes.so"), std::string::npos);
   EXPECT_NE(comment->text.find("odometry_scale_error = 0.015"), std::string::npos) << comment->text;
   double previous = 0;
   for (const auto& object : contents.objects) {

@@ -57,7 +57,7 @@ class RawlogReader {
 };
 
 // The sentence that tells a user how to read a rawlog holding the class `class_name`, which is
-// not registered: for omnisfm's classes, to load libomnisfm_mrpt.so.
+// not registered: for omnisfm's classes, to load libomnisfm_mrpt_classes.so.
 std::string unregistered_class_advice(const std::string& class_name);
 
 // How damage is reported: "object N (CLASS): WHAT; the N objects before it were read" (without
