@@ -16,6 +16,7 @@
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
+#include "omnisfm/sfm/blas_threads.h"
 
 namespace {
 
@@ -47,6 +48,7 @@ const char* name_of(sfm::BatchScale scale) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  omnisfm::sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
   const int last_seed = argc > 1 ? std::atoi(argv[1]) : 25;
   const int first_seed = argc > 2 ? std::atoi(argv[2]) : 1;
   std::printf("# scenario seed filter_scale free_scale free_sigma scale sigma status z\n");

@@ -15,8 +15,10 @@
 #include "omnisfm/sfm/cramer_rao.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
+#include "omnisfm/sfm/blas_threads.h"
 
 int main(int argc, char** argv) {
+  omnisfm::sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
   using namespace omnisfm;
   const int trials = argc > 1 ? std::atoi(argv[1]) : 50;
   const double noise = argc > 2 ? std::atof(argv[2]) : 0.2;

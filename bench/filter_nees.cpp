@@ -8,8 +8,10 @@
 #include <cstdlib>
 
 #include "omnisfm/eval/filter_consistency.h"
+#include "omnisfm/sfm/blas_threads.h"
 
 int main(int argc, char** argv) {
+  omnisfm::sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 25;
   const double wheel_error = argc > 2 ? std::atof(argv[2]) : 0.015;
   const omnisfm::eval::PoseConsistency c = omnisfm::eval::rover_pose_consistency(seeds, wheel_error);

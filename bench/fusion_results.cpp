@@ -22,6 +22,7 @@
 #include "omnisfm/sfm/frame_motion.h"
 #include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/sim/scenario.h"
+#include "omnisfm/sfm/blas_threads.h"
 
 namespace {
 
@@ -86,6 +87,7 @@ std::string cell(const std::vector<Figures>& runs, const std::function<double(co
 }  // namespace
 
 int main(int argc, char** argv) {
+  omnisfm::sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 3;
   if (seeds < 1) {
     std::fprintf(stderr, "usage: fusion_results [SEEDS=3]\n");

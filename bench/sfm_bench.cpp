@@ -21,6 +21,7 @@
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
+#include "omnisfm/sfm/blas_threads.h"
 
 namespace {
 
@@ -347,4 +348,11 @@ BENCHMARK(BM_RoverIterations)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Us
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  omnisfm::sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

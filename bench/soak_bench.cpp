@@ -39,6 +39,7 @@
 #include "omnisfm/sim/dead_reckoning.h"
 #include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/scenario.h"
+#include "omnisfm/sfm/blas_threads.h"
 
 namespace {
 
@@ -256,6 +257,7 @@ BENCHMARK(BM_EstimatorSoak)->Iterations(1)->Unit(benchmark::kSecond);
 }  // namespace
 
 int main(int argc, char** argv) {
+  omnisfm::sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
   std::vector<char*> args;
   for (int i = 0; i < argc; ++i) {
     const auto value = [&](const char* prefix) -> const char* {

@@ -37,7 +37,9 @@ function(omnisfm_add_test name)
     DISCOVERY_TIMEOUT 60)
   # Lists (two labels, several variables) do not survive gtest_discover_tests' PROPERTIES, so
   # they are set by a file CTest reads after the discovered tests.
-  set(environment "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" ${OMNISFM_SANITIZER_ENVIRONMENT})
+  # OpenBLAS on one thread, as the programs set it (omnisfm::sfm::use_one_blas_thread).
+  set(environment "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" "OPENBLAS_NUM_THREADS=1"
+      ${OMNISFM_SANITIZER_ENVIRONMENT})
   set(properties_file "${CMAKE_CURRENT_BINARY_DIR}/${name}_properties.cmake")
   file(WRITE "${properties_file}"
        "if(${name}_tests)\n"

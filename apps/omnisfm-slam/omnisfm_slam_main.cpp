@@ -9,6 +9,7 @@
 //   omnisfm-slam DATASET.rawlog --out DIR [--config omnisfm.ini] [--scene-every N] [--live]
 
 #include <CLI/CLI.hpp>
+#include <glog/logging.h>
 #include <mrpt/gui/CDisplayWindow3D.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -38,6 +39,7 @@
 #include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
 #include "omnisfm/mrpt_plugin/rawlog_input.h"
 #include "omnisfm/mrpt_plugin/scene.h"
+#include "omnisfm/sfm/blas_threads.h"
 
 namespace {
 
@@ -95,6 +97,10 @@ int main(int argc, char** argv) {
   app.add_option("--screenshot", screenshot,
                  "With --live: save the window's last image as this PNG file");
   CLI11_PARSE(app, argc, argv);
+  // The process's settings are the application's: Ceres' warnings off (the estimator reports what
+  // it did), and OpenBLAS on one thread for the filter's small matrices.
+  FLAGS_minloglevel = google::GLOG_ERROR;
+  omnisfm::sfm::use_one_blas_thread();
 
   try {
     omnisfm::mrpt_plugin::OmniSfmEstimatorOptions options;

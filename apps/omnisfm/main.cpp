@@ -1,12 +1,15 @@
 // omnisfm VERB [options]: exit status 0 on success, 2 on bad usage or bad input, 1 otherwise.
 
 #include <CLI/CLI.hpp>
+#include <glog/logging.h>
+
 #include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
 
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/sfm/blas_threads.h"
 #include "verbs.h"
 
 int main(int argc, char** argv) {
@@ -15,6 +18,10 @@ int main(int argc, char** argv) {
   // omnisfm's message about the same image or video; the verbs report what OpenCV could not do.
   ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);  // AV_LOG_QUIET, unless the user set another
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  // Ceres' warnings (a trial step that leaves the mirror is an ordinary rejected step) are not
+  // news for the user: the verbs report what the solvers did.
+  FLAGS_minloglevel = google::GLOG_ERROR;
+  omnisfm::sfm::use_one_blas_thread();
   CLI::App app{"Shape-from-motion with catadioptric (mirror + camera) omnidirectional cameras",
                "omnisfm"};
   app.set_version_flag("--version", OMNISFM_VERSION);

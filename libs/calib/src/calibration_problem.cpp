@@ -1,12 +1,12 @@
 #include "omnisfm/calib/calibration_problem.h"
 
 #include <ceres/ceres.h>
-#include <glog/logging.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 #include "pose_jacobian.h"
 
@@ -135,8 +135,6 @@ std::vector<bool> estimate_mask(const camera::CatadioptricCamera& camera,
 
 CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<CalibrationView>* views,
                             const CalibrationSettings& settings) {
-  // A trial step that leaves the mirror is an ordinary rejected step, not news for the user.
-  FLAGS_minloglevel = std::max(FLAGS_minloglevel, google::GLOG_ERROR);
   const int n = camera->num_params();
   if (static_cast<int>(settings.estimate.size()) != n)
     throw std::invalid_argument("calibrate: the estimate mask does not match the camera");
@@ -202,7 +200,9 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
     options.function_tolerance = 1e-12;
     options.parameter_tolerance = 1e-12;
     options.gradient_tolerance = 1e-12;
-    options.num_threads = 2;
+    options.num_threads = settings.threads > 0
+                              ? settings.threads
+                              : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     options.logging_type = ceres::SILENT;
     ProgressCallback progress(settings.progress, used, report.iterations);
     if (settings.progress) options.callbacks.push_back(&progress);

@@ -1,6 +1,7 @@
 // The paper's calibration: the mirror-to-camera transform and the camera's poses from images of
 // surveyed targets, starting from the nominal aligned design with no pose guess.
 
+#include <glog/logging.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -60,6 +61,16 @@ TEST(TargetCalibration, RecoversTheMirrorTransformFromTheNominalDesign) {
   EXPECT_NEAR(c.report.rms_px, 0.1, 0.02);
   EXPECT_EQ(c.report.estimated_names.size(), 5u);
   ASSERT_EQ(c.report.covariance.rows(), 5);
+}
+
+// glog's level is the program's: the calibration leaves it as it found it.
+TEST(TargetCalibration, LeavesGlogAsTheProgramSetIt) {
+  const int program_level = FLAGS_minloglevel;
+  FLAGS_minloglevel = google::GLOG_INFO;
+  const LabCalibration c = calibrate_lab(2, 0.1);
+  EXPECT_EQ(FLAGS_minloglevel, google::GLOG_INFO);
+  FLAGS_minloglevel = program_level;
+  EXPECT_TRUE(c.report.converged) << c.report.message;
 }
 
 TEST(TargetCalibration, ReportedSigmasMatchTheSpreadOfTheErrors) {

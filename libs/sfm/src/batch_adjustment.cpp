@@ -2,7 +2,6 @@
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
-#include <glog/logging.h>
 
 #include <algorithm>
 #include <chrono>
@@ -66,12 +65,23 @@ double reduced_system_fill(const std::vector<io::TrackObservation>& observations
   return pairs / (0.5 * frames * (frames + 1.0));
 }
 
+// Problems under this many residuals run on one thread: starting and joining threads for each of
+// Ceres' steps costs more than the threads save.
+constexpr int kSmallProblemResiduals = 5000;
+
+// The threads BatchSettings::threads asks for, for a problem of `residuals` residuals.
+int solver_threads(int requested, std::size_t residuals) {
+  if (requested > 0) return requested;
+  if (residuals < kSmallProblemResiduals) return 1;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 // Which observations project from the start (the others are left out of the problem): a
-// projection each, on two threads.
+// projection each, on two threads when there are threads to spare.
 std::vector<char> projectable(const camera::CatadioptricCamera& camera,
                               const std::vector<io::TrackObservation>& observations,
                               const std::vector<PoseVector>& poses,
-                              const std::map<int, Eigen::Vector3d>& points) {
+                              const std::map<int, Eigen::Vector3d>& points, int threads) {
   std::vector<char> ok(observations.size(), 0);
   const auto check = [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
@@ -84,6 +94,10 @@ std::vector<char> projectable(const camera::CatadioptricCamera& camera,
                                   residual, nullptr, nullptr, nullptr);
     }
   };
+  if (threads < 2) {
+    check(0, observations.size());
+    return ok;
+  }
   const size_t half = observations.size() / 2;
   std::thread helper(check, 0, half);
   check(half, observations.size());
@@ -278,7 +292,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::map<int, Eigen::Vector3d>& start_points,
                          const BatchSettings& settings, ExtraTerms* extra) {
   const auto started = std::chrono::steady_clock::now();
-  FLAGS_minloglevel = std::max(FLAGS_minloglevel, google::GLOG_ERROR);
   BatchResult result;
   std::vector<PoseVector> poses;
   for (const auto& T : cam_from_world) poses.push_back(to_vector(T));
@@ -294,7 +307,8 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   }
 
   const camera::CatadioptricCamera optimised = batch_camera(camera);
-  const std::vector<char> ok = projectable(optimised, observations, poses, points);
+  const int threads = solver_threads(settings.threads, 2 * observations.size());
+  const std::vector<char> ok = projectable(optimised, observations, poses, points, threads);
   std::vector<io::TrackObservation> used_observations;
   for (size_t i = 0; i < observations.size(); ++i)
     if (ok[i]) used_observations.push_back(observations[i]);
@@ -344,7 +358,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   // damps the weakly observed scale so hard that it takes a dozen iterations to release it.
   options.initial_trust_region_radius = 1e7;
   options.max_num_iterations = settings.max_iterations;
-  options.num_threads = 2;
+  options.num_threads = threads;
   options.logging_type = ceres::SILENT;
   // Converged when a step lowers chi-square by less than 0.01, i.e. moves the estimate by less
   // than a tenth of its standard deviation (the pixel variance taken from the cost). A fixed
@@ -447,7 +461,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     // Sparse QR: the gauge is fixed by the first pose (and the scale, when held, by a coordinate
     // of a far one), so the problem is of full rank.
     covariance_options.algorithm_type = ceres::SPARSE_QR;
-    covariance_options.num_threads = 2;
+    covariance_options.num_threads = threads;
     ceres::Covariance covariance(covariance_options);
     std::vector<std::pair<const double*, const double*>> blocks;
     const auto variable = [&](const PoseVector& v) {

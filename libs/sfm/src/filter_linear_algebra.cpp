@@ -3,8 +3,6 @@
 #include <Eigen/LU>
 #include <cmath>
 
-#include <dlfcn.h>
-
 #include <algorithm>
 #include <cstdlib>
 
@@ -22,21 +20,6 @@ void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, con
 
 namespace omnisfm::sfm {
 namespace {
-
-// OpenBLAS's threads spin while they wait: for matrices of a few hundred rows they gain little,
-// and when the other cores are busy (Ceres' threads, another process) a frame takes several
-// times longer. One thread, unless the user chose otherwise; other BLAS libraries are left as
-// they are.
-void use_one_blas_thread() {
-  static const bool done = [] {
-    if (std::getenv("OPENBLAS_NUM_THREADS") || std::getenv("OMP_NUM_THREADS")) return false;
-    using SetThreads = void (*)(int);
-    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
-      set(1);
-    return true;
-  }();
-  (void)done;
-}
 
 // B := B L^-T for B (rows x cols, leading dimension ldb) and L lower triangular (cols x cols).
 // Split L = [L11 0; L21 L22]: B1 := B1 L11^-T, then B2 := (B2 - B1 L21^T) L22^-T. Most of the
@@ -75,7 +58,6 @@ void mirror_lower(Eigen::MatrixXd* P) {
 void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A, bool transpose_A,
               const Eigen::Ref<const Eigen::MatrixXd>& B, bool transpose_B,
               Eigen::Ref<Eigen::MatrixXd> C) {
-  use_one_blas_thread();
   const int m = static_cast<int>(C.rows()), n = static_cast<int>(C.cols());
   const int k = static_cast<int>(transpose_A ? A.rows() : A.cols());
   if (m == 0 || n == 0) return;
@@ -87,7 +69,6 @@ void multiply(const Eigen::Ref<const Eigen::MatrixXd>& A, bool transpose_A,
 }
 
 bool cholesky_lower_in_place(Eigen::MatrixXd* S) {
-  use_one_blas_thread();
   const int n = static_cast<int>(S->rows());
   if (n == 0) return true;
   int info = 0;
@@ -96,7 +77,6 @@ bool cholesky_lower_in_place(Eigen::MatrixXd* S) {
 }
 
 void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::MatrixXd& L) {
-  use_one_blas_thread();
   const int n = static_cast<int>(P->rows());
   const int m = static_cast<int>(L.rows());
   if (m == 0 || n == 0) return;

@@ -1,15 +1,22 @@
 // The filter's covariance downdate against the textbook P - PHt S^-1 PHt^T, at sizes that take
 // the direct triangular solve, its split into halves, and uneven splits; the products with H's
-// point blocks against dense ones.
+// point blocks against dense ones. The algebra leaves OpenBLAS's threads as the program set
+// them; use_one_blas_thread is the programs' to call.
 
 #include "../src/filter_linear_algebra.h"
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdlib>
+#include <optional>
 #include <random>
+#include <string>
+
+#include "omnisfm/sfm/blas_threads.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -120,6 +127,59 @@ TEST(FilterLinearAlgebra, PosteriorChi2MatchesTheResidualCovariance) {
 TEST(FilterLinearAlgebra, CholeskyRefusesAnIndefiniteMatrix) {
   Eigen::MatrixXd S = Eigen::Matrix2d{{1, 2}, {2, 1}};
   EXPECT_FALSE(cholesky_lower_in_place(&S));
+}
+
+// An environment variable set for the test's scope, restored after it.
+class ScopedEnvironment {
+ public:
+  ScopedEnvironment(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    if (value)
+      ::setenv(name, value, 1);
+    else
+      ::unsetenv(name);
+  }
+  ~ScopedEnvironment() {
+    if (old_)
+      ::setenv(name_, old_->c_str(), 1);
+    else
+      ::unsetenv(name_);
+  }
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
+TEST(BlasThreads, TheAlgebraLeavesThemAndTheProgramSetsThem) {
+  using GetThreads = int (*)();
+  using SetThreads = void (*)(int);
+  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (!get || !set) GTEST_SKIP() << "the BLAS is not OpenBLAS: no thread count to keep";
+  const int program_threads = get();
+  const ScopedEnvironment openblas("OPENBLAS_NUM_THREADS", nullptr);
+  const ScopedEnvironment omp("OMP_NUM_THREADS", nullptr);
+
+  set(2);
+  std::mt19937_64 rng(5);
+  const Eigen::MatrixXd P = random_covariance(96, rng);
+  const Eigen::MatrixXd H = Eigen::MatrixXd::Random(60, 96);
+  Eigen::MatrixXd L = H * P * H.transpose() + Eigen::MatrixXd::Identity(60, 60);
+  ASSERT_TRUE(cholesky_lower_in_place(&L));
+  Eigen::MatrixXd P_downdated = P, PHt = P * H.transpose();
+  downdate_covariance(&P_downdated, &PHt, L);
+  EXPECT_EQ(get(), 2);
+
+  EXPECT_TRUE(use_one_blas_thread());
+  EXPECT_EQ(get(), 1);
+  {
+    const ScopedEnvironment chosen("OPENBLAS_NUM_THREADS", "2");
+    set(2);
+    EXPECT_FALSE(use_one_blas_thread());
+    EXPECT_EQ(get(), 2);
+  }
+  set(program_threads);
 }
 
 }  // namespace

@@ -39,6 +39,8 @@ struct CalibrationSettings {
   // Called after every solver iteration with the iteration count and the RMS residual (pixels
   // per coordinate) so far; may be empty.
   std::function<void(int iteration, double rms_px)> progress;
+  // Threads for the solver; 0 for one per core.
+  int threads = 0;
 };
 
 struct ObservationResidual {

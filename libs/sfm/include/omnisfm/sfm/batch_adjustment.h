@@ -48,6 +48,8 @@ struct BatchSettings {
   // The largest relative standard deviation of the images' scale that is kept free; infinity
   // keeps every scale free (the batch as it was, for studies of the rule).
   double max_free_scale_sigma = kMaxFreeScaleSigma;
+  // Threads for the solver and the covariances; 0 for one per core (one for a small problem).
+  int threads = 0;
 };
 
 // Where the batch's scale comes from.

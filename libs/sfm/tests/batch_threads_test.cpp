@@ -1,0 +1,61 @@
+// The batch leaves the process alone: it runs on the threads its settings give, with the answer
+// of one thread on two, and leaves glog's level as the program set it.
+
+#include <glog/logging.h>
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "omnisfm/sfm/batch_adjustment.h"
+#include "omnisfm/sim/endless_drive.h"
+#include "omnisfm/sim/track_simulator.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+TEST(BatchThreads, TakenFromTheSettingsWithTheSameAnswerAndGlogLeftAlone) {
+  const sim::Dataset drive = sim::long_drive(80, 0.2, 3);
+  std::mt19937_64 rng(4);
+  std::vector<Eigen::Isometry3d> start;
+  for (size_t f = 0; f < drive.world_from_cam.size(); ++f) {
+    Eigen::Isometry3d cam_from_world = drive.world_from_cam[f].inverse();
+    if (f > 0)
+      cam_from_world.translation() += 0.01 * Eigen::Vector3d(sim::standard_normal(rng),
+                                                             sim::standard_normal(rng),
+                                                             sim::standard_normal(rng));
+    start.push_back(cam_from_world);
+  }
+  std::map<int, Eigen::Vector3d> start_points;
+  for (size_t t = 0; t < drive.track_points.size(); ++t)
+    start_points[static_cast<int>(t)] = drive.track_points[t];
+
+  const int program_level = FLAGS_minloglevel;
+  FLAGS_minloglevel = google::GLOG_INFO;
+  BatchSettings settings;
+  settings.threads = 1;
+  const BatchResult one = batch_adjust(drive.camera, drive.observations, start, start_points,
+                                       settings);
+  settings.threads = 2;
+  const BatchResult two = batch_adjust(drive.camera, drive.observations, start, start_points,
+                                       settings);
+  EXPECT_EQ(FLAGS_minloglevel, google::GLOG_INFO);
+  FLAGS_minloglevel = program_level;
+
+  ASSERT_TRUE(one.converged) << one.message;
+  ASSERT_TRUE(two.converged) << two.message;
+  // Threads change only the order of Ceres' sums: the same minimum, to rounding.
+  EXPECT_NEAR(one.final_rms_px, two.final_rms_px, 1e-9 * one.final_rms_px);
+  ASSERT_EQ(one.cam_from_world.size(), two.cam_from_world.size());
+  for (size_t f = 0; f < one.cam_from_world.size(); ++f)
+    EXPECT_LT((one.cam_from_world[f].translation() - two.cam_from_world[f].translation()).norm(),
+              1e-7)
+        << "frame " << f;
+  ASSERT_EQ(one.pose_covariances.size(), two.pose_covariances.size());
+  for (size_t f = 0; f < one.pose_covariances.size(); ++f)
+    EXPECT_LT((one.pose_covariances[f] - two.pose_covariances[f]).norm(),
+              1e-6 * one.pose_covariances[f].norm() + 1e-15)
+        << "frame " << f;
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
