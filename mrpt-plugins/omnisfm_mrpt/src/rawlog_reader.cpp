@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <optional>
 #include <regex>
+#include <sstream>
 
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
@@ -91,7 +92,8 @@ std::string corruption_of(const std::string& mrpt_message, const std::string& ob
   if (says("while parsing old streaming header") || says("Class name has more than"))
     return "it does not begin as an MRPT object does";
   if (says("Stored class does not match")) return "it holds another class than its place expects";
-  if (says("bad_alloc") || says("max_size") || says("bad_array_new_length"))
+  if (says("bad_alloc") || says("max_size") || says("bad_array_new_length") ||
+      says("Insufficient memory"))
     return "a length stored in it is far beyond what the file holds";
   if (says("Assert condition failed") || says("ASSERT_"))
     return "a value stored in it is out of its range";
@@ -171,9 +173,14 @@ std::string mrpt_error_reason(const std::string& what) {
   static const std::regex message(R"(Message:\s+([^\n]*))");
   std::smatch match;
   if (std::regex_search(inner, match, message)) return match[1].str();
-  const std::size_t first = inner.find_first_not_of(" \n");
-  return first == std::string::npos ? what.substr(0, what.find('\n'))
-                                    : inner.substr(first, inner.find('\n', first) - first);
+  // Otherwise the first line that is not MRPT's "==== MRPT exception ====" banner (an OpenCV
+  // error, say, which MRPT passes on as it is).
+  std::istringstream lines(inner);
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line[first] != '=') return line.substr(first);
+  }
+  return what.substr(0, what.find('\n'));
 }
 
 std::string describe_damage(std::size_t index, const std::string& object_class,

@@ -165,6 +165,25 @@ TEST_F(DamagedRawlog, NonFiniteReadingIsDamage) {
       << reader.problem();
 }
 
+// Found by fuzzing: an image whose stored size needs 10^19 bytes. OpenCV cannot allocate it,
+// and says so through MRPT; the reader names the object and what is wrong.
+TEST_F(DamagedRawlog, AnImageSizeBeyondMemoryIsALengthBeyondTheFile) {
+  const Bytes bytes =
+      testing::read_file(std::string(OMNISFM_MRPT_TEST_DATA) + "/image_size_beyond_memory.rawlog");
+  expect_damage(bytes, 3,
+                "object 3 (omnisfm::mrpt_plugin::CObservationOmniImage): it is corrupt: a length "
+                "stored in it is far beyond what the file holds");
+}
+
+TEST(RawlogReader, ErrorReasonSkipsMrptsBanner) {
+  EXPECT_EQ(mrpt_error_reason("==== MRPT exception ====\nMessage:  outer\nOriginal exception:\n"
+                              "==== MRPT exception ====\nOpenCV(4.6.0) alloc.cpp:73: error: "
+                              "(-4:Insufficient memory) Failed to allocate 9 bytes\nCall stack"),
+            "OpenCV(4.6.0) alloc.cpp:73: error: (-4:Insufficient memory) Failed to allocate 9 bytes");
+  EXPECT_EQ(mrpt_error_reason("==== MRPT exception ====\nMessage:  inner text\nmore"), "inner text");
+  EXPECT_EQ(mrpt_error_reason("plain"), "plain");
+}
+
 TEST_F(DamagedRawlog, UnregisteredClassSaysWhichLibraryToLoad) {
   const std::string problem = expect_damage(
       patched(2, "CObservationTrackedFeatures", "CObservationFutureFeatures2"), 2,
