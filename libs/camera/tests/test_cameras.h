@@ -2,6 +2,8 @@
 // Cameras that every test of the catadioptric model runs on: each mirror profile with each inner
 // camera it is used with, aligned and misaligned.
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>

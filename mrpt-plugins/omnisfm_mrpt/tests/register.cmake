@@ -34,6 +34,14 @@ target_include_directories(omnisfm_mrpt_consistency_tests PRIVATE ${CMAKE_CURREN
 target_compile_definitions(omnisfm_mrpt_tests PRIVATE
   OMNISFM_MRPT_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/tests/data")
 
+# The reference rawlog of the classes' current versions, for a class's next version to commit as
+# tests/data/versionN.rawlog (legacy_rawlog_objects.h); a tool, not a test.
+add_executable(write_legacy_rawlog tests/write_legacy_rawlog.cpp)
+target_link_libraries(write_legacy_rawlog PRIVATE omnisfm::mrpt_plugin omnisfm::sim mrpt::obs
+                      mrpt::io mrpt::serialization GTest::gtest)
+target_include_directories(write_legacy_rawlog PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests)
+omnisfm_warnings(write_legacy_rawlog)
+
 # A stock MRPT app the tests run (Debian: mrpt-apps), found as VARIABLE.
 function(omnisfm_find_mrpt_app variable app)
   find_program(${variable} ${app})
