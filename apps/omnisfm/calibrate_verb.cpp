@@ -39,6 +39,7 @@ struct CalibrateOptions {
   int object_width_n = 0, object_height_n = 0;
   std::string estimate = "mirror-pose";
   int holdout = 0;
+  int cross_validate = 0;
   double outlier_sigma = 4;
   double uncertainty_distance = 1;
 };
@@ -147,23 +148,27 @@ void run_calibrate(const CalibrateOptions& o) {
   // Held-out views leave the calibration now and come back to be measured against it.
   std::vector<calib::CalibrationView> held;
   if (o.holdout > 0) {
-    std::vector<int> chosen;
+    calib::ViewPartition partition;
     try {
-      chosen = calib::spread_views(static_cast<int>(inputs.views.size()), o.holdout);
+      partition = calib::hold_out_views(inputs.views, o.holdout);
     } catch (const std::invalid_argument& e) {
       throw CLI::ValidationError("--holdout", e.what());
     }
-    std::vector<calib::CalibrationView> kept;
-    for (int v = 0; v < static_cast<int>(inputs.views.size()); ++v) {
-      const bool is_held = std::find(chosen.begin(), chosen.end(), v) != chosen.end();
-      (is_held ? held : kept).push_back(inputs.views[v]);
-    }
-    inputs.views = std::move(kept);
+    inputs.views = std::move(partition.kept);
+    held = std::move(partition.held);
     std::string names;
     for (const auto& view : held) names += (names.empty() ? "" : ", ") + view.name;
     inputs.description.push_back("held out: " + names);
   }
 
+  const int num_views = static_cast<int>(inputs.views.size());
+  if (o.cross_validate > num_views)
+    throw CLI::ValidationError("--cross-validate", "cannot make " +
+                                                       std::to_string(o.cross_validate) +
+                                                       " folds of " + std::to_string(num_views) +
+                                                       " views");
+  const camera::CatadioptricCamera start = camera;
+  const std::vector<calib::CalibrationView> all_views = inputs.views;
   calib::StagedSettings settings;
   settings.groups = comma_separated(o.estimate);
   settings.outlier_threshold_sigma = o.outlier_sigma;
@@ -204,6 +209,27 @@ void run_calibrate(const CalibrateOptions& o) {
     }
     outcome.held_out = &held_out;
   }
+  // Each fold calibrates from the same start as the camera written; progress a line per fold.
+  calib::CrossValidation cross_validation;
+  if (o.cross_validate > 0) {
+    calib::StagedSettings fold_settings = settings;
+    fold_settings.progress = nullptr;
+    const bool show = static_cast<bool>(settings.progress);
+    try {
+      cross_validation = calib::cross_validate(start, all_views, fold_settings, o.cross_validate,
+                                               [&](int fold) {
+                                                 if (show)
+                                                   std::cerr << "\rcross-validation: fold "
+                                                             << fold + 1 << " of "
+                                                             << o.cross_validate << std::flush;
+                                               });
+    } catch (const std::invalid_argument& e) {
+      if (show) std::cerr << "\n";
+      throw io::InputError(inputs.observations_file, 0, std::string("cross-validation: ") + e.what());
+    }
+    if (show) std::cerr << "\n";
+    outcome.cross_validation = &cross_validation;
+  }
   const int step = std::max(4, std::max(camera.image_width(), camera.image_height()) / 96);
   const calib::UncertaintyMap uncertainty = calib::projection_uncertainty(
       camera, report.estimated, inputs.views, final.joint_covariance, o.uncertainty_distance,
@@ -224,6 +250,13 @@ void run_calibrate(const CalibrateOptions& o) {
   if (outcome.held_out) {
     std::cerr << "; held-out RMS " << held_out.rms_px << " px over " << held_out.num_observations
               << " observations";
+  }
+  if (outcome.cross_validation) {
+    std::cerr << "; " << o.cross_validate << "-fold cross-validation: pooled held-out RMS "
+              << cross_validation.pooled_rms_px << " px over " << cross_validation.num_observations
+              << " observations";
+    if (cross_validation.folds_not_converged > 0)
+      std::cerr << " (" << cross_validation.folds_not_converged << " folds did not converge)";
   }
   std::cerr << "; report in " << folder << "\n";
   if (!note.empty()) std::cerr << "omnisfm: warning: " << note << "\n";
@@ -268,10 +301,17 @@ void add_calibrate_verb(CLI::App& app) {
         return comma_separated(text).empty() ? std::string("no parameter group given")
                                              : std::string();
       });
-  verb->add_option("--holdout", o->holdout,
+  auto* holdout = verb->add_option("--holdout", o->holdout,
                    "Leave this many views (spread evenly) out, and report their RMS against the "
                    "calibration")
       ->check(whole_number_between(0));
+  auto* cross_validate =
+      verb->add_option("--cross-validate", o->cross_validate,
+                       "Also cross-validate in K folds: fold f leaves out every K-th view from "
+                       "the f-th, calibrates the rest from the same start, and measures the views "
+                       "left out; the pooled held-out RMS is printed and in report.txt")
+          ->check(whole_number_between(2));
+  cross_validate->excludes(holdout);
   verb->add_option("--outlier-sigma", o->outlier_sigma,
                    "Reject a residual coordinate beyond this many residual sigmas")
       ->capture_default_str()

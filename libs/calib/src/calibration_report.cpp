@@ -241,6 +241,28 @@ std::string report_text(const CalibrationOutcome& outcome) {
     out << "\n";
   }
 
+  if (outcome.cross_validation) {
+    const CrossValidation& cv = *outcome.cross_validation;
+    out << "\ncross-validation, " << cv.folds.size()
+        << " folds (fold f holds out every " << cv.folds.size()
+        << "-th view from the f-th; the others calibrated from the same start):\n";
+    for (std::size_t f = 0; f < cv.folds.size(); ++f) {
+      const CrossValidationFold& fold = cv.folds[f];
+      out << "  fold " << f + 1 << ": calibration RMS " << fixed(fold.calibration.final.rms_px, 4)
+          << " px";
+      if (fold.calibration.final.converged)
+        out << ", held-out RMS " << fixed(fold.held.rms_px, 4) << " px over "
+            << fold.held.num_observations << " observations of " << fold.held.views.size()
+            << " views\n";
+      else
+        out << ", did not converge: " << fold.calibration.final.message << "\n";
+    }
+    out << "  pooled held-out RMS per coordinate over " << cv.num_observations
+        << " observations: " << fixed(cv.pooled_rms_px, 4) << " px";
+    if (cv.num_unprojectable > 0) out << " (" << cv.num_unprojectable << " had no valid reflection)";
+    out << "\n";
+  }
+
   const auto summarize = [&out](const UncertaintyMap& map, const std::string& what) {
     std::vector<double> sigmas;
     for (double s : map.sigma_px) {

@@ -1,5 +1,6 @@
 #include "omnisfm/calib/cross_validation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -49,6 +50,48 @@ HeldOutResult evaluate_held_out(const camera::CatadioptricCamera& camera,
   }
   result.rms_px = std::sqrt(total2 / std::max(1, 2 * result.num_observations));
   result.residuals = report.residuals;
+  return result;
+}
+
+ViewPartition hold_out_views(const std::vector<CalibrationView>& views, int k) {
+  const std::vector<int> chosen = spread_views(static_cast<int>(views.size()), k);
+  ViewPartition partition;
+  for (int v = 0; v < static_cast<int>(views.size()); ++v) {
+    const bool held = std::find(chosen.begin(), chosen.end(), v) != chosen.end();
+    (held ? partition.held : partition.kept).push_back(views[v]);
+  }
+  return partition;
+}
+
+CrossValidation cross_validate(const camera::CatadioptricCamera& start,
+                               const std::vector<CalibrationView>& views,
+                               const StagedSettings& settings, int folds,
+                               const std::function<void(int fold)>& fold_done) {
+  const int n = static_cast<int>(views.size());
+  if (folds < 2 || folds > n)
+    throw std::invalid_argument("cannot cross-validate " + std::to_string(n) + " views in " +
+                                std::to_string(folds) + " folds: 2 to " + std::to_string(n));
+  CrossValidation result;
+  double total2 = 0;
+  for (int f = 0; f < folds; ++f) {
+    std::vector<CalibrationView> kept, held;
+    for (int v = 0; v < n; ++v) (v % folds == f ? held : kept).push_back(views[v]);
+    CrossValidationFold fold;
+    camera::CatadioptricCamera camera = start;
+    fold.calibration = calibrate_in_stages(&camera, &kept, settings);
+    if (fold.calibration.final.converged) {
+      fold.held = evaluate_held_out(camera, held);
+      for (const ObservationResidual& r : fold.held.residuals)
+        if (r.residual.allFinite()) total2 += r.residual.squaredNorm();
+      result.num_observations += fold.held.num_observations;
+      result.num_unprojectable += fold.held.num_unprojectable;
+    } else {
+      ++result.folds_not_converged;
+    }
+    result.folds.push_back(std::move(fold));
+    if (fold_done) fold_done(f);
+  }
+  result.pooled_rms_px = std::sqrt(total2 / std::max(1, 2 * result.num_observations));
   return result;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // What a calibration reports, mrcal-style, as a folder beside the calibrated camera file:
 //   report.txt       status, stages, RMS and worst residual, per-view RMS, outliers, parameters
-//                    with their 1-sigma, held-out views, projection uncertainty
+//                    with their 1-sigma, held-out views, cross-validation, projection
+//                    uncertainty
 //   residuals.vnl    `# view name point x y du dv outlier`: every observation, observed pixel
 //                    (x, y) and residual (du, dv) = projected - observed
 //   residuals.png    the residual vectors drawn over the image (y down), scaled, the scale stated
@@ -26,6 +27,7 @@ struct CalibrationOutcome {
   const StagedReport* report = nullptr;
   const std::vector<CalibrationView>* views = nullptr;  // with their solved poses
   const HeldOutResult* held_out = nullptr;              // may be null
+  const CrossValidation* cross_validation = nullptr;    // may be null
   const UncertaintyMap* uncertainty = nullptr;          // may be null; the one plotted
   const UncertaintyMap* uncertainty_camera_frame = nullptr;  // may be null; in the text only
   double outlier_threshold_sigma = 4;                   // as the calibration used it

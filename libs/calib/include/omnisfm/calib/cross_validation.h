@@ -2,12 +2,15 @@
 // Cross-validation: views left out of a calibration, then measured against it. The held-out
 // views' poses are solved with the calibrated camera fixed (from initial_pose(), then refined), and
 // their residuals counted in full, with no outlier rejection, so that a model with too many
-// parameters cannot look better than it is.
+// parameters cannot look better than it is. K-fold cross-validation, as mrcal users compare
+// models, holds out every view once.
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "omnisfm/calib/calibration_problem.h"
+#include "omnisfm/calib/staged_calibration.h"
 
 namespace omnisfm::calib {
 
@@ -27,5 +30,34 @@ struct HeldOutResult {
 // Throws std::invalid_argument naming a view whose pose cannot be initialised.
 HeldOutResult evaluate_held_out(const camera::CatadioptricCamera& camera,
                                 std::vector<CalibrationView> views);
+
+// The views a calibration uses and those it leaves out: spread_views(views.size(), k), in order.
+struct ViewPartition {
+  std::vector<CalibrationView> kept, held;
+};
+ViewPartition hold_out_views(const std::vector<CalibrationView>& views, int k);
+
+struct CrossValidationFold {
+  StagedReport calibration;  // of the views kept
+  HeldOutResult held;        // empty when the calibration did not converge
+};
+
+struct CrossValidation {
+  std::vector<CrossValidationFold> folds;
+  // Per coordinate, over every held-out observation of the folds whose calibration converged.
+  double pooled_rms_px = 0;
+  int num_observations = 0;
+  int num_unprojectable = 0;
+  int folds_not_converged = 0;
+};
+
+// Fold f holds out the views v with v % folds == f (each fold spans the sequence), calibrates the
+// others from `start` as calibrate_in_stages() does with `settings`, and measures the views held
+// out against that camera. `fold_done(f)` is called after each fold, when given. Throws
+// std::invalid_argument unless 2 <= folds <= views.size(), or naming a view that cannot be posed.
+CrossValidation cross_validate(const camera::CatadioptricCamera& start,
+                               const std::vector<CalibrationView>& views,
+                               const StagedSettings& settings, int folds,
+                               const std::function<void(int fold)>& fold_done = {});
 
 }  // namespace omnisfm::calib
