@@ -1,8 +1,8 @@
 // The filter's published pose covariance against its actual errors (not a benchmark: one run,
 // one line), eval::rover_pose_consistency over the simulated rover's seeds.
-//   filter_nees [SEEDS=25] [WHEEL_SCALE_ERROR=0.015]
+//   filter_nees [SEEDS=25] [WHEEL_SCALE_ERROR=0.015] [ESTIMATE_WHEEL_SCALE=0]
 // WHEEL_SCALE_ERROR: how long the simulated wheel reads (the filter takes the calibration as
-// exact unless FilterSettings::estimate_wheel_scale).
+// exact unless ESTIMATE_WHEEL_SCALE is 1: FilterSettings::estimate_wheel_scale).
 
 #include <cstdio>
 #include <cstdlib>
@@ -14,8 +14,13 @@ int main(int argc, char** argv) {
   omnisfm::sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 25;
   const double wheel_error = argc > 2 ? std::atof(argv[2]) : 0.015;
-  const omnisfm::eval::PoseConsistency c = omnisfm::eval::rover_pose_consistency(seeds, wheel_error);
-  std::printf("rover seeds 1-%d, wheel reading %+.1f %%: mean NEES %.2f (6 when honest), %.1f %% "
+  omnisfm::sfm::FilterSettings settings;
+  settings.estimate_wheel_scale = argc > 3 && std::atoi(argv[3]) != 0;
+  const omnisfm::eval::PoseConsistency c =
+      omnisfm::eval::rover_pose_consistency(seeds, wheel_error, settings);
+  std::printf("rover seeds 1-%d, wheel reading %+.1f %%%s: mean NEES %.2f (6 when honest), %.1f %% "
               "of %ld frames inside the 95 %% bound\n",
-              seeds, 100 * wheel_error, c.mean_nees, 100 * c.inside, c.frames);
+              seeds, 100 * wheel_error,
+              settings.estimate_wheel_scale ? ", its scale estimated" : "", c.mean_nees,
+              100 * c.inside, c.frames);
 }

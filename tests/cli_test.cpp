@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -844,6 +846,28 @@ TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
   const auto tracks = omnisfm::io::read_tracks((dir_ / "tracked/tracks.vnl").string(), 512, 384);
   int first_frame = 0;
   for (const auto& o : tracks) first_frame += o.frame == 0;
+  // The summary counts what tracks.vnl holds: its track ids, observations, and its gaps as
+  // reacquisitions; the tracker's counts add up to them.
+  std::map<int, int> last_frame;
+  long gaps = 0;
+  for (const auto& o : tracks) {
+    const auto previous = last_frame.find(o.track);
+    gaps += previous != last_frame.end() && o.frame > previous->second + 1;
+    last_frame[o.track] = o.frame;
+  }
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      run.out, m,
+      std::regex(R"(tracks (\d+) \((\d+) started, (\d+) seen in one frame only and left out\), )"
+                 R"(observations (\d+), reacquired (\d+) \((\d+) after a gap in their track, )"
+                 R"((\d+) in the frame that lost them\))")))
+      << run.out;
+  const auto n = [&](int i) { return std::stol(m[i].str()); };
+  EXPECT_EQ(n(1), static_cast<long>(last_frame.size()));
+  EXPECT_EQ(n(2) - n(3), n(1));
+  EXPECT_EQ(n(4), static_cast<long>(tracks.size()));
+  EXPECT_EQ(n(6), gaps);
+  EXPECT_EQ(n(5), n(6) + n(7));
   // 112 tracks alive; a few lost at once leave tracks.vnl, which holds no single observations.
   EXPECT_GE(first_frame, 105);
   EXPECT_LE(first_frame, 112);

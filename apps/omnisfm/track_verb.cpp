@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "omnisfm/io/input_error.h"
@@ -152,14 +153,19 @@ void add_track_verb(CLI::App& app) {
       finish_stdout();
       return;
     }
+    // Counts of what tracks.vnl holds, and how the tracker's own counts come to them.
     const auto& s = result.statistics;
+    std::set<int> ids;
+    for (const auto& observation : result.observations) ids.insert(observation.track);
     std::printf(
-        "frames %zu, tracks %d, observations %zu, reacquired %d; ended: %d failed the "
-        "forward-backward check, %d the appearance check, %d changed shape too much, %d left "
-        "the mirror, %d duplicates; %.1f ms per frame\n",
-        result.frames.size(), s.started, result.observations.size(), s.reacquired,
-        s.forward_backward + s.lost, s.appearance, s.reshaped, s.left_region, s.duplicate,
-        1000 * result.tracking_seconds / result.frames.size());
+        "frames %zu, tracks %zu (%d started, %d seen in one frame only and left out), "
+        "observations %zu, reacquired %d (%d after a gap in their track, %d in the frame that "
+        "lost them); ended: %d failed the forward-backward check, %d the appearance check, %d "
+        "changed shape too much, %d left the mirror, %d duplicates; %.1f ms per frame\n",
+        result.frames.size(), ids.size(), s.started, result.single_frame_tracks,
+        result.observations.size(), s.reacquired, s.reacquired - s.reacquired_at_once,
+        s.reacquired_at_once, s.forward_backward + s.lost, s.appearance, s.reshaped,
+        s.left_region, s.duplicate, 1000 * result.tracking_seconds / result.frames.size());
     finish_stdout();
   });
 }

@@ -366,6 +366,7 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
     t.position = here.warp.b;
     t.warp = here.warp;
     t.ncc = here.ncc;
+    if (frame_ - t.last_frame == 1) ++statistics_.reacquired_at_once;
     t.last_frame = frame_;
     t.recent.assign(1, t.position);
     t.velocity = Eigen::Vector2d::Zero();

@@ -35,6 +35,8 @@ struct TrackerStatistics {
   int frames = 0;
   int started = 0;
   int reacquired = 0;
+  // Of those, found again in the frame that lost them: their tracks show no gap.
+  int reacquired_at_once = 0;
   int lost = 0;              // Lucas-Kanade found nothing
   int forward_backward = 0;  // failed the forward-backward check
   int appearance = 0;        // failed the appearance check

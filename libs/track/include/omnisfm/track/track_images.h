@@ -26,6 +26,7 @@ struct TrackedSequence {
   // Sorted by frame, then track; tracks seen in a single frame are left out (nothing to
   // triangulate, and tracks.vnl does not allow them).
   std::vector<io::TrackObservation> observations;
+  int single_frame_tracks = 0;  // started, seen in one frame only, and left out
   std::vector<TrackedFrame> frames;
   TrackerStatistics statistics;
   double tracking_seconds = 0;  // in FeatureTracker::track, decoding and set-up excluded
