@@ -114,14 +114,6 @@ std::function<void(const std::string&, int, double)> terminal_progress() {
   };
 }
 
-void check_writable_folder_of(const std::string& path) {
-  const fs::path parent = fs::absolute(path).lexically_normal().parent_path();
-  if (!fs::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0) {
-    throw io::InputError(path, 0, "cannot write here: " + parent.string() +
-                                      " is not a writable folder");
-  }
-}
-
 std::string report_folder_for(const std::string& camera_file) {
   fs::path path(camera_file);
   return (path.parent_path() / (path.stem().string() + ".report")).string();
@@ -139,7 +131,7 @@ std::string write_report(const std::string& folder, const calib::CalibrationOutc
 
 void run_calibrate(const CalibrateOptions& o) {
   camera::CatadioptricCamera camera = load_camera(o.camera);
-  check_writable_folder_of(o.out);
+  require_writable_folder_of(o.out);
   Inputs inputs = read_inputs(o);
   if (inputs.views.empty()) {
     throw io::InputError(inputs.observations_file, 0, "no observations to calibrate from");

@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,12 +25,9 @@ namespace {
 constexpr double kDefaultGridColumns = 128;
 
 void require_writable_file(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path parent = fs::absolute(path).lexically_normal().parent_path();
-  if (fs::is_directory(path)) throw io::InputError(path, 0, "cannot write here: it is a folder");
-  if (!fs::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0)
-    throw io::InputError(path, 0,
-                         "cannot write here: " + parent.string() + " is not a writable folder");
+  if (std::filesystem::is_directory(path))
+    throw io::InputError(path, 0, "cannot write here: it is a folder");
+  require_writable_folder_of(path);
 }
 
 // Reported numbers are measurements, not values to read back exactly: a few digits.

@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -85,11 +83,7 @@ void add_simulate_verb(CLI::App& app) {
         throw CLI::ValidationError("simulate", e.what());
       }
     }();
-    const std::filesystem::path parent =
-        std::filesystem::absolute(*out).lexically_normal().parent_path();
-    if (!std::filesystem::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0)
-      throw io::InputError(*out, 0, "cannot write here: " + parent.string() +
-                                        " is not a writable folder");
+    require_writable_folder_of(*out);
     TerminalProgress progress("rendered", "images");
     sim::FrameImageWriter write_image;
     std::unique_ptr<sim::Renderer> renderer;

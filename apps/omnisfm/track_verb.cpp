@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -66,10 +64,7 @@ void check_tracks_file(const std::string& given, const fs::path& out) {
   if (fs::is_directory(out))
     throw io::InputError(given, 0, "is a folder; give the tracks file's name");
   const fs::path folder = out.parent_path();
-  const fs::path existing = fs::exists(folder) ? folder : folder.parent_path();
-  if (!fs::is_directory(existing) || ::access(existing.c_str(), W_OK) != 0)
-    throw io::InputError(given, 0,
-                         "cannot write here: " + existing.string() + " is not a writable folder");
+  require_writable_folder(given, fs::exists(folder) ? folder : folder.parent_path());
 }
 
 // frames.vnl first: a complete tracks.vnl is the sign that both are written. A folder made for

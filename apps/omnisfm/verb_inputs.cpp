@@ -1,10 +1,13 @@
 #include "verb_inputs.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
 
 #include "omnisfm/io/camera_file.h"
+#include "omnisfm/io/input_error.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/io/shared_data.h"
 
@@ -61,6 +64,16 @@ CLI::Validator whole_number_between(int min, int max) {
     int value = 0;
     return io::parse_int(text, &value) && value >= min && value <= max;
   });
+}
+
+void require_writable_folder(const std::string& path, const std::filesystem::path& folder) {
+  if (!std::filesystem::is_directory(folder) || ::access(folder.c_str(), W_OK) != 0)
+    throw io::InputError(path, 0,
+                         "cannot write here: " + folder.string() + " is not a writable folder");
+}
+
+void require_writable_folder_of(const std::string& path) {
+  require_writable_folder(path, std::filesystem::absolute(path).lexically_normal().parent_path());
 }
 
 }  // namespace omnisfm::app

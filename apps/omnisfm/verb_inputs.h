@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <climits>
+#include <filesystem>
 #include <string>
 
 #include "omnisfm/camera/catadioptric_camera.h"
@@ -18,6 +19,12 @@ io::VnlogTable read_table_or_stdin(const std::string& path);
 
 // Flushes standard output; throws std::runtime_error when anything written was lost.
 void finish_stdout();
+
+// Throws io::InputError naming `path` ("cannot write here: FOLDER is not a writable folder")
+// unless `folder`, where `path` goes, is a folder this process may write in.
+void require_writable_folder(const std::string& path, const std::filesystem::path& folder);
+// The same for the folder that holds `path` (a file, or a folder to be made).
+void require_writable_folder_of(const std::string& path);
 
 // Option checks that say what is wanted as a person would (CLI11's ranges print their bounds with
 // six decimals, and the largest double in 309 digits): "must be a number from 0 to 1, not '2'".
