@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   const sim::Dataset d = sim::simulate(options);
   std::set<int> outliers;
   for (const auto& o : d.outliers) outliers.insert(o.track);
-  std::vector<io::TrackObservation> exact;
+  std::vector<core::TrackObservation> exact;
   for (const auto& o : d.observations)
     if (!outliers.count(o.track)) exact.push_back({o.frame, o.track, o.pixel});
   std::vector<Eigen::Isometry3d> truth;
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   sfm::BatchSettings settings;
   settings.covariances = false;
   for (int trial = 0; trial < trials; ++trial) {
-    std::vector<io::TrackObservation> noisy = exact;
+    std::vector<core::TrackObservation> noisy = exact;
     for (auto& o : noisy)
       o.pixel += noise * Eigen::Vector2d(sim::standard_normal(rng), sim::standard_normal(rng));
     const auto result = sfm::batch_adjust(d.camera, noisy, truth, points, settings);

@@ -21,6 +21,7 @@
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/sfm/blas_threads.h"
 
 namespace {
@@ -118,7 +119,7 @@ BENCHMARK(BM_FilterRoverSequence)->Unit(benchmark::kMillisecond);
 
 struct BatchInput {
   camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
-  std::vector<io::TrackObservation> tracks;
+  std::vector<core::TrackObservation> tracks;
   sfm::SfmResult start;
 };
 
@@ -272,11 +273,7 @@ struct RoverProblem {
 
   RoverProblem(const BatchInput& b, bool numeric) : points(b.start.online_points) {
     for (const auto& T : b.start.online_cam_from_world) {
-      Eigen::Matrix<double, 6, 1> v;
-      const Eigen::Matrix3d R = T.linear();
-      ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
-      v.tail<3>() = T.translation();
-      poses.push_back(v);
+      poses.push_back(omnisfm::core::pose_vector_of(T));
     }
     for (const auto& o : b.tracks) {
       auto p = points.find(o.track);

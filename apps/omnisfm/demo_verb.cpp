@@ -61,7 +61,7 @@ std::string step(const char* scenario, const char* what) {
 }
 
 sfm::SfmResult shape_from_motion(const sim::Dataset& d,
-                                 const std::vector<io::TrackObservation>& tracks,
+                                 const std::vector<core::TrackObservation>& tracks,
                                  const std::string& what) {
   sfm::SfmSettings settings;
   settings.batch.covariances = false;

@@ -106,7 +106,7 @@ bool write_residual_plots(const std::string& dir, int image_width, int image_hei
 }
 
 bool write_residual_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
-                          const std::vector<io::TrackObservation>& tracks,
+                          const std::vector<core::TrackObservation>& tracks,
                           const sfm::SfmResult& result, bool batch_ran) {
   std::set<int> outliers;
   for (const auto& o : result.outliers) outliers.insert(o.track);

@@ -20,7 +20,7 @@ bool write_residual_plots(const std::string& dir, int image_width, int image_hei
 // The same for a pipeline's result on `tracks`: the batch's estimate when it ran, else the
 // filter's; outlier tracks apart, where an estimate of their point exists.
 bool write_residual_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
-                          const std::vector<io::TrackObservation>& tracks,
+                          const std::vector<core::TrackObservation>& tracks,
                           const sfm::SfmResult& result, bool batch_ran);
 
 }  // namespace omnisfm::app

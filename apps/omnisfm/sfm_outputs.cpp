@@ -181,7 +181,7 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
 }
 
 void write_sfm_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
-                     const std::vector<io::TrackObservation>& tracks,
+                     const std::vector<core::TrackObservation>& tracks,
                      const sfm::SfmResult& result, bool batch_ran,
                      const TruthComparison& comparison) {
   const bool residuals_plotted = write_residual_plots(dir, camera, tracks, result, batch_ran);

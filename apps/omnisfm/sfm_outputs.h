@@ -52,7 +52,7 @@ std::string compare_written_online_with_truth(const std::string& dir,
 // The residual plots of `result` on `tracks`, and the trajectory plots of `comparison` when it
 // has any, into `dir`; says on stderr when gnuplot could not draw them.
 void write_sfm_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
-                     const std::vector<io::TrackObservation>& tracks,
+                     const std::vector<core::TrackObservation>& tracks,
                      const sfm::SfmResult& result, bool batch_ran,
                      const TruthComparison& comparison);
 

@@ -87,7 +87,7 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
     progress(f + 1, 0);
   };
   int frame = 0;
-  std::vector<io::TrackObservation> rows;
+  std::vector<core::TrackObservation> rows;
   std::vector<sfm::TrackPixel> pixels;
   while (stream.next_frame(&frame, &rows)) {
     if (next == 0 && (frame != 0 || rows.size() < 6))

@@ -35,7 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::expect_contract([&] {
     io::TrackStream stream(path, kWidth, kHeight);
     int frame = -1, previous = -1;
-    std::vector<io::TrackObservation> observations;
+    std::vector<core::TrackObservation> observations;
     while (stream.next_frame(&frame, &observations)) {
       fuzz::require(frame > previous, "streamed frames out of order");
       fuzz::require(!observations.empty(), "a streamed frame without rows");

@@ -146,7 +146,7 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
   std::vector<Eigen::Matrix<double, 6, 1>> poses;
   std::vector<Observation> observations;
   for (size_t v = 0; v < views->size(); ++v) {
-    poses.push_back(pose_to_vector((*views)[v].cam_from_object));
+    poses.push_back(core::pose_vector_of((*views)[v].cam_from_object));
     for (size_t i = 0; i < (*views)[v].points.size(); ++i)
       observations.push_back({static_cast<int>(v), static_cast<int>(i)});
   }
@@ -274,7 +274,7 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
   for (size_t v = 0; v < views->size(); ++v)
     report.view_rms_px[v] = std::sqrt(report.view_rms_px[v] / std::max(1, 2 * view_count[v]));
   report.residual_sigma_px = std::sqrt(sum2 / std::max(1, 2 * inliers - num_unknowns));
-  for (size_t v = 0; v < views->size(); ++v) (*views)[v].cam_from_object = vector_to_pose(poses[v].data());
+  for (size_t v = 0; v < views->size(); ++v) (*views)[v].cam_from_object = core::isometry_of(poses[v].data());
 
   // Covariance of the camera parameters, the poses marginalised: the camera block of
   // sigma^2 (J^T J)^-1 over all unknowns.

@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 
+#include "omnisfm/core/pose_vector.h"
+
 namespace omnisfm::calib {
 
 inline Eigen::Vector3d transform_point(const double* pose, const Eigen::Vector3d& X,
@@ -27,23 +29,6 @@ inline Eigen::Vector3d transform_point(const double* pose, const Eigen::Vector3d
     J_pose->row(r) = out[r].v.transpose();
   }
   return result;
-}
-
-inline Eigen::Matrix<double, 6, 1> pose_to_vector(const Eigen::Isometry3d& T) {
-  Eigen::Matrix<double, 6, 1> v;
-  const Eigen::Matrix3d R = T.linear();
-  ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
-  v.tail<3>() = T.translation();
-  return v;
-}
-
-inline Eigen::Isometry3d vector_to_pose(const double* v) {
-  Eigen::Matrix3d R;
-  ceres::AngleAxisToRotationMatrix(v, ceres::ColumnMajorAdapter3x3(R.data()));
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R;
-  T.translation() = Eigen::Map<const Eigen::Vector3d>(v + 3);
-  return T;
 }
 
 }  // namespace omnisfm::calib

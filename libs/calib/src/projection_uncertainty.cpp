@@ -74,7 +74,7 @@ bool projection_covariance(const camera::CatadioptricCamera& camera,
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_mean_poses(3, 6 * num_views);
   for (int v = 0; v < num_views; ++v) {
     const Eigen::Vector3d X_object = views[v].cam_from_object.inverse() * X_C;
-    const Eigen::Matrix<double, 6, 1> pose = pose_to_vector(views[v].cam_from_object);
+    const Eigen::Matrix<double, 6, 1> pose = core::pose_vector_of(views[v].cam_from_object);
     Eigen::Matrix<double, 3, 6> J_pose;
     mean += transform_point(pose.data(), X_object, &J_pose) / num_views;
     J_mean_poses.middleCols<6>(6 * v) = J_pose / num_views;

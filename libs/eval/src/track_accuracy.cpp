@@ -17,7 +17,7 @@ constexpr double kFarthestSurfaceM = 1e4;
 }  // namespace
 
 std::vector<double> track_errors(const sim::Dataset& dataset,
-                                 const std::vector<io::TrackObservation>& tracks) {
+                                 const std::vector<core::TrackObservation>& tracks) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   // Each track's first observation, then its true point (or none).
   std::map<int, size_t> first;
@@ -27,7 +27,7 @@ std::vector<double> track_errors(const sim::Dataset& dataset,
   }
   std::map<int, Eigen::Vector3d> truth;
   for (const auto& [track, index] : first) {
-    const io::TrackObservation& o = tracks[index];
+    const core::TrackObservation& o = tracks[index];
     Eigen::Vector3d origin, direction;
     if (!dataset.camera.unproject(o.pixel, &origin, &direction)) continue;
     const Eigen::Isometry3d& world_from_cam = dataset.world_from_cam[o.frame];
@@ -40,7 +40,7 @@ std::vector<double> track_errors(const sim::Dataset& dataset,
 
   std::vector<double> errors(tracks.size(), nan);
   for (size_t i = 0; i < tracks.size(); ++i) {
-    const io::TrackObservation& o = tracks[i];
+    const core::TrackObservation& o = tracks[i];
     const auto point = truth.find(o.track);
     if (point == truth.end() || first[o.track] == i) continue;
     Eigen::Vector2d pixel;
@@ -52,7 +52,7 @@ std::vector<double> track_errors(const sim::Dataset& dataset,
 }
 
 TrackAccuracy track_accuracy(const sim::Dataset& dataset,
-                             const std::vector<io::TrackObservation>& tracks,
+                             const std::vector<core::TrackObservation>& tracks,
                              double mistrack_threshold_px) {
   const std::vector<double> errors = track_errors(dataset, tracks);
   std::set<int> all_tracks, anchored, mistracked;

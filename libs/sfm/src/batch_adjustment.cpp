@@ -17,26 +17,12 @@
 namespace omnisfm::sfm {
 namespace {
 
-PoseVector to_vector(const Eigen::Isometry3d& T) {
-  PoseVector v;
-  const Eigen::Matrix3d R = T.linear();
-  ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), v.data());
-  v.tail<3>() = T.translation();
-  return v;
-}
-
-Eigen::Isometry3d to_pose(const PoseVector& v) {
-  Eigen::Matrix3d R;
-  ceres::AngleAxisToRotationMatrix(v.data(), ceres::ColumnMajorAdapter3x3(R.data()));
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R;
-  T.translation() = v.tail<3>();
-  return T;
-}
+using core::isometry_of;
+using core::pose_vector_of;
 
 // The share of frame pairs that observe a common point: the fill of the reduced camera system.
 // Each frame's row is the union of its tracks' frame sets, as bit sets.
-double reduced_system_fill(const std::vector<io::TrackObservation>& observations, int frames) {
+double reduced_system_fill(const std::vector<core::TrackObservation>& observations, int frames) {
   if (frames <= 0) return 0;
   const size_t words = (static_cast<size_t>(frames) + 63) / 64;
   std::map<int, int> track_index;
@@ -79,7 +65,7 @@ int solver_threads(int requested, std::size_t residuals) {
 // Which observations project from the start (the others are left out of the problem): a
 // projection each, on two threads when there are threads to spare.
 std::vector<char> projectable(const camera::CatadioptricCamera& camera,
-                              const std::vector<io::TrackObservation>& observations,
+                              const std::vector<core::TrackObservation>& observations,
                               const std::vector<PoseVector>& poses,
                               const std::map<int, Eigen::Vector3d>& points, int threads) {
   std::vector<char> ok(observations.size(), 0);
@@ -123,19 +109,19 @@ std::shared_ptr<ceres::ParameterBlockOrdering> points_eliminated_first(
 // t' = k t + R c0 (k - 1), which keeps the first pose.
 void scale_about_first_camera(double k, std::vector<PoseVector>* poses,
                               std::map<int, Eigen::Vector3d>* points) {
-  const Eigen::Isometry3d first = to_pose((*poses)[0]);
+  const Eigen::Isometry3d first = isometry_of((*poses)[0]);
   const Eigen::Vector3d c0 = -first.linear().transpose() * first.translation();
   for (size_t f = 1; f < poses->size(); ++f) {
-    Eigen::Isometry3d T = to_pose((*poses)[f]);
+    Eigen::Isometry3d T = isometry_of((*poses)[f]);
     T.translation() = k * T.translation() + T.linear() * c0 * (k - 1);
-    (*poses)[f] = to_vector(T);
+    (*poses)[f] = pose_vector_of(T);
   }
   for (auto& [track, p] : *points) p = c0 + k * (p - c0);
 }
 
 // How far camera f is from the first.
 double distance_from_first(const std::vector<PoseVector>& poses, size_t f) {
-  return (to_pose(poses[f]).inverse().translation() - to_pose(poses[0]).inverse().translation())
+  return (isometry_of(poses[f]).inverse().translation() - isometry_of(poses[0]).inverse().translation())
       .norm();
 }
 
@@ -279,7 +265,7 @@ camera::CatadioptricCamera batch_camera(const camera::CatadioptricCamera& camera
 }
 
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
-                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<core::TrackObservation>& observations,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& start_points,
                          const BatchSettings& settings) {
@@ -287,14 +273,14 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
 }
 
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
-                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<core::TrackObservation>& observations,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& start_points,
                          const BatchSettings& settings, ExtraTerms* extra) {
   const auto started = std::chrono::steady_clock::now();
   BatchResult result;
   std::vector<PoseVector> poses;
-  for (const auto& T : cam_from_world) poses.push_back(to_vector(T));
+  for (const auto& T : cam_from_world) poses.push_back(pose_vector_of(T));
   std::map<int, Eigen::Vector3d> points = start_points;
   const std::vector<PoseVector> start_poses = poses;
   KnownDistanceFactor known_factor;
@@ -309,7 +295,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   const camera::CatadioptricCamera optimised = batch_camera(camera);
   const int threads = solver_threads(settings.threads, 2 * observations.size());
   const std::vector<char> ok = projectable(optimised, observations, poses, points, threads);
-  std::vector<io::TrackObservation> used_observations;
+  std::vector<core::TrackObservation> used_observations;
   for (size_t i = 0; i < observations.size(); ++i)
     if (ok[i]) used_observations.push_back(observations[i]);
   // The scene's inverse scale: a parameter only while solve_with_scale runs, 1 and held otherwise.
@@ -448,7 +434,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   result.variance_factor = 2 * summary.final_cost / variance_dof;
   result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   for (const auto& v : poses) {
-    result.cam_from_world.push_back(to_pose(v));
+    result.cam_from_world.push_back(isometry_of(v));
     result.pose_parameters.push_back(v);
   }
   // Only the points the problem held: a start point whose observations were all left out was
@@ -532,7 +518,7 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
 }
 
 Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters) {
-  return to_pose(parameters);
+  return isometry_of(parameters);
 }
 
 ceres::CostFunction* make_projection_cost(const camera::CatadioptricCamera* camera,

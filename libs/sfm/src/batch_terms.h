@@ -7,12 +7,13 @@
 #include <utility>
 #include <vector>
 
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/sfm/batch_adjustment.h"
 
 namespace omnisfm::sfm {
 
 // cam_from_world as (angle-axis, translation): the batch's pose parameter block.
-using PoseVector = Eigen::Matrix<double, 6, 1>;
+using core::PoseVector;
 
 class ExtraTerms {
  public:
@@ -33,7 +34,7 @@ class ExtraTerms {
 // As the public batch_adjust, with `extra` (when not null) added to the problem. Points are then
 // always the eliminated group, as the extra residuals tie poses together.
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
-                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<core::TrackObservation>& observations,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& points, const BatchSettings& settings,
                          ExtraTerms* extra);

@@ -1,3 +1,4 @@
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/sfm/cramer_rao.h"
 
 #include <ceres/rotation.h>
@@ -11,7 +12,7 @@
 namespace omnisfm::sfm {
 
 PositionBound camera_position_bound(
-    const camera::CatadioptricCamera& camera, const std::vector<io::TrackObservation>& observations,
+    const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
     const std::vector<Eigen::Isometry3d>& cam_from_world,
     const std::map<int, Eigen::Vector3d>& points, double pixel_sigma) {
   const int frames = static_cast<int>(cam_from_world.size());
@@ -19,12 +20,8 @@ PositionBound camera_position_bound(
   for (const auto& [track, X] : points) point_index.emplace(track, static_cast<int>(point_index.size()));
   // Unknowns: poses 1.. (angle-axis, translation, as the batch holds them), then the points.
   const int n = 6 * (frames - 1) + 3 * static_cast<int>(points.size());
-  std::vector<Eigen::Matrix<double, 6, 1>> poses(frames);
-  for (int f = 0; f < frames; ++f) {
-    const Eigen::Matrix3d R = cam_from_world[f].linear();
-    ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), poses[f].data());
-    poses[f].tail<3>() = cam_from_world[f].translation();
-  }
+  std::vector<core::PoseVector> poses(frames);
+  for (int f = 0; f < frames; ++f) poses[f] = core::pose_vector_of(cam_from_world[f]);
   Eigen::MatrixXd information = Eigen::MatrixXd::Zero(n, n);
   for (const auto& o : observations) {
     const auto point = points.find(o.track);
@@ -56,10 +53,8 @@ PositionBound camera_position_bound(
   const int m = 3 * (frames - 1);
   Eigen::MatrixXd J_centres = Eigen::MatrixXd::Zero(m, n);
   std::vector<Eigen::Vector3d> centres;
-  auto centre = [](const Eigen::Matrix<double, 6, 1>& v) {
-    Eigen::Matrix3d R;
-    ceres::AngleAxisToRotationMatrix(v.data(), ceres::ColumnMajorAdapter3x3(R.data()));
-    return Eigen::Vector3d(-R.transpose() * v.tail<3>());
+  auto centre = [](const core::PoseVector& v) {
+    return Eigen::Vector3d(core::isometry_of(v).inverse().translation());
   };
   for (int f = 1; f < frames; ++f) {
     centres.push_back(centre(poses[f]));

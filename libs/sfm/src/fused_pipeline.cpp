@@ -209,7 +209,7 @@ void check_timestamps(const std::vector<double>& times, int num_frames) {
 }  // namespace
 
 SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
-                        const std::vector<io::TrackObservation>& tracks,
+                        const std::vector<core::TrackObservation>& tracks,
                         const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
                         const SfmSettings& settings, const Progress& progress) {
   if (sensors.empty()) return run_sfm(camera, tracks, settings, progress);

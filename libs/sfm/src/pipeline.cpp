@@ -24,7 +24,7 @@ double SfmSettings::batch_residual_limit_px() const {
 }
 
 std::vector<std::vector<TrackPixel>> observations_by_frame(
-    const std::vector<io::TrackObservation>& tracks) {
+    const std::vector<core::TrackObservation>& tracks) {
   int num_frames = 0;
   for (const auto& o : tracks) num_frames = std::max(num_frames, o.frame + 1);
   if (num_frames < 2) throw std::invalid_argument("the tracks span fewer than 2 frames");
@@ -96,7 +96,7 @@ namespace {
 // The tracks the filter rejected that the batch's solution explains: triangulated from its poses,
 // every pixel within `threshold` px. Track -> its point.
 std::map<int, Eigen::Vector3d> explained_rejections(
-    const camera::CatadioptricCamera& optimised, const std::vector<io::TrackObservation>& tracks,
+    const camera::CatadioptricCamera& optimised, const std::vector<core::TrackObservation>& tracks,
     const std::set<int>& rejected, const BatchResult& batch, double threshold) {
   std::map<int, std::vector<TrackSighting>> sightings;
   for (const auto& o : tracks)
@@ -113,14 +113,14 @@ std::map<int, Eigen::Vector3d> explained_rejections(
 }  // namespace
 
 void adjust_on_inliers(const camera::CatadioptricCamera& camera,
-                       const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                       const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
                        ExtraTerms* extra, SfmResult* result) {
   std::set<int> rejected;
   for (const auto& r : result->outliers) rejected.insert(r.track);
   const auto inlier = [&](int track) {
     return !rejected.count(track) && result->online_points.count(track);
   };
-  std::vector<io::TrackObservation> inliers;
+  std::vector<core::TrackObservation> inliers;
   for (const auto& o : tracks)
     if (inlier(o.track)) inliers.push_back(o);
   if (inliers.empty())
@@ -154,7 +154,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   for (const auto& [track, frame] : failing) outliers.push_back({track, frame});
   result->outliers = std::move(outliers);
   result->taken_back = static_cast<int>(explained.size());
-  std::vector<io::TrackObservation> kept;
+  std::vector<core::TrackObservation> kept;
   for (const auto& o : tracks)
     if ((explained.count(o.track) || inlier(o.track)) && !failing.count(o.track))
       kept.push_back(o);
@@ -165,7 +165,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
 }
 
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,
-                  const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                  const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
                   const Progress& progress) {
   SfmResult result;
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);

@@ -24,7 +24,7 @@ void refuse_degenerate_motion(const SfmResult& result);
 // The batch started from the filter on its inliers, then the batch-level outlier rejection and
 // the batch again; fills result->batch and adds to result->outliers.
 void adjust_on_inliers(const camera::CatadioptricCamera& camera,
-                       const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                       const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
                        ExtraTerms* extra, SfmResult* result);
 
 }  // namespace omnisfm::sfm

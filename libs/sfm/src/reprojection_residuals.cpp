@@ -3,14 +3,14 @@
 namespace omnisfm::sfm {
 
 std::vector<ObservationResidual> reprojection_residuals(
-    const camera::CatadioptricCamera& camera, const std::vector<io::TrackObservation>& observations,
+    const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
     const std::vector<Eigen::Isometry3d>& cam_from_world,
     const std::map<int, Eigen::Vector3d>& points, const std::set<int>& outlier_tracks,
     int* left_out) {
   std::vector<ObservationResidual> residuals;
   residuals.reserve(observations.size());
   int missing = 0;
-  for (const io::TrackObservation& o : observations) {
+  for (const core::TrackObservation& o : observations) {
     const auto point = points.find(o.track);
     Eigen::Vector2d projected;
     if (point == points.end() || o.frame < 0 ||

@@ -13,7 +13,7 @@ namespace omnisfm::sfm {
 
 struct FilterStart {
   sim::Dataset data;
-  std::vector<io::TrackObservation> inliers;
+  std::vector<core::TrackObservation> inliers;
   SfmResult online;
 };
 
@@ -24,7 +24,7 @@ inline FilterStart filter_start(const std::string& scenario, std::uint64_t seed,
   options.seed = seed;
   FilterStart s{sim::simulate(options), {}, {}};
   if (frames >= 0) {
-    std::vector<io::TrackObservation> kept;
+    std::vector<core::TrackObservation> kept;
     for (const auto& o : s.data.observations)
       if (o.frame < frames) kept.push_back(o);
     s.data.observations = kept;

@@ -26,7 +26,7 @@ PipelineRun run(const std::string& scenario, std::uint64_t seed) {
   options.scenario = scenario;
   options.seed = seed;
   const sim::Dataset d = sim::simulate(options);
-  const std::vector<io::TrackObservation>& tracks = d.observations;
+  const std::vector<core::TrackObservation>& tracks = d.observations;
   SfmSettings settings;
   PipelineRun r;
   r.result = run_sfm(d.camera, tracks, settings);

@@ -33,7 +33,7 @@ Eigen::Vector3d standard_normal_3d(std::mt19937_64& rng) {
   return {x, y, z};
 }
 
-std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
+std::vector<core::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
                                                        double noise_px, std::mt19937_64& rng) {
   // A rig that sees too little of the ground would otherwise be searched for ever.
   const long max_draws = 1000L * std::max(count, 1);
@@ -51,7 +51,7 @@ std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, i
       always = true_pixel(dataset, static_cast<int>(f), p, &pixel, 3.0);
     if (always) points.push_back(p);
   }
-  std::vector<io::TrackObservation> tracks;
+  std::vector<core::TrackObservation> tracks;
   for (size_t f = 0; f < dataset.world_from_cam.size(); ++f)
     for (int i = 0; i < count; ++i) {
       Eigen::Vector2d pixel;

@@ -44,7 +44,7 @@ TrackedSequence SequenceTracker::finish() const {
     if (seen[o.track] >= 2) result.observations.push_back(o);
   for (const auto& [track, count] : seen) result.single_frame_tracks += count == 1;
   std::stable_sort(result.observations.begin(), result.observations.end(),
-                   [](const io::TrackObservation& a, const io::TrackObservation& b) {
+                   [](const core::TrackObservation& a, const core::TrackObservation& b) {
                      return a.frame != b.frame ? a.frame < b.frame : a.track < b.track;
                    });
   if (tracker_) result.statistics = tracker_->statistics();

@@ -62,7 +62,7 @@ std::optional<RawlogImage> load_rawlog_image(mrpt::obs::CObservationImage& image
 }
 
 void append_tracked_features(const CObservationTrackedFeatures& features, int frame,
-                             std::vector<io::TrackObservation>* observations) {
+                             std::vector<core::TrackObservation>* observations) {
   for (const TrackedFeature& f : features.features)
     observations->push_back({frame, f.track, Eigen::Vector2d(f.u, f.v)});
 }

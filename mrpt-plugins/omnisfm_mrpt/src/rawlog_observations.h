@@ -32,7 +32,7 @@ std::optional<RawlogImage> load_rawlog_image(mrpt::obs::CObservationImage& image
 
 // The frame's features as observations of frame number `frame`, appended to *observations.
 void append_tracked_features(const CObservationTrackedFeatures& features, int frame,
-                             std::vector<io::TrackObservation>* observations);
+                             std::vector<core::TrackObservation>* observations);
 
 // True for every observation when `label` is empty.
 bool has_label(const mrpt::obs::CObservation& observation, const std::string& label);

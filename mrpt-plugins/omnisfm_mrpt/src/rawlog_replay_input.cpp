@@ -74,7 +74,7 @@ class ReplayPass {
     in.tracks = std::move(features_);
     in.frame_times = std::move(feature_times_);
     std::stable_sort(in.tracks.begin(), in.tracks.end(),
-                     [](const io::TrackObservation& a, const io::TrackObservation& b) {
+                     [](const core::TrackObservation& a, const core::TrackObservation& b) {
                        return a.frame != b.frame ? a.frame < b.frame : a.track < b.track;
                      });
   }
@@ -182,7 +182,7 @@ class ReplayPass {
   std::optional<Eigen::Isometry3d> vision_pose_;  // the camera's pose on the robot, first frame
   ImageCameraModels models_;
   std::optional<camera::CatadioptricCamera> first_model_;
-  std::vector<io::TrackObservation> features_;
+  std::vector<core::TrackObservation> features_;
   std::vector<double> feature_times_;
   int images_ = 0;
   std::unique_ptr<track::SequenceTracker> tracker_;

@@ -91,12 +91,12 @@ Eigen::Vector3d spherical_coordinates(const Eigen::Vector3d& p, Eigen::Matrix3d*
 
 std::vector<BearingRange> bearing_range_measurements(
     const camera::CatadioptricCamera& camera, const sfm::BatchResult& batch, int frame,
-    const std::vector<io::TrackObservation>& frame_observations, double pixel_sigma) {
+    const std::vector<core::TrackObservation>& frame_observations, double pixel_sigma) {
   const Eigen::Isometry3d& cam_from_world = batch.cam_from_world.at(static_cast<size_t>(frame));
   const bool pose_uncertain = batch.pose_covariances.size() == batch.cam_from_world.size() &&
                               batch.pose_parameters.size() == batch.cam_from_world.size();
   std::vector<BearingRange> measurements;
-  for (const io::TrackObservation& o : frame_observations) {
+  for (const core::TrackObservation& o : frame_observations) {
     const auto point = batch.points.find(o.track);
     if (point == batch.points.end()) continue;
     Eigen::Vector3d origin, direction;
@@ -145,7 +145,7 @@ std::vector<BearingRange> bearing_range_measurements(
 
 SlamRawlogSummary write_slam_rawlog(const std::string& path,
                                     const camera::CatadioptricCamera& camera,
-                                    const std::vector<io::TrackObservation>& observations,
+                                    const std::vector<core::TrackObservation>& observations,
                                     const sfm::BatchResult& batch,
                                     const std::vector<double>& frame_times,
                                     const Eigen::Isometry3d& body_from_cam, double pixel_sigma) {
@@ -154,8 +154,8 @@ SlamRawlogSummary write_slam_rawlog(const std::string& path,
     throw std::invalid_argument("write_slam_rawlog: " + std::to_string(frame_times.size()) +
                                 " frame times for " + std::to_string(frames) + " frames");
   const std::vector<PoseGraphEdge> increments = consecutive_edges(batch, body_from_cam);
-  std::vector<std::vector<io::TrackObservation>> by_frame(frames);
-  for (const io::TrackObservation& o : observations)
+  std::vector<std::vector<core::TrackObservation>> by_frame(frames);
+  for (const core::TrackObservation& o : observations)
     if (o.frame >= 0 && static_cast<size_t>(o.frame) < frames) by_frame[o.frame].push_back(o);
 
   std::vector<std::vector<BearingRange>> measured(frames);

@@ -28,7 +28,7 @@ NeesTally measurements_against_truth(const std::string& scenario, std::uint64_t 
     const sfm::SfmResult r = sfm::run_sfm(d.camera, d.observations, settings);
     EXPECT_TRUE(r.batch.converged) << scenario << " " << seed;
     for (size_t f = 0; f < r.batch.cam_from_world.size(); ++f) {
-      std::vector<io::TrackObservation> frame;
+      std::vector<core::TrackObservation> frame;
       for (const auto& o : d.observations)
         if (o.frame == static_cast<int>(f)) frame.push_back(o);
       // The batch's world is its first camera's: the truth is taken relative to it too.

@@ -32,8 +32,8 @@ sim::Dataset simulated(const std::string& scenario, double noise_px) {
   return sim::simulate(options);
 }
 
-std::vector<io::TrackObservation> of_frame(const sim::Dataset& d, int frame) {
-  std::vector<io::TrackObservation> observations;
+std::vector<core::TrackObservation> of_frame(const sim::Dataset& d, int frame) {
+  std::vector<core::TrackObservation> observations;
   for (const auto& o : d.observations)
     if (o.frame == frame) observations.push_back(o);
   return observations;
@@ -75,7 +75,7 @@ TEST(BearingRange, AreThePointsOwnCoordinatesOnTheirRays) {
   const int frame = 40;
   const Eigen::Isometry3d cam_from_world = d.world_from_cam[frame].inverse();
   std::map<int, Eigen::Vector3d> points = true_points(d);
-  const std::vector<io::TrackObservation> observations = of_frame(d, frame);
+  const std::vector<core::TrackObservation> observations = of_frame(d, frame);
   sfm::BatchResult batch;
   batch.cam_from_world.assign(d.world_from_cam.size(), Eigen::Isometry3d::Identity());
   batch.cam_from_world[frame] = cam_from_world;

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/core/track_observation.h"
 #include "omnisfm/sim/dataset.h"
 
 namespace omnisfm::eval {
@@ -15,7 +15,7 @@ namespace omnisfm::eval {
 // track's first observation (the truth is defined by it) and for every observation of a track
 // whose first ray meets nothing; +infinity where the true point is hidden or out of view.
 std::vector<double> track_errors(const sim::Dataset& dataset,
-                                 const std::vector<io::TrackObservation>& tracks);
+                                 const std::vector<core::TrackObservation>& tracks);
 
 struct TrackAccuracy {
   int tracks = 0;             // whose first ray meets the scene
@@ -38,7 +38,7 @@ struct TrackAccuracy {
 
 // `tracks` sorted by frame, as tracks.vnl is.
 TrackAccuracy track_accuracy(const sim::Dataset& dataset,
-                             const std::vector<io::TrackObservation>& tracks,
+                             const std::vector<core::TrackObservation>& tracks,
                              double mistrack_threshold_px = 1.0);
 
 }  // namespace omnisfm::eval

@@ -14,17 +14,15 @@
 #include <string>
 #include <vector>
 
+#include "omnisfm/core/track_observation.h"
 #include "omnisfm/io/vnlog.h"
 
 namespace omnisfm::io {
 
 inline constexpr int kMaxUntrackedFrames = 1000;
 
-struct TrackObservation {
-  int frame = 0;
-  int track = 0;
-  Eigen::Vector2d pixel{0, 0};
-};
+// The observations this file holds are the core vocabulary's.
+using core::TrackObservation;
 
 // tracks.vnl read one frame at a time, for sequences of any length, with read_tracks' checks on
 // each row; a track with a single observation is not refused (that needs the whole file).

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
-#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/core/track_observation.h"
 
 namespace ceres {
 class CostFunction;
@@ -108,7 +108,7 @@ struct BatchResult {
 // every frame; points: a start for every track observed. A known_distance_m that is negative or
 // not finite fails the batch (converged false, no estimate, message saying why).
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
-                         const std::vector<io::TrackObservation>& observations,
+                         const std::vector<core::TrackObservation>& observations,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);

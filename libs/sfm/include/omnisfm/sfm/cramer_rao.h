@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
-#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/core/track_observation.h"
 
 namespace omnisfm::sfm {
 
@@ -23,7 +23,7 @@ struct PositionBound {
 // observations: which track each frame sees (the pixels are not used); cam_from_world and points:
 // the truth. Throws std::invalid_argument when the information matrix is singular.
 PositionBound camera_position_bound(
-    const camera::CatadioptricCamera& camera, const std::vector<io::TrackObservation>& observations,
+    const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
     const std::vector<Eigen::Isometry3d>& cam_from_world,
     const std::map<int, Eigen::Vector3d>& points, double pixel_sigma);
 

@@ -31,7 +31,7 @@ namespace omnisfm::sfm {
 // std::invalid_argument for missing or non-increasing timestamps and for GPS fixes too few or
 // all on a line within the frames' time span.
 SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
-                        const std::vector<io::TrackObservation>& tracks,
+                        const std::vector<core::TrackObservation>& tracks,
                         const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
                         const SfmSettings& settings, const Progress& progress = nullptr);
 

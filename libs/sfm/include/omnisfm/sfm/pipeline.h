@@ -6,7 +6,7 @@
 #include <functional>
 #include <vector>
 
-#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/core/track_observation.h"
 #include "omnisfm/sfm/batch_adjustment.h"
 #include "omnisfm/sfm/online_filter.h"
 
@@ -61,12 +61,12 @@ using Progress = std::function<void(int, int)>;
 // 6 tracks in the first frame), and std::runtime_error when the motion is degenerate (the camera
 // translates by less than 1 % of the scene's depth: rotation alone reveals no structure).
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,
-                  const std::vector<io::TrackObservation>& tracks, const SfmSettings& settings,
+                  const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
                   const Progress& progress = nullptr);
 
 // Each frame's observations (frames 0 .. last observed), as OnlineFilter::process_frame takes
 // them. Throws std::invalid_argument as run_sfm does.
 std::vector<std::vector<TrackPixel>> observations_by_frame(
-    const std::vector<io::TrackObservation>& tracks);
+    const std::vector<core::TrackObservation>& tracks);
 
 }  // namespace omnisfm::sfm

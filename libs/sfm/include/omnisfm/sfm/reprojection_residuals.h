@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
-#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/core/track_observation.h"
 
 namespace omnisfm::sfm {
 
@@ -24,7 +24,7 @@ struct ObservationResidual {
 // validly, in the order of `observations`; the others (no estimate, or no valid projection) are
 // left out and counted in *left_out when it is given.
 std::vector<ObservationResidual> reprojection_residuals(
-    const camera::CatadioptricCamera& camera, const std::vector<io::TrackObservation>& observations,
+    const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
     const std::vector<Eigen::Isometry3d>& cam_from_world,
     const std::map<int, Eigen::Vector3d>& points, const std::set<int>& outlier_tracks,
     int* left_out = nullptr);

@@ -6,13 +6,13 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
-#include "omnisfm/io/tracks_file.h"
+#include "omnisfm/core/track_observation.h"
 #include "omnisfm/sim/scene.h"
 
 namespace omnisfm::sim {
 
 // One tracked pixel, as tracks.vnl holds it.
-using TrackObservation = io::TrackObservation;
+using TrackObservation = core::TrackObservation;
 
 // A track that goes wrong (the tracker slides to another feature or drifts) from `frame` on.
 struct OutlierTruth {

@@ -27,7 +27,7 @@ void simulate_tracks(const std::vector<Eigen::Vector3d>& points,
 // in every frame, drawn from rng, and their pixels in every frame with noise_px Gaussian noise:
 // tracks that never end, for timing and testing the filter on settled points. Throws
 // std::invalid_argument when too few of a thousand draws per point are seen in every frame.
-std::vector<io::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
+std::vector<core::TrackObservation> steady_ground_tracks(const Dataset& dataset, int count,
                                                        double noise_px, std::mt19937_64& rng);
 
 // The pixel of a world point seen from world_from_cam, or false when it does not project or lies

@@ -25,7 +25,7 @@ struct TrackedFrame {
 struct TrackedSequence {
   // Sorted by frame, then track; tracks seen in a single frame are left out (nothing to
   // triangulate, and tracks.vnl does not allow them).
-  std::vector<io::TrackObservation> observations;
+  std::vector<core::TrackObservation> observations;
   int single_frame_tracks = 0;  // started, seen in one frame only, and left out
   std::vector<TrackedFrame> frames;
   TrackerStatistics statistics;
@@ -55,7 +55,7 @@ class SequenceTracker {
   camera::CatadioptricCamera camera_;
   TrackerSettings settings_;
   std::unique_ptr<FeatureTracker> tracker_;
-  std::vector<io::TrackObservation> all_;
+  std::vector<core::TrackObservation> all_;
   TrackedSequence result_;
 };
 

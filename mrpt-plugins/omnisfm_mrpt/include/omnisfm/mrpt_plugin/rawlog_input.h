@@ -64,7 +64,7 @@ struct RawlogFrame {
 };
 
 struct RawlogTracks {
-  std::vector<io::TrackObservation> observations;    // in file order
+  std::vector<core::TrackObservation> observations;    // in file order
   std::vector<RawlogFrame> frames;                   // one per CObservationTrackedFeatures
   std::optional<camera::CatadioptricCamera> camera;  // the first model the features carried
 };

@@ -49,7 +49,7 @@ struct ReplayOptions {
 struct ReplayInput {
   std::optional<camera::CatadioptricCamera> camera;  // the given one, else the rawlog's first
   std::string vision;                                // "tracked features" or "images"
-  std::vector<io::TrackObservation> tracks;          // sorted by frame, then track
+  std::vector<core::TrackObservation> tracks;          // sorted by frame, then track
   std::vector<double> frame_times;                   // per frame, seconds since the Unix epoch
   int frames_with_images = 0;  // camera observations that were images
   sfm::MotionSensors sensors;  // noise models left at their defaults

@@ -53,7 +53,7 @@ Eigen::Vector3d spherical_coordinates(const Eigen::Vector3d& point,
 // left out.
 std::vector<BearingRange> bearing_range_measurements(
     const camera::CatadioptricCamera& camera, const sfm::BatchResult& batch, int frame,
-    const std::vector<io::TrackObservation>& frame_observations, double pixel_sigma);
+    const std::vector<core::TrackObservation>& frame_observations, double pixel_sigma);
 
 struct SlamRawlogSummary {
   int frames = 0;
@@ -72,7 +72,7 @@ struct SlamRawlogSummary {
 // `path` when it cannot be written.
 SlamRawlogSummary write_slam_rawlog(const std::string& path,
                                     const camera::CatadioptricCamera& camera,
-                                    const std::vector<io::TrackObservation>& observations,
+                                    const std::vector<core::TrackObservation>& observations,
                                     const sfm::BatchResult& batch,
                                     const std::vector<double>& frame_times,
                                     const Eigen::Isometry3d& body_from_cam, double pixel_sigma);
