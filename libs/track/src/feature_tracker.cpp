@@ -76,7 +76,7 @@ bool FeatureTracker::in_region(const Eigen::Vector2d& p) const {
   return x >= 0 && y >= 0 && x < region_.cols && y < region_.rows && region_.at<uchar>(y, x);
 }
 
-std::vector<TrackedPoint> FeatureTracker::track(const cv::Mat& full_image) {
+std::vector<TrackPixel> FeatureTracker::track(const cv::Mat& full_image) {
   CV_Assert(full_image.type() == CV_8UC1 && full_image.size() == image_size_);
   ++frame_;
   ++statistics_.frames;
@@ -93,7 +93,7 @@ std::vector<TrackedPoint> FeatureTracker::track(const cv::Mat& full_image) {
   }
   replenish();
 
-  std::vector<TrackedPoint> seen;
+  std::vector<TrackPixel> seen;
   seen.reserve(live_.size());
   const Eigen::Vector2d corner(bounds_.x, bounds_.y);
   for (const Track& t : live_) seen.push_back({t.id, t.position + corner});

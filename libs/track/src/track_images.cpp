@@ -16,7 +16,7 @@ SequenceTracker::SequenceTracker(const camera::CatadioptricCamera& camera,
 
 SequenceTracker::~SequenceTracker() = default;
 
-std::vector<TrackedPoint> SequenceTracker::add(const SequenceFrame& frame,
+std::vector<TrackPixel> SequenceTracker::add(const SequenceFrame& frame,
                                                const std::string& source) {
   using Clock = std::chrono::steady_clock;
   const cv::Size size(camera_.image_width(), camera_.image_height());
@@ -29,9 +29,9 @@ std::vector<TrackedPoint> SequenceTracker::add(const SequenceFrame& frame,
     tracker_ = std::make_unique<FeatureTracker>(
         valid_region_mask(camera_, settings_.rim_margin_px), settings_);
   const auto started = Clock::now();
-  std::vector<TrackedPoint> seen = tracker_->track(frame.image);
+  std::vector<TrackPixel> seen = tracker_->track(frame.image);
   result_.tracking_seconds += std::chrono::duration<double>(Clock::now() - started).count();
-  for (const TrackedPoint& p : seen) all_.push_back({frame.index, p.track, p.pixel});
+  for (const TrackPixel& p : seen) all_.push_back({frame.index, p.track, p.pixel});
   result_.frames.push_back({frame.index, frame.file, frame.timestamp});
   return seen;
 }

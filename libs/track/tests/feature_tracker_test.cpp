@@ -63,7 +63,7 @@ Outcome track_texture(const WaveTexture& texture, int frames, MotionOf motion_of
     const Motion m = motion_of(f);
     cv::Mat image = frame_image(texture, m);
     edit(f, image);
-    for (const TrackedPoint& p : tracker.track(image)) {
+    for (const TrackPixel& p : tracker.track(image)) {
       auto& seen = outcome.frames_of_track[p.track];
       const bool after_gap =
           !seen.empty() && (seen.back() != f - 1 || worst_after_gap.count(p.track));

@@ -255,10 +255,8 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
     track::SequenceFrame frame;
     frame.index = tracker_->frames();
     frame.image = grey_of(image->image);
-    std::vector<sfm::TrackPixel> pixels;
-    for (const track::TrackedPoint& p : tracker_->add(frame, image->sensorLabel))
-      pixels.push_back({p.track, p.pixel});
-    process_frame(pixels, mrpt::Clock::toDouble(image->timestamp), observation);
+    process_frame(tracker_->add(frame, image->sensorLabel), mrpt::Clock::toDouble(image->timestamp),
+                  observation);
   }
 }
 

@@ -1,10 +1,16 @@
 #pragma once
-// One observation of a tracked feature: the track's pixel in a frame. What the tracker gives, the
-// simulator makes, the estimators take and tracks.vnl holds.
+// A tracked feature's pixel: in the frame at hand (what the tracker gives for each image and the
+// online filter takes), or in a given frame (what the simulator makes, the batch takes and
+// tracks.vnl holds).
 
 #include <Eigen/Core>
 
 namespace omnisfm::core {
+
+struct TrackPixel {
+  int track = 0;
+  Eigen::Vector2d pixel{0, 0};  // (0, 0) the centre of the top-left pixel
+};
 
 struct TrackObservation {
   int frame = 0;

@@ -35,6 +35,7 @@
 #include <set>
 #include <vector>
 
+#include "omnisfm/core/track_observation.h"
 #include "omnisfm/camera/catadioptric_camera.h"
 #include "omnisfm/sfm/filter_state.h"
 
@@ -119,10 +120,7 @@ struct MotionPrediction {
   double wheel_scale_prior_variance = 0;
 };
 
-struct TrackPixel {
-  int track = 0;
-  Eigen::Vector2d pixel{0, 0};
-};
+using core::TrackPixel;
 
 struct RejectedTrack {
   int track = 0;

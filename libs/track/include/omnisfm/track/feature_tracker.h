@@ -18,6 +18,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "omnisfm/core/track_observation.h"
 #include "omnisfm/track/feature_descriptor.h"
 #include "omnisfm/track/feature_detector.h"
 #include "omnisfm/track/patch_alignment.h"
@@ -25,10 +26,7 @@
 
 namespace omnisfm::track {
 
-struct TrackedPoint {
-  int track = 0;
-  Eigen::Vector2d pixel{0, 0};
-};
+using core::TrackPixel;
 
 // Why tracks ended, and how many started, over the whole sequence.
 struct TrackerStatistics {
@@ -51,7 +49,7 @@ class FeatureTracker {
   FeatureTracker(const cv::Mat& region, const TrackerSettings& settings);
 
   // Tracks into the next image (CV_8UC1, the region's size) and returns the tracks seen in it.
-  std::vector<TrackedPoint> track(const cv::Mat& full_image);
+  std::vector<TrackPixel> track(const cv::Mat& full_image);
 
   const TrackerStatistics& statistics() const { return statistics_; }
   int num_live_tracks() const { return static_cast<int>(live_.size()); }

@@ -46,7 +46,7 @@ class SequenceTracker {
   // Tracks into `frame` (its index must be the number of frames added before) and returns the
   // tracks seen in it. Throws io::InputError naming `source` when the image is not the camera's
   // size.
-  std::vector<TrackedPoint> add(const SequenceFrame& frame, const std::string& source);
+  std::vector<TrackPixel> add(const SequenceFrame& frame, const std::string& source);
   int frames() const { return static_cast<int>(result_.frames.size()); }
   // The sequence so far, as track_images returns it.
   TrackedSequence finish() const;
