@@ -2,12 +2,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
 
-#include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tracks_file.h"
@@ -188,50 +186,6 @@ void add_sfm_verb(CLI::App& app) {
       write_sfm_plots(dir, camera, tracks, result, settings.run_batch, comparison);
     });
     std::cout << report.str();
-  });
-}
-
-void add_eval_verb(CLI::App& app) {
-  struct Options {
-    std::string estimate, ground_truth;
-    bool rigid = false;
-  };
-  auto o = std::make_shared<Options>();
-  CLI::App* verb = app.add_subcommand(
-      "eval", "The paper's error figures of a TUM trajectory against ground truth, after Horn's "
-              "alignment (a similarity, or rigid with --rigid)");
-  verb->add_option("--estimate", o->estimate, "Estimated trajectory (TUM)")->required();
-  verb->add_option("--ground-truth", o->ground_truth, "True trajectory (TUM)")->required();
-  verb->add_flag("--rigid", o->rigid, "Align without scale (when the scale is known)");
-  verb->callback([o] {
-    const auto estimate = io::read_tum_trajectory(o->estimate);
-    const auto truth = io::read_tum_trajectory(o->ground_truth);
-    // Poses are paired by timestamp.
-    std::vector<Eigen::Isometry3d> a, b;
-    size_t j = 0;
-    for (const auto& p : estimate) {
-      while (j < truth.size() && truth[j].timestamp < p.timestamp - 1e-6) ++j;
-      if (j < truth.size() && std::abs(truth[j].timestamp - p.timestamp) <= 1e-6) {
-        a.push_back(p.world_from_cam);
-        b.push_back(truth[j].world_from_cam);
-      }
-    }
-    if (a.size() < 3) {
-      // Often two clocks: a rawlog replay's (1e9 s on) against a simulation's (0 on).
-      const auto span = [](const std::vector<io::StampedPose>& poses) {
-        std::ostringstream text;
-        text << std::setprecision(12);
-        if (poses.empty()) return std::string("none");
-        text << poses.front().timestamp << " .. " << poses.back().timestamp;
-        return text.str();
-      };
-      throw io::InputError(o->estimate, 0,
-                           "fewer than 3 timestamps in common with " + o->ground_truth +
-                               " (timestamps " + span(estimate) + " against " + span(truth) +
-                               "; `run --ground-truth` pairs poses by frame instead)");
-    }
-    const eval::TrajectoryErrors e = eval::trajectory_errors(a, b, !o->rigid);
-    std::cout << "poses " << a.size() << "\n" << figures_line(o->rigid ? "rigid" : "similar", e);
   });
 }
 
