@@ -51,8 +51,9 @@ double reduced_system_fill(const std::vector<core::TrackObservation>& observatio
   return pairs / (0.5 * frames * (frames + 1.0));
 }
 
-// Problems under this many residuals run on one thread: starting and joining threads for each of
-// Ceres' steps costs more than the threads save.
+// Problems under this many residuals run on one thread, as COLMAP's bundle adjuster does below its
+// own threshold: each of Ceres' steps must have enough work to split. The figure is a rule of
+// thumb, not measured here; BatchSettings::threads overrides it.
 constexpr int kSmallProblemResiduals = 5000;
 
 // The threads BatchSettings::threads asks for, for a problem of `residuals` residuals.

@@ -113,11 +113,16 @@ class ReplayPass {
     else if (!body_from_cam_)
       body_from_cam_ = isometry_of(image->cameraPose);
     if (!images_are_vision() || image_damage_) return;
-    require_next_frame(image->cameraPose, mrpt::Clock::toDouble(image->timestamp), image_times_,
-                       index);
-    if (options_.vision == ReplayVision::kImages) return track(*image, index, damage);
+    const double time = mrpt::Clock::toDouble(image->timestamp);
+    if (options_.vision == ReplayVision::kImages) {
+      require_next_frame(image->cameraPose, time, image_times_, index);
+      return track(*image, index, damage);
+    }
+    // With kAuto, tracked features may come and be the vision: what is wrong with the images
+    // waits, as their damage does.
     std::string problem;
     try {
+      require_next_frame(image->cameraPose, time, image_times_, index);
       track(*image, index, &problem);
     } catch (const io::InputError& e) {
       problem = e.what();

@@ -333,6 +333,32 @@ TEST(BadReplay, FramesOutOfTimeOrderOrFromAnotherCameraPoseAreRefused) {
   EXPECT_NE(moved.find(path), std::string::npos) << moved;
   EXPECT_NE(moved.find("object 1: the camera's pose on the robot"), std::string::npos) << moved;
   EXPECT_NE(moved.find("is not the first frame's"), std::string::npos) << moved;
+
+  // Images out of order, then tracked features: with kAuto the features are the vision and the
+  // images' order does not matter; with kImages it is refused.
+  const auto image = [](double time) {
+    auto observation = std::make_shared<mrpt::obs::CObservationImage>();
+    observation->timestamp = mrpt::Clock::fromDouble(time);
+    observation->image = mrpt::img::CImage(64, 48, mrpt::img::CH_GRAY);
+    return observation;
+  };
+  const auto late = image(11), early = image(10);
+  const auto first = frame(12, 0), second = frame(13, 0);
+  testing::write_plain_rawlog(path, {late.get(), early.get(), first.get(), second.get()});
+  ReplayOptions small;
+  small.camera = sim::default_rig(64, 48);
+  const ReplayInput automatic = read_replay_input(path, small);
+  EXPECT_EQ(automatic.vision, "tracked features");
+  EXPECT_TRUE(automatic.read.complete()) << automatic.read.problem;
+  small.vision = ReplayVision::kImages;
+  try {
+    read_replay_input(path, small);
+    ADD_FAILURE() << "images out of time order were taken";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("object 1: a camera frame at 10 s after one at 11 s"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
