@@ -1,8 +1,9 @@
 // The filter's published pose covariance against its actual errors (not a benchmark: one run,
 // one line), eval::rover_pose_consistency over the simulated rover's seeds.
-//   filter_nees [SEEDS=25] [WHEEL_SCALE_ERROR=0.015] [ESTIMATE_WHEEL_SCALE=0]
+//   filter_nees [SEEDS=25] [WHEEL_SCALE_ERROR=0.015] [ESTIMATE_WHEEL_SCALE=0] [AT_TRUTH=0]
 // WHEEL_SCALE_ERROR: how long the simulated wheel reads (the filter takes the calibration as
-// exact unless ESTIMATE_WHEEL_SCALE is 1: FilterSettings::estimate_wheel_scale).
+// exact unless ESTIMATE_WHEEL_SCALE is 1: FilterSettings::estimate_wheel_scale). AT_TRUTH 1: the
+// filter linearised at the truth (OnlineFilter::linearise_at), Huang et al.'s ideal EKF.
 
 #include <cstdio>
 #include <cstdlib>
@@ -16,11 +17,13 @@ int main(int argc, char** argv) {
   const double wheel_error = argc > 2 ? std::atof(argv[2]) : 0.015;
   omnisfm::sfm::FilterSettings settings;
   settings.estimate_wheel_scale = argc > 3 && std::atoi(argv[3]) != 0;
+  const bool at_truth = argc > 4 && std::atoi(argv[4]) != 0;
   const omnisfm::eval::PoseConsistency c =
-      omnisfm::eval::rover_pose_consistency(seeds, wheel_error, settings);
-  std::printf("rover seeds 1-%d, wheel reading %+.1f %%%s: mean NEES %.2f (6 when honest), %.1f %% "
+      omnisfm::eval::rover_pose_consistency(seeds, wheel_error, settings, at_truth);
+  std::printf("rover seeds 1-%d, wheel reading %+.1f %%%s%s: mean NEES %.2f (6 when honest), %.1f %% "
               "of %ld frames inside the 95 %% bound\n",
               seeds, 100 * wheel_error,
-              settings.estimate_wheel_scale ? ", its scale estimated" : "", c.mean_nees,
+              settings.estimate_wheel_scale ? ", its scale estimated" : "",
+              at_truth ? ", linearised at the truth" : "", c.mean_nees,
               100 * c.inside, c.frames);
 }

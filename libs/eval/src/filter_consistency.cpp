@@ -9,7 +9,8 @@
 namespace omnisfm::eval {
 
 PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
-                                       const sfm::FilterSettings& settings) {
+                                       const sfm::FilterSettings& settings,
+                                       bool linearised_at_truth) {
   double sum = 0;
   long inside = 0;
   PoseConsistency c;
@@ -24,6 +25,11 @@ PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
     const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(d, options);
     const sfm::MotionSensors sensors = motion_sensors(&dead_reckoning, options, nullptr);
     sfm::OnlineFilter filter(d.camera, settings);
+    if (linearised_at_truth) {
+      const Eigen::Isometry3d first = d.world_from_cam[0];
+      filter.linearise_at({[&d, first](int frame) { return d.world_from_cam[frame].inverse() * first; },
+                           [&d, first](int track) { return (first.inverse() * d.track_points[track]).eval(); }});
+    }
     const auto by_frame = sfm::observations_by_frame(d.observations);
     filter.process_frame(0, by_frame[0]);
     for (size_t f = 1; f < by_frame.size(); ++f) {

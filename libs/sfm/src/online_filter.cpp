@@ -108,7 +108,14 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   const Eigen::Vector3d X_C = R * X_W + t;
   Eigen::Matrix<double, 3, 6> J_pose;
   J_pose << R.transpose() * so3::skew(X_C - t), -R.transpose();
-  const Eigen::Matrix<double, 3, 6> G = J_X_params.inverse() * J_pose;
+  Eigen::Matrix<double, 3, 6> G = J_X_params.inverse() * J_pose;
+  if (at_given_points()) {
+    Eigen::Matrix3d J_given;
+    const Eigen::Vector3d X_given =
+        anchor.world_point(anchor.params_of(linearisation_points_.world_point(track)), &J_given);
+    J_pose << R.transpose() * so3::skew(R * X_given), -R.transpose();
+    G = J_given.inverse() * J_pose;
+  }
   const double across = radians_per_pixel * settings_.pixel_sigma;
   state_.add(track, anchor, params, G, Eigen::Vector3d(across, across, settings_.inverse_depth_sigma));
 }
@@ -167,7 +174,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   std::vector<int> new_points;
   for (int k = 0; k < m; ++k)
     if (state_.anchor(meas[k].slot).updates < kEstablishedUpdates) new_points.push_back(k);
-  const int linearisations = std::max(1, settings_.update_iterations);
+  const int linearisations = at_given_points() ? 1 : std::max(1, settings_.update_iterations);
   if (new_points.empty() && linearisations > 1) start_on_pose_subspace(meas, point_columns, &at);
   bool warm_step =
       !new_points.empty() && static_cast<int>(new_points.size()) < m && linearisations > 2;
@@ -341,6 +348,8 @@ bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& obser
 
 bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observations,
                            const MotionPrediction* motion) {
+  previous_frame_ = frame_;
+  frame_ = frame;
   std::map<int, Eigen::Vector2d> seen;
   for (const auto& o : observations)
     if (!excluded_.count(o.track)) seen[o.track] = o.pixel;
@@ -374,9 +383,20 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     const int slot = state_.slot_of(track);
     if (slot < 0) continue;
     Measurement measurement{slot, pixel, {}};
-    if (linearise(state_.anchor(slot), state_.mean.R, state_.mean.t, state_.mean.params(slot), true,
-                  &measurement.at_prior))
-      measurements.push_back(measurement);
+    const PointAnchor& anchor = state_.anchor(slot);
+    if (!linearise(anchor, state_.mean.R, state_.mean.t, state_.mean.params(slot), true,
+                   &measurement.at_prior))
+      continue;
+    if (at_given_points()) {
+      const Eigen::Isometry3d T = linearisation_points_.cam_from_world(frame);
+      Linearisation given;
+      if (linearise(anchor, T.linear(), T.translation(),
+                    anchor.params_of(linearisation_points_.world_point(track)), true, &given)) {
+        measurement.at_prior.pose = given.pose;
+        measurement.at_prior.point = given.point;
+      }
+    }
+    measurements.push_back(measurement);
   }
 
   std::set<int> rejected_slots;

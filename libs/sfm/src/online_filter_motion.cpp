@@ -25,7 +25,10 @@ void OnlineFilter::propagate(const MotionPrediction& motion) {
   FilterMean& mean = state_.mean;
   Eigen::MatrixXd& P = state_.P;
   constexpr int kBiasColumn = FilterState::kBiasColumn;
-  G.block<3, 3>(3, 0) = -so3::skew(R_M * mean.t);
+  const Eigen::Vector3d t_linearised =
+      at_given_points() ? linearisation_points_.cam_from_world(previous_frame_).translation().eval()
+                        : mean.t;
+  G.block<3, 3>(3, 0) = -so3::skew(R_M * t_linearised);
   mean.R = R_M * mean.R;
   mean.t = R_M * mean.t + t_M;
   if (!bias_started_ && motion.bias_prior_variance > 0) {

@@ -46,7 +46,7 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
   for (int track : {7, 8, 9}) {
     const Eigen::Matrix<double, 3, 6> G =
         Eigen::Matrix<double, 3, 6>::NullaryExpr([&] { return normal(rng); });
-    const int slot = state.add(track, anchor_along(Eigen::Vector3d::Zero(), {1, track, 0}),
+    const int slot = state.add(track, anchor_along(Eigen::Vector3d::Zero(), {1, static_cast<double>(track), 0}),
                                Eigen::Vector3d(0, 0, 0.1 * track), G, Eigen::Vector3d(1, 2, 3));
     EXPECT_EQ(state.track_of(slot), track);
     // The point's error is G times the pose's plus its own.

@@ -16,7 +16,10 @@ struct PoseConsistency {
 };
 
 // Rover seeds 1..seeds, the simulated wheel reading `wheel_scale_error` long (0.015: 1.5 %).
+// linearised_at_truth: the filter takes its Jacobians at the true poses and points
+// (OnlineFilter::linearise_at), which shows what the filter's model alone is worth.
 PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
-                                       const sfm::FilterSettings& settings = {});
+                                       const sfm::FilterSettings& settings = {},
+                                       bool linearised_at_truth = false);
 
 }  // namespace omnisfm::eval

@@ -127,6 +127,14 @@ struct RejectedTrack {
   int frame = 0;  // where the filter rejected it
 };
 
+// Where a consistency study has the filter take its Jacobians: Huang, Mourikis and Roumeliotis's
+// "ideal EKF", linearised at the truth while its estimate still moves by its own residuals. It
+// tells an inconsistency of the filter's model from one of its linearisation.
+struct LinearisationPoints {
+  std::function<Eigen::Isometry3d(int frame)> cam_from_world;
+  std::function<Eigen::Vector3d(int track)> world_point;  // in the filter's world, the first frame's
+};
+
 class OnlineFilter {
  public:
   OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings);
@@ -147,6 +155,11 @@ class OnlineFilter {
   // Called as a track is rejected as an outlier.
   using TrackRejected = std::function<void(const RejectedTrack&)>;
   void on_track_rejected(TrackRejected callback) { track_rejected_ = std::move(callback); }
+
+  // From now on the measurements, a new point's start (its depth along its first ray) and the
+  // vehicle's motion are linearised at `points`, once per update (update_iterations is taken as
+  // 1): for consistency studies (eval::rover_pose_consistency).
+  void linearise_at(LinearisationPoints points) { linearisation_points_ = std::move(points); }
 
   Eigen::Isometry3d cam_from_world() const;
   // The 6x6 covariance of the pose error (rotation, then translation).
@@ -271,8 +284,13 @@ class OnlineFilter {
   void smooth_start();
   void solve_start();
 
+  bool at_given_points() const { return static_cast<bool>(linearisation_points_.cam_from_world); }
+
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
+  LinearisationPoints linearisation_points_;
+  int frame_ = 0;           // the frame being processed
+  int previous_frame_ = 0;  // and the one before
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
