@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/number_text.h"
@@ -884,6 +886,29 @@ TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
   const Outcome eval = omnisfm("eval --estimate sfm/batch.tum --ground-truth lab/ground_truth.tum");
   ASSERT_EQ(eval.status, 0) << eval.err;
   EXPECT_EQ(eval.out.rfind("poses 41\n", 0), 0u) << eval.out;
+}
+
+TEST_F(CliTest, SimulateRendersRealisticImages) {
+  for (const char* imaging : {"clean", "realistic"})
+    ASSERT_EQ(omnisfm(std::string("simulate --scenario crane --width 256 --height 192 --render "
+                                  "--imaging ") +
+                      imaging + " --out " + imaging)
+                  .status,
+              0)
+        << imaging;
+  const cv::Mat clean =
+      cv::imread((dir_ / "clean/images/000010.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat realistic =
+      cv::imread((dir_ / "realistic/images/000010.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(realistic.type(), CV_8UC1);
+  ASSERT_EQ(realistic.size(), clean.size());
+  // Other surfaces and noise: far from the clean image almost everywhere.
+  EXPECT_GT(cv::norm(realistic, clean, cv::NORM_L1) / realistic.total(), 5);
+  EXPECT_EQ(omnisfm("simulate --scenario crane --render --imaging photographic --out x").status, 2);
+  const Outcome without_render = omnisfm("simulate --scenario crane --imaging realistic --out x");
+  EXPECT_EQ(without_render.status, 2);
+  EXPECT_NE(without_render.err.find("--render"), std::string::npos) << without_render.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
 TEST_F(CliTest, TrackRejectsBadImagesAndWritesNothing) {

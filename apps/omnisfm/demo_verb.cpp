@@ -20,6 +20,7 @@
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/dataset_writer.h"
 #include "omnisfm/sim/image_file.h"
+#include "omnisfm/sim/imaging.h"
 #include "omnisfm/sim/renderer.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/track/frames_file.h"
@@ -74,6 +75,7 @@ sfm::SfmResult shape_from_motion(const sim::Dataset& d,
 void add_demo_verb(CLI::App& app) {
   auto out = std::make_shared<std::string>("out");
   auto seed = std::make_shared<std::uint64_t>(1);
+  auto imaging = std::make_shared<std::string>("realistic");
   CLI::App* verb = app.add_subcommand(
       "demo",
       "The main job: the paper's lab, crane and rover experiments simulated and rendered through "
@@ -82,7 +84,13 @@ void add_demo_verb(CLI::App& app) {
   verb->add_option("--out", *out, "Output folder (replaced whole when it exists)")
       ->capture_default_str();
   verb->add_option("--seed", *seed, "Random seed of the simulations")->capture_default_str();
-  verb->callback([out, seed] {
+  verb->add_option("--imaging", *imaging,
+                   "How the images are made: realistic (real photographs on the surfaces, motion "
+                   "blur, defocus, vignetting, automatic exposure, sensor noise) or clean (the "
+                   "ray-traced light alone, procedural textures), as simulate --imaging")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"clean", "realistic"}));
+  verb->callback([out, seed, imaging] {
     std::ostringstream motion, tracking;
     motion << "experiment  figure           paper       simulated   from images:            "
               "outlier tracks\n"
@@ -99,11 +107,12 @@ void add_demo_verb(CLI::App& app) {
         const sim::Dataset d = sim::simulate(options);
         const fs::path dir = fs::path(root) / paper.scenario;
         fs::create_directories(dir);
-        const sim::Renderer renderer(d.camera, 4);
+        sim::Renderer renderer(d.camera, 4);
+        sim::Imaging camera(sim::ImagingSettings::named(*imaging), &renderer, *seed);
         const int frames = static_cast<int>(d.world_from_cam.size());
         TerminalProgress rendering(step(paper.scenario, "rendered"), "images");
         sim::write_dataset(d, (dir / "dataset").string(), [&](int frame, const std::string& path) {
-          sim::write_png(path, renderer.render(d.scene, d.world_from_cam[frame]));
+          sim::write_png(path, camera.record(d, frame));
           rendering(frame + 1, frames);
         });
 

@@ -6,6 +6,7 @@
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/sim/dataset_writer.h"
 #include "omnisfm/sim/image_file.h"
+#include "omnisfm/sim/imaging.h"
 #include "omnisfm/sim/renderer.h"
 #include "omnisfm/sim/scenario.h"
 #include "simulated_rawlog_output.h"
@@ -20,6 +21,7 @@ void add_simulate_verb(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   auto render = std::make_shared<bool>(false);
   auto samples = std::make_shared<int>(4);
+  auto imaging = std::make_shared<std::string>("clean");
   auto rawlog = std::make_shared<bool>(false);
   auto gps = std::make_shared<bool>(false);
   CLI::App* verb = app.add_subcommand(
@@ -55,6 +57,12 @@ void add_simulate_verb(CLI::App& app) {
   verb->add_option("--samples", *samples, "Samples per pixel when rendering (a square: 1, 4, 9...)")
       ->capture_default_str()
       ->check(CLI::IsMember({1, 4, 9, 16, 25}));
+  CLI::Option* imaging_option = verb->add_option("--imaging", *imaging,
+                   "With --render: clean (the ray-traced light as it is, procedural textures) or "
+                   "realistic (real photographs on the surfaces, motion blur, defocus, vignetting, "
+                   "an automatic exposure's gain changes, shot and read noise)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"clean", "realistic"}));
   verb->add_flag("--rawlog", *rawlog,
                  "Also write dataset.rawlog for MRPT (load libomnisfm_mrpt_classes.so to read it): "
                  "tracks, the images with --render, wheel odometry that drifts, a biased gyro");
@@ -62,7 +70,9 @@ void add_simulate_verb(CLI::App& app) {
                  "With --rawlog and the rover or the drive: the outdoor variant, whose rawlog also holds GPS "
                  "fixes (NMEA GGA, 1 Hz, 2 cm RTK noise about 40.4435 N 79.9455 W); writes "
                  "ground_truth_enu.tum and ground_truth_geodetic.vnl too");
-  verb->callback([options, out, render, samples, rawlog, gps, frames] {
+  verb->callback([options, out, render, samples, imaging, imaging_option, rawlog, gps, frames] {
+    if (imaging_option->count() > 0 && !*render)
+      throw CLI::ValidationError("--imaging", "images are made only with --render");
     if (frames->count() > 0 && options->scenario != "drive")
       throw CLI::ValidationError("--frames", "only the drive has a length of your choosing");
     if (*render && options->scenario == "drive")
@@ -87,11 +97,14 @@ void add_simulate_verb(CLI::App& app) {
     TerminalProgress progress("rendered", "images");
     sim::FrameImageWriter write_image;
     std::unique_ptr<sim::Renderer> renderer;
+    std::unique_ptr<sim::Imaging> camera;
     if (*render) {
       renderer = std::make_unique<sim::Renderer>(dataset.camera, *samples);
+      camera = std::make_unique<sim::Imaging>(sim::ImagingSettings::named(*imaging),
+                                              renderer.get(), options->seed);
       const int image_count = static_cast<int>(dataset.world_from_cam.size());
       write_image = [&, image_count](int frame, const std::string& path) {
-        sim::write_png(path, renderer->render(dataset.scene, dataset.world_from_cam[frame]));
+        sim::write_png(path, camera->record(dataset, frame));
         progress(frame + 1, image_count);
       };
     }

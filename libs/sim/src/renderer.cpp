@@ -64,9 +64,11 @@ std::vector<QuadLook> quad_looks(const Scene& scene) {
 }
 
 double quad_grey(const QuadLook& look, const Eigen::Vector2d& uv, double distance,
-                 double cos_incidence, double angular_size) {
+                 double cos_incidence, double angular_size, const SurfacePhotos* photos) {
   const double footprint =
       distance * angular_size / std::max(std::abs(cos_incidence), kMinFootprintCosine);
+  if (photos && SurfacePhotos::has_photo(look.texture))
+    return look.light * photos->value(look.texture, look.seed, uv, footprint);
   return look.light * texture_value(look.texture, look.seed, uv, footprint);
 }
 
@@ -289,10 +291,19 @@ void Renderer::check_textures(const Scene& scene) const {
                                   ", which is not a SurfaceTexture");
 }
 
+cv::Mat Renderer::valid_pixels() const {
+  cv::Mat mask(height_, width_, CV_8UC1, cv::Scalar(0));
+  for (const PixelRays& pixel : pixels_) mask.at<std::uint8_t>(pixel.y, pixel.x) = 255;
+  return mask;
+}
+
 template <typename TracerOfTile>
-cv::Mat Renderer::shade_pixels(const Scene& scene, const TracerOfTile& tracer_of_tile) const {
+cv::Mat Renderer::shade_pixels(const Scene& scene, const TracerOfTile& tracer_of_tile,
+                               int type) const {
   const std::vector<QuadLook> looks = quad_looks(scene);
-  cv::Mat image(height_, width_, CV_8UC1, cv::Scalar(kInvalidGrey));
+  cv::Mat image(height_, width_, type, cv::Scalar(kInvalidGrey));
+  const bool rounded = type == CV_8UC1;
+  const SurfacePhotos* photos = photos_.get();
   const int samples = grid_ * grid_;
   parallel_for(tiles_.size(), threads_, [&](std::size_t t) {
     const Tile& tile = tiles_[t];
@@ -320,14 +331,27 @@ cv::Mat Renderer::shade_pixels(const Scene& scene, const TracerOfTile& tracer_of
       }
       for (const QuadSamples& g : groups)
         sum += g.count * quad_grey(looks[g.quad], g.uv_sum / g.count, g.distance_sum / g.count,
-                                   g.cosine_sum / g.count, angular_size);
-      image.at<std::uint8_t>(pixel.y, pixel.x) = cv::saturate_cast<std::uint8_t>(sum / samples);
+                                   g.cosine_sum / g.count, angular_size, photos);
+      if (rounded)
+        image.at<std::uint8_t>(pixel.y, pixel.x) = cv::saturate_cast<std::uint8_t>(sum / samples);
+      else
+        image.at<float>(pixel.y, pixel.x) = static_cast<float>(sum / samples);
     }
   });
   return image;
 }
 
 cv::Mat Renderer::render(const Scene& scene, const Eigen::Isometry3d& world_from_cam) const {
+  return trace_scene(scene, world_from_cam, CV_8UC1);
+}
+
+cv::Mat Renderer::render_radiance(const Scene& scene,
+                                  const Eigen::Isometry3d& world_from_cam) const {
+  return trace_scene(scene, world_from_cam, CV_32FC1);
+}
+
+cv::Mat Renderer::trace_scene(const Scene& scene, const Eigen::Isometry3d& world_from_cam,
+                              int type) const {
   check_textures(scene);
   const Eigen::Isometry3d cam_from_world = world_from_cam.inverse();
   const Eigen::Matrix3d rotation = cam_from_world.linear();
@@ -412,7 +436,7 @@ cv::Mat Renderer::render(const Scene& scene, const Eigen::Isometry3d& world_from
       return hit;
     };
   };
-  return shade_pixels(scene, tracer_of_tile);
+  return shade_pixels(scene, tracer_of_tile, type);
 }
 
 cv::Mat Renderer::render_unaccelerated(const Scene& scene,
@@ -439,7 +463,7 @@ cv::Mat Renderer::render_unaccelerated(const Scene& scene,
       return hit;
     };
   };
-  return shade_pixels(scene, tracer_of_tile);
+  return shade_pixels(scene, tracer_of_tile, CV_8UC1);
 }
 
 }  // namespace omnisfm::sim

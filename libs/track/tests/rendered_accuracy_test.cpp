@@ -13,6 +13,7 @@
 
 #include "omnisfm/eval/track_accuracy.h"
 #include "omnisfm/sim/image_file.h"
+#include "omnisfm/sim/imaging.h"
 #include "omnisfm/sim/renderer.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/track/image_sequence.h"
@@ -25,13 +26,14 @@ namespace fs = std::filesystem;
 
 struct Expected {
   const char* scenario;
+  const char* imaging;  // sim::ImagingSettings::named
   int frames;
   double median_px, p95_px;    // at most
   double mistracked_fraction;  // of the tracks, at most
   int wrong_reacquisitions;    // at most
 };
 
-void PrintTo(const Expected& e, std::ostream* out) { *out << e.scenario; }
+void PrintTo(const Expected& e, std::ostream* out) { *out << e.scenario << " " << e.imaging; }
 
 eval::TrackAccuracy track_rendered(const Expected& e, TrackedSequence* tracked) {
   sim::SimulationOptions options;
@@ -39,14 +41,16 @@ eval::TrackAccuracy track_rendered(const Expected& e, TrackedSequence* tracked) 
   options.image_width = 512;
   options.image_height = 384;
   const sim::Dataset d = sim::simulate(options);
-  const fs::path dir = fs::temp_directory_path() / ("omnisfm-rendered-" + std::string(e.scenario) +
-                                                    "-" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("omnisfm-rendered-" + std::string(e.scenario) + "-" +
+                                   e.imaging + "-" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const sim::Renderer renderer(d.camera, 4);
+  sim::Renderer renderer(d.camera, 4);
+  sim::Imaging camera(sim::ImagingSettings::named(e.imaging), &renderer, 1);
   for (int f = 0; f < e.frames; ++f) {
     char name[32];
     std::snprintf(name, sizeof name, "%06d.png", f);
-    sim::write_png((dir / name).string(), renderer.render(d.scene, d.world_from_cam[f]));
+    sim::write_png((dir / name).string(), camera.record(d, f));
   }
   ImageSequence images(dir.string());
   *tracked = track_images(d.camera, images, TrackerSettings());
@@ -56,7 +60,7 @@ eval::TrackAccuracy track_rendered(const Expected& e, TrackedSequence* tracked) 
 
 class RenderedAccuracy : public ::testing::TestWithParam<Expected> {};
 
-TEST_P(RenderedAccuracy, TracksFollowTheirPointsToATenthOfAPixel) {
+TEST_P(RenderedAccuracy, TracksFollowTheirPoints) {
   const Expected& e = GetParam();
   TrackedSequence tracked;
   const eval::TrackAccuracy a = track_rendered(e, &tracked);
@@ -72,23 +76,29 @@ TEST_P(RenderedAccuracy, TracksFollowTheirPointsToATenthOfAPixel) {
   RecordProperty("mistracked",
                  std::to_string(a.mistracked_tracks) + "/" + std::to_string(a.tracks));
   std::printf(
-      "%s: %d tracks, median %.3f px, 95th percentile %.3f px, max %.3f px, %d mistracked, "
+      "%s %s: %d tracks, median %.3f px, 95th percentile %.3f px, max %.3f px, %d mistracked, "
       "%d reacquisitions (%d wrong)\n",
-      e.scenario, a.tracks, a.median_px, a.p95_px, a.max_px, a.mistracked_tracks, a.reacquisitions,
+      e.scenario, e.imaging, a.tracks, a.median_px, a.p95_px, a.max_px, a.mistracked_tracks, a.reacquisitions,
       a.wrong_reacquisitions);
 }
 
 std::string scenario_name(const ::testing::TestParamInfo<Expected>& param) {
-  return param.param.scenario;
+  return std::string(param.param.scenario) + "_" + param.param.imaging;
 }
 
-// Measured (seed 1): lab 0.045 / 0.172 px, 0 of 605 tracks mistracked; crane 0.034 / 0.167 px,
-// 0 of 300; rover 0.053 / 0.265 px, 6 of 726. The rover's ground, close under the rig, changes
-// its look fastest as it drives.
+// Measured (seed 1), clean images: lab 0.045 / 0.172 px, 0 of 605 tracks mistracked; crane
+// 0.034 / 0.167 px, 0 of 300; rover 0.053 / 0.265 px, 6 of 726. The rover's ground, close under
+// the rig, changes its look fastest as it drives. Realistic images (photographs, blur, exposure,
+// noise): lab 0.107 / 0.401 px, 14 of 465 mistracked, 11 of 24 reacquisitions wrong (the bricks
+// repeat: a lost corner comes back on its neighbour); crane 0.072 / 0.264 px, 0 of 218; rover
+// 0.056 / 0.231 px, 1 of 632. The lab's reacquisitions are far from right (the goal: 1 % wrong).
 INSTANTIATE_TEST_SUITE_P(Scenarios, RenderedAccuracy,
-                         ::testing::Values(Expected{"lab", 41, 0.1, 0.3, 0.01, 1},
-                                           Expected{"crane", 60, 0.1, 0.3, 0.01, 1},
-                                           Expected{"rover", 60, 0.1, 0.35, 0.02, 1}),
+                         ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 1},
+                                           Expected{"crane", "clean", 60, 0.1, 0.3, 0.01, 1},
+                                           Expected{"rover", "clean", 60, 0.1, 0.35, 0.02, 1},
+                                           Expected{"lab", "realistic", 41, 0.15, 0.6, 0.05, 15},
+                                           Expected{"crane", "realistic", 60, 0.1, 0.35, 0.01, 1},
+                                           Expected{"rover", "realistic", 60, 0.1, 0.35, 0.01, 1}),
                          scenario_name);
 
 }  // namespace

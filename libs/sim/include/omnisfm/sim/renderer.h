@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/sim/photo_texture.h"
 #include "omnisfm/sim/procedural_texture.h"
 #include "omnisfm/sim/scene.h"
 
@@ -45,9 +46,17 @@ class Renderer {
   // std::invalid_argument otherwise.
   Renderer(const camera::CatadioptricCamera& camera, int samples_per_pixel, int threads = 2);
 
+  // From now on the surfaces whose texture has a photograph (SurfacePhotos::has_photo) show it
+  // instead of their procedural texture; null: procedural again.
+  void use_photos(std::shared_ptr<const SurfacePhotos> photos) { photos_ = std::move(photos); }
+
   // CV_8UC1, image_height x image_width. Throws std::invalid_argument when a quad's texture is
   // not a SurfaceTexture.
   cv::Mat render(const Scene& scene, const Eigen::Isometry3d& world_from_cam) const;
+  // The same before rounding: CV_32FC1 grey levels, for a camera's response (imaging.h) to act on.
+  cv::Mat render_radiance(const Scene& scene, const Eigen::Isometry3d& world_from_cam) const;
+  // CV_8UC1, 255 where a pixel has at least one sample with a valid reflection, else 0.
+  cv::Mat valid_pixels() const;
 
   // The same image with every ray traced by Scene::intersect in the world frame, without culling:
   // slow, the reference that render() is tested against.
@@ -82,11 +91,14 @@ class Renderer {
   static void bound_rays(const std::vector<Eigen::Vector3f>& origins,
                          const std::vector<Eigen::Vector3f>& directions, Tile* tile);
   // tracer_of_tile(tile) returns the function that traces one of the tile's rays.
+  // Into an image of `type`, CV_8UC1 (rounded) or CV_32FC1.
   template <typename TracerOfTile>
-  cv::Mat shade_pixels(const Scene& scene, const TracerOfTile& tracer_of_tile) const;
+  cv::Mat shade_pixels(const Scene& scene, const TracerOfTile& tracer_of_tile, int type) const;
+  cv::Mat trace_scene(const Scene& scene, const Eigen::Isometry3d& world_from_cam, int type) const;
   void check_textures(const Scene& scene) const;
 
   int width_ = 0, height_ = 0, grid_ = 1, threads_ = 1;
+  std::shared_ptr<const SurfacePhotos> photos_;
   std::vector<Tile> tiles_;
   std::vector<PixelRays> pixels_;
   // Frame C; single precision halves the memory of 16 samples per pixel, and costs at most a
