@@ -283,6 +283,22 @@ Eigen::Vector2d FeatureTracker::Track::predicted(int frame) const {
   return position + (frame - last_frame) * earlier_velocity;
 }
 
+bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
+                                     const Eigen::Vector2d& centre, double radius) const {
+  const double exclusion = t.reference.half_size();
+  const int reach = static_cast<int>(std::ceil(radius));
+  AffineWarp warp = found;
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const Eigen::Vector2d at = centre + Eigen::Vector2d(dx, dy);
+      if ((at - centre).norm() > radius || (at - found.b).norm() <= exclusion || !in_region(at))
+        continue;
+      warp.b = at;
+      if (t.reference.ncc(aligned_image_, warp) >= settings_.repeat_ncc) return true;
+    }
+  return false;
+}
+
 void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
                                std::vector<cv::Point2f>* reacquired) {
   constexpr double kSamePositionPx = 1.0;
@@ -290,6 +306,10 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
   // A start where the reference correlates this little is not near the feature: not worth an
   // alignment.
   constexpr double kMinStartNcc = 0.25;
+  // How far beyond the search disc repeated texture is looked for: a prediction may be off by
+  // more than the disc (the feature turned up elsewhere while hidden), and a repeat just outside
+  // it may be the feature itself.
+  constexpr double kRepeatReach = 3;
   std::vector<bool> corner_used(corners->size(), false), young_ended(live_.size(), false);
   std::deque<Track> still_lost;
   std::vector<Track> back;
@@ -345,7 +365,7 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
       else if (young >= 0)
         same->young = young;
     }
-    bool recognised = found.size() == 1;
+    bool recognised = found.size() == 1 && !repeated_nearby(t, found[0].warp, predicted, kRepeatReach * radius);
     if (recognised) {
       // The descriptor, taken where the track started, must agree too.
       const Eigen::Matrix2d& A = found[0].warp.A;

@@ -216,8 +216,8 @@ TEST(FeatureTracker, EndsTracksWhoseFeatureChanges) {
 
 // Features pass behind a bar that covers the texture; those that come out again continue
 // their old tracks, at the right place.
-TEST(FeatureTracker, ReacquiresFeaturesAfterAnOcclusion) {
-  const WaveTexture texture(6);
+// 45 frames of `texture` sliding behind a fixed bar, 60 tracks.
+Outcome behind_a_bar(const WaveTexture& texture, TrackerSettings settings) {
   const cv::Rect bar(140, 20, 18, 200);
   auto motion = [](int f) {
     Motion m;
@@ -225,16 +225,42 @@ TEST(FeatureTracker, ReacquiresFeaturesAfterAnOcclusion) {
     return m;
   };
   auto occlude = [&](int, cv::Mat& image) { image(bar).setTo(90); };
-  TrackerSettings settings;
   settings.max_tracks = 60;
-  const Outcome with = track_texture(texture, 45, motion, settings, occlude, bar);
+  return track_texture(texture, 45, motion, settings, occlude, bar);
+}
+
+// 96 waves: a texture that does not resemble itself within the reach of the repeat test (with 24
+// smooth waves, patches 100 px apart correlate above TrackerSettings::repeat_ncc, and
+// reacquisition rightly stays off).
+TEST(FeatureTracker, ReacquiresFeaturesAfterAnOcclusion) {
+  const WaveTexture texture(6, 96);
+  TrackerSettings settings;
+  const Outcome with = behind_a_bar(texture, settings);
   EXPECT_GE(with.reacquired_correctly, 5);
   EXPECT_EQ(with.reacquired_wrongly, 0);
   EXPECT_LT(with.worst_error, 0.1);
 
   settings.reacquire = false;
-  const Outcome without = track_texture(texture, 45, motion, settings, occlude, bar);
+  const Outcome without = behind_a_bar(texture, settings);
   EXPECT_EQ(without.reacquired_correctly + without.reacquired_wrongly, 0);
+}
+
+// On a texture that repeats every 30 pixels, a feature coming out from behind the bar has twins
+// all around where it is looked for: reacquisition must stay off rather than pick one. Without
+// the repeat test (repeat_ncc above any correlation) it does pick, and wrongly.
+TEST(FeatureTracker, RepeatedTextureIsNotReacquired) {
+  const WaveTexture texture = WaveTexture::periodic(6, 30);
+  TrackerSettings settings;
+  const Outcome with = behind_a_bar(texture, settings);
+  EXPECT_EQ(with.reacquired_wrongly, 0);
+  EXPECT_GT(with.observations, 500);
+
+  settings.repeat_ncc = 2;
+  const Outcome unguarded = behind_a_bar(texture, settings);
+  std::printf("repeated texture: reacquired %d right, %d wrong; unguarded %d right, %d wrong\n",
+              with.reacquired_correctly, with.reacquired_wrongly, unguarded.reacquired_correctly,
+              unguarded.reacquired_wrongly);
+  EXPECT_GT(unguarded.reacquired_wrongly, 0);
 }
 
 }  // namespace

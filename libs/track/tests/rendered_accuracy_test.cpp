@@ -89,14 +89,15 @@ std::string scenario_name(const ::testing::TestParamInfo<Expected>& param) {
 // Measured (seed 1), clean images: lab 0.045 / 0.172 px, 0 of 605 tracks mistracked; crane
 // 0.034 / 0.167 px, 0 of 300; rover 0.053 / 0.265 px, 6 of 726. The rover's ground, close under
 // the rig, changes its look fastest as it drives. Realistic images (photographs, blur, exposure,
-// noise): lab 0.107 / 0.401 px, 14 of 465 mistracked, 11 of 24 reacquisitions wrong (the bricks
-// repeat: a lost corner comes back on its neighbour); crane 0.072 / 0.264 px, 0 of 218; rover
-// 0.056 / 0.231 px, 1 of 632. The lab's reacquisitions are far from right (the goal: 1 % wrong).
+// noise): lab 0.103 / 0.400 px, 1 of 486 mistracked, 5 reacquisitions, none wrong; crane 0.070 /
+// 0.242 px, 0 of 220; rover 0.056 / 0.231 px, 1 of 632. Before reacquisition refused repeated
+// texture (TrackerSettings::repeat_ncc), 11 of the lab's 24 reacquisitions came back on a
+// neighbouring brick, and 14 tracks strayed.
 INSTANTIATE_TEST_SUITE_P(Scenarios, RenderedAccuracy,
                          ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 1},
                                            Expected{"crane", "clean", 60, 0.1, 0.3, 0.01, 1},
                                            Expected{"rover", "clean", 60, 0.1, 0.35, 0.02, 1},
-                                           Expected{"lab", "realistic", 41, 0.15, 0.6, 0.05, 15},
+                                           Expected{"lab", "realistic", 41, 0.15, 0.5, 0.01, 1},
                                            Expected{"crane", "realistic", 60, 0.1, 0.35, 0.01, 1},
                                            Expected{"rover", "realistic", 60, 0.1, 0.35, 0.01, 1}),
                          scenario_name);

@@ -23,6 +23,24 @@ class WaveTexture {
     }
   }
 
+  // A texture that repeats every `period` units along both axes (tiles, bricks): each wave's
+  // vector on the lattice 2 pi (n, m) / period, wavelengths of 6 to 40 units as above.
+  static WaveTexture periodic(unsigned seed, double period, int waves = 24) {
+    WaveTexture t(seed, 0);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const int reach = static_cast<int>(period / 6);
+    while (static_cast<int>(t.waves_.size()) < waves) {
+      const int n = static_cast<int>(std::lround((2 * unit(rng) - 1) * reach));
+      const int m = static_cast<int>(std::lround((2 * unit(rng) - 1) * reach));
+      const double wavelength = period / std::hypot(n, m);
+      if (!(wavelength >= 6 && wavelength <= 40)) continue;
+      t.waves_.push_back({Eigen::Vector2d(n, m) * (2 * M_PI / period), 2 * M_PI * unit(rng),
+                          40.0 / std::sqrt(waves)});
+    }
+    return t;
+  }
+
   double value(const Eigen::Vector2d& uv) const {
     double v = 128;
     for (const Wave& w : waves_) v += w.amplitude * std::sin(w.k.dot(uv) + w.phase);
