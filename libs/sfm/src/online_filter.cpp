@@ -113,7 +113,8 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
     Eigen::Matrix3d J_given;
     const Eigen::Vector3d X_given =
         anchor.world_point(anchor.params_of(linearisation_points_.world_point(track)), &J_given);
-    J_pose << R.transpose() * so3::skew(R * X_given), -R.transpose();
+    const Eigen::Matrix3d R_given = linearisation_points_.cam_from_world(frame_).linear();
+    J_pose << R_given.transpose() * so3::skew(R_given * X_given), -R_given.transpose();
     G = J_given.inverse() * J_pose;
   }
   const double across = radians_per_pixel * settings_.pixel_sigma;

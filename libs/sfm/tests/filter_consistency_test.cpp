@@ -26,8 +26,8 @@ TEST(FilterConsistency, RoverPoseNeesWithOdometryAndGyro) {
 // The simulation's wheel reading 1.5 % long, its scale a state, the filter linearised at the
 // truth (Huang, Mourikis and Roumeliotis's ideal EKF): its model is honest, so what makes the
 // filter itself overconfident here (mean NEES 344, 20.7 % inside, the wheel's scale known to
-// 0.13 % where the batch gives 2 %) is where it linearises. Measured: seeds 1-25 mean 5.71,
-// 93.2 % inside; seeds 1-50 6.00 and 93.2 %.
+// 0.13 % where the batch gives 2 %) is where it linearises. Measured: seeds 1-25 mean 5.75,
+// 93.1 % inside; seeds 1-50 6.02 and 93.2 %.
 TEST(FilterConsistency, LinearisedAtTheTruthTheModelIsHonestWithTheWheelsError) {
   FilterSettings settings;
   settings.estimate_wheel_scale = true;

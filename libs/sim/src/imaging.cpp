@@ -46,13 +46,12 @@ bool ImagingSettings::is_clean() const {
 Imaging::Imaging(const ImagingSettings& settings, Renderer* renderer, std::uint64_t seed)
     : settings_(settings), renderer_(renderer), rng_(seed) {
   if (settings_.photographs)
-    renderer_->use_photos(SurfacePhotos::read(
-        std::filesystem::path(io::find_shared_file("textures/brick.png")).parent_path().string()));
-  else
-    renderer_->use_photos(nullptr);
+    photos_ = SurfacePhotos::read(
+        std::filesystem::path(io::find_shared_file("textures/brick.png")).parent_path().string());
   // Vignetting about the centre of the mirror's image, to its rim: the valid pixels' centroid and
   // farthest extent.
-  const cv::Mat valid = renderer_->valid_pixels();
+  valid_ = renderer_->valid_pixels();
+  const cv::Mat& valid = valid_;
   const cv::Moments m = cv::moments(valid, true);
   const double cx = m.m00 > 0 ? m.m10 / m.m00 : valid.cols / 2.0;
   const double cy = m.m00 > 0 ? m.m01 / m.m00 : valid.rows / 2.0;
@@ -71,6 +70,7 @@ Imaging::Imaging(const ImagingSettings& settings, Renderer* renderer, std::uint6
 cv::Mat Imaging::record(const Dataset& dataset, int frame) {
   const int frames = static_cast<int>(dataset.world_from_cam.size());
   if (frame < 0 || frame >= frames) throw std::invalid_argument("no frame " + std::to_string(frame));
+  renderer_->use_photos(photos_);
   if (settings_.is_clean()) return renderer_->render(dataset.scene, dataset.world_from_cam[frame]);
 
   // Motion blur: renderings over the exposure, centred on the frame's time.
@@ -95,7 +95,7 @@ cv::Mat Imaging::record(const Dataset& dataset, int frame) {
   if (first_) {
     // The automatic exposure's start: the mirror's image at a mean grey of kExposureTarget.
     first_ = false;
-    const double mean = cv::mean(light.mul(vignetting_), renderer_->valid_pixels())[0];
+    const double mean = cv::mean(light.mul(vignetting_), valid_)[0];
     exposure_ = mean > 1 ? kExposureTarget / mean : 1;
   } else if (settings_.gain_step_sigma > 0) {
     std::normal_distribution<double> step(0, settings_.gain_step_sigma);
@@ -104,17 +104,19 @@ cv::Mat Imaging::record(const Dataset& dataset, int frame) {
   }
   light = light.mul(vignetting_, exposure_ * gain_);
 
-  cv::Mat image(light.size(), CV_8UC1);
-  std::normal_distribution<double> unit(0, 1);
-  for (int y = 0; y < light.rows; ++y)
-    for (int x = 0; x < light.cols; ++x) {
-      const double grey = std::max(static_cast<double>(light.at<float>(y, x)), 0.0);
-      const double shot_variance =
-          settings_.electrons_per_grey > 0 ? grey / settings_.electrons_per_grey : 0;
-      const double sigma =
-          std::sqrt(shot_variance + settings_.read_noise_grey * settings_.read_noise_grey);
-      image.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(grey + sigma * unit(rng_));
-    }
+  // Shot and read noise: a standard normal per pixel, scaled by that pixel's sigma.
+  const cv::Mat variance =
+      cv::max(light, 0.0) *
+          (settings_.electrons_per_grey > 0 ? 1 / settings_.electrons_per_grey : 0.0) +
+      settings_.read_noise_grey * settings_.read_noise_grey;
+  cv::Mat sigma;
+  cv::sqrt(variance, sigma);
+  cv::Mat noise(light.size(), CV_32FC1);
+  cv::RNG normal(rng_());
+  normal.fill(noise, cv::RNG::NORMAL, 0, 1);
+  cv::Mat image;
+  const cv::Mat noisy = light + noise.mul(sigma);
+  noisy.convertTo(image, CV_8U);
   return image;
 }
 

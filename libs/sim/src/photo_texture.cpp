@@ -25,7 +25,6 @@ PhotoTexture::PhotoTexture(const cv::Mat& photo, double metres) {
   if (photo.type() != CV_8UC1 || photo.rows < 2 || photo.cols < 2)
     throw std::invalid_argument("a surface photograph must be 8-bit grey and at least 2 x 2");
   if (!(metres > 0)) throw std::invalid_argument("a surface photograph must cover more than 0 m");
-  texels_per_metre_ = photo.cols / metres;
   cv::Mat level;
   photo.convertTo(level, CV_32F);
   levels_.push_back(level);
@@ -35,6 +34,9 @@ PhotoTexture::PhotoTexture(const cv::Mat& photo, double metres) {
     levels_.push_back(half);
     level = half;
   }
+  // Each level covers the same metres, so that an odd size keeps every level's repetition in
+  // place (its texels slightly larger than twice the finer level's).
+  for (const cv::Mat& l : levels_) texels_per_metre_.push_back(l.cols / metres);
 }
 
 PhotoTexture PhotoTexture::read(const std::string& path, double metres) {
@@ -58,15 +60,16 @@ double PhotoTexture::bilinear(int level, double x, double y) const {
 
 double PhotoTexture::value(const Eigen::Vector2d& uv, double footprint) const {
   // The level whose texel is the footprint's size.
-  const double texels = std::max(footprint * texels_per_metre_, 1.0);
+  const double texels = std::max(footprint * texels_per_metre_[0], 1.0);
   const double lod = std::min(std::log2(texels), static_cast<double>(levels_.size() - 1));
   const int fine = static_cast<int>(std::floor(lod));
   const int coarse = std::min(fine + 1, static_cast<int>(levels_.size()) - 1);
   const double blend = lod - fine;
   // Texel centres at half-integers, the same place at every level.
   const auto sample = [&](int level) {
-    const double scale = texels_per_metre_ / std::ldexp(1.0, level);
-    return bilinear(level, uv.x() * scale - 0.5, uv.y() * scale - 0.5);
+    const double across = texels_per_metre_[level];
+    const double down = levels_[level].rows * texels_per_metre_[0] / levels_[0].rows;
+    return bilinear(level, uv.x() * across - 0.5, uv.y() * down - 0.5);
   };
   const double fine_value = sample(fine);
   return blend > 0 && coarse != fine ? (1 - blend) * fine_value + blend * sample(coarse)

@@ -44,6 +44,22 @@ TEST(PhotoTexture, RepeatsMirroredWithoutSeams) {
   EXPECT_NEAR(texture.value({1 - 1e-6, 0.3}, 0), texture.value({1 + 1e-6, 0.3}, 0), 1e-3);
 }
 
+// An odd size halves unevenly (63 -> 31 -> 15 ...): every level must still repeat where the
+// photograph does, 2 m across and 2 * 37 / 63 m down.
+TEST(PhotoTexture, OddSizesRepeatInPlaceAtEveryLevel) {
+  cv::Mat photo(37, 63, CV_8UC1);
+  cv::randu(photo, 0, 256);
+  const PhotoTexture texture(photo, 1.0);
+  const double down = 2.0 * 37 / 63;
+  for (double footprint : {0.0, 3.0 / 63, 7.0 / 63, 20.0 / 63})
+    for (const Eigen::Vector2d& uv : {Eigen::Vector2d(0.31, 0.17), Eigen::Vector2d(0.77, 0.52)}) {
+      const double here = texture.value(uv, footprint);
+      EXPECT_NEAR(texture.value(uv + Eigen::Vector2d(2, 0), footprint), here, 1e-6) << footprint;
+      EXPECT_NEAR(texture.value(uv + Eigen::Vector2d(0, down), footprint), here, 1e-6)
+          << footprint;
+    }
+}
+
 TEST(PhotoTexture, WideFootprintsAverageTheTexture) {
   const PhotoTexture texture(ramp_photo(), 1.0);
   // A footprint of the whole photograph: its mean, 2 * 31.5 + 31.5 = 94.5.

@@ -284,17 +284,34 @@ Eigen::Vector2d FeatureTracker::Track::predicted(int frame) const {
 }
 
 bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
-                                     const Eigen::Vector2d& centre, double radius) const {
-  const double exclusion = t.reference.half_size();
+                                     double radius) const {
+  // Scanned every other pixel (a look-alike's correlation peak is wider than that), and aligned
+  // from where the reference, unaligned, correlates kTwinStartNcc or better; the match's own
+  // peak converges back onto it.
+  constexpr int kStep = 2;
+  constexpr double kTwinStartNcc = 0.9;
+  const Eigen::Vector2d centre = found.b;
+  const double apart = t.reference.half_size();
   const int reach = static_cast<int>(std::ceil(radius));
+  std::vector<Eigen::Vector2d> tried;  // where alignments ended: their peaks need no second try
   AffineWarp warp = found;
-  for (int dy = -reach; dy <= reach; ++dy)
-    for (int dx = -reach; dx <= reach; ++dx) {
+  for (int dy = -reach; dy <= reach; dy += kStep)
+    for (int dx = -reach; dx <= reach; dx += kStep) {
       const Eigen::Vector2d at = centre + Eigen::Vector2d(dx, dy);
-      if ((at - centre).norm() > radius || (at - found.b).norm() <= exclusion || !in_region(at))
+      if ((at - centre).norm() > radius || (at - found.b).norm() <= apart || !in_region(at))
         continue;
+      warp = found;
       warp.b = at;
-      if (t.reference.ncc(aligned_image_, warp) >= settings_.repeat_ncc) return true;
+      if (t.reference.ncc(aligned_image_, warp) < kTwinStartNcc) continue;
+      if (std::any_of(tried.begin(), tried.end(),
+                      [&](const Eigen::Vector2d& p) { return (p - at).norm() <= apart; }))
+        continue;
+      const AlignmentResult aligned =
+          t.reference.align(aligned_image_, &warp, kMaxAlignmentIterations, kAlignmentTolerancePx);
+      tried.push_back(warp.b);
+      if (aligned.converged && aligned.ncc >= settings_.twin_ncc &&
+          (warp.b - found.b).norm() > apart && in_region(warp.b))
+        return true;
     }
   return false;
 }
@@ -306,10 +323,12 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
   // A start where the reference correlates this little is not near the feature: not worth an
   // alignment.
   constexpr double kMinStartNcc = 0.25;
-  // How far beyond the search disc repeated texture is looked for: a prediction may be off by
-  // more than the disc (the feature turned up elsewhere while hidden), and a repeat just outside
-  // it may be the feature itself.
+  // How far about the place found twins are looked for: three search radii (a prediction may be
+  // off by more than the disc: the feature turned up elsewhere while hidden, and a twin into
+  // it), and at least four patch widths (texture that repeats that closely is ambiguous
+  // whatever the gap).
   constexpr double kRepeatReach = 3;
+  constexpr double kRepeatMinReachPatches = 4;
   std::vector<bool> corner_used(corners->size(), false), young_ended(live_.size(), false);
   std::deque<Track> still_lost;
   std::vector<Track> back;
@@ -365,14 +384,19 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
       else if (young >= 0)
         same->young = young;
     }
-    bool recognised = found.size() == 1 && !repeated_nearby(t, found[0].warp, predicted, kRepeatReach * radius);
+    bool recognised = found.size() == 1;
     if (recognised) {
-      // The descriptor, taken where the track started, must agree too.
+      // The descriptor, taken where the track started, must agree too; then no twin may lie
+      // around (the costlier test, last).
       const Eigen::Matrix2d& A = found[0].warp.A;
       const double turned = std::atan2(A(1, 0) - A(0, 1), A(0, 0) + A(1, 1));
       const Descriptor now = describe(image_, point(found[0].warp.b), turned);
       recognised = now.valid && t.descriptor.valid &&
-                   hamming_distance(now, t.descriptor) <= settings_.max_descriptor_distance;
+                   hamming_distance(now, t.descriptor) <= settings_.max_descriptor_distance &&
+                   !repeated_nearby(t, found[0].warp,
+                                    std::max(kRepeatReach * radius,
+                                             kRepeatMinReachPatches *
+                                                 (2 * t.reference.half_size() + 1)));
     }
     if (!recognised) {
       still_lost.push_back(std::move(t));

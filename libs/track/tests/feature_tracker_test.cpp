@@ -229,9 +229,8 @@ Outcome behind_a_bar(const WaveTexture& texture, TrackerSettings settings) {
   return track_texture(texture, 45, motion, settings, occlude, bar);
 }
 
-// 96 waves: a texture that does not resemble itself within the reach of the repeat test (with 24
-// smooth waves, patches 100 px apart correlate above TrackerSettings::repeat_ncc, and
-// reacquisition rightly stays off).
+// 96 waves: the 24 of the other tests are smooth enough that a patch aligns at 0.95 or better
+// within four patch widths of itself, a twin by TrackerSettings::twin_ncc.
 TEST(FeatureTracker, ReacquiresFeaturesAfterAnOcclusion) {
   const WaveTexture texture(6, 96);
   TrackerSettings settings;
@@ -247,7 +246,7 @@ TEST(FeatureTracker, ReacquiresFeaturesAfterAnOcclusion) {
 
 // On a texture that repeats every 30 pixels, a feature coming out from behind the bar has twins
 // all around where it is looked for: reacquisition must stay off rather than pick one. Without
-// the repeat test (repeat_ncc above any correlation) it does pick, and wrongly.
+// the twin test (twin_ncc above any correlation) it does pick, and wrongly.
 TEST(FeatureTracker, RepeatedTextureIsNotReacquired) {
   const WaveTexture texture = WaveTexture::periodic(6, 30);
   TrackerSettings settings;
@@ -255,7 +254,7 @@ TEST(FeatureTracker, RepeatedTextureIsNotReacquired) {
   EXPECT_EQ(with.reacquired_wrongly, 0);
   EXPECT_GT(with.observations, 500);
 
-  settings.repeat_ncc = 2;
+  settings.twin_ncc = 2;
   const Outcome unguarded = behind_a_bar(texture, settings);
   std::printf("repeated texture: reacquired %d right, %d wrong; unguarded %d right, %d wrong\n",
               with.reacquired_correctly, with.reacquired_wrongly, unguarded.reacquired_correctly,

@@ -158,7 +158,10 @@ class OnlineFilter {
 
   // From now on the measurements, a new point's start (its depth along its first ray) and the
   // vehicle's motion are linearised at `points`, once per update (update_iterations is taken as
-  // 1): for consistency studies (eval::rover_pose_consistency).
+  // 1): for consistency studies (eval::rover_pose_consistency). Still at the estimate: the
+  // smoothed start's solve and covariance (a batch over its window, relinearised to convergence),
+  // the motion prediction's Jacobians in the gyro's bias and the wheels' scale (the caller's,
+  // from sensor_states()), and a measurement whose given point does not project.
   void linearise_at(LinearisationPoints points) { linearisation_points_ = std::move(points); }
 
   Eigen::Isometry3d cam_from_world() const;

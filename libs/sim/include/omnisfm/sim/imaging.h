@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <random>
 #include <string>
@@ -48,8 +49,9 @@ struct ImagingSettings {
 // One sequence's camera: the exposure's gain and the noise go on from frame to frame.
 class Imaging {
  public:
-  // `renderer` is used for every frame (its photographs set from settings.photographs); seed
-  // makes the noise and the gain's walk repeatable.
+  // `renderer` is used for every frame, its photographs set from settings.photographs at each
+  // record (so that several Imagings may take turns on one renderer, not at once); seed makes
+  // the noise and the gain's walk repeatable.
   Imaging(const ImagingSettings& settings, Renderer* renderer, std::uint64_t seed);
 
   // Frame `frame` of `dataset` as the camera records it (CV_8UC1). Frames are taken in order.
@@ -62,7 +64,9 @@ class Imaging {
  private:
   ImagingSettings settings_;
   Renderer* renderer_;
+  std::shared_ptr<const SurfacePhotos> photos_;  // null: procedural textures
   std::mt19937_64 rng_;
+  cv::Mat valid_;       // the renderer's valid pixels
   cv::Mat vignetting_;  // CV_32FC1 gain per pixel
   double exposure_ = 1;  // the first frame's
   double gain_ = 1;      // the walk's, relative to it

@@ -32,8 +32,8 @@ class PhotoTexture {
  private:
   double bilinear(int level, double x, double y) const;
 
-  std::vector<cv::Mat> levels_;  // CV_32FC1, each half the size of the one before
-  double texels_per_metre_ = 1;
+  std::vector<cv::Mat> levels_;  // CV_32FC1, each half the size of the one before (rounded down)
+  std::vector<double> texels_per_metre_;  // per level: its own width over the photograph's
 };
 
 // The photographs the procedural textures stand for, and where on each surface they lie.

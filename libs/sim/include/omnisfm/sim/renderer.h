@@ -3,13 +3,15 @@
 //
 // Each pixel holds an n x n grid of samples (samples_per_pixel = n^2) at offsets (i + 0.5)/n - 0.5
 // from its centre. Each sample's reflected ray (camera.unproject) is traced to the nearest
-// surface, and the pixel is the mean of its samples' greys, rounded. Samples with no valid
+// surface, and the pixel is the mean of its samples' greys, rounded (render_radiance: not
+// rounded, for a camera's response to act on; imaging.h). Samples with no valid
 // reflection (beyond the rim, in the camera's own reflection) are kInvalidGrey, as a real rig's
 // unlit surround is; rays that hit nothing are kSkyGrey.
 //
 // Shading:
 //   quads:   texture_value(quad.texture, ...) (procedural_texture.h lists the ids: 0 wall,
 //            1 floor, 2 ceiling, 3 box, 4 outdoor ground, 5 striped wall, 6 plain) on SceneHit::uv,
+//            or with use_photos() the photograph standing for that id (photo_texture.h),
 //            filtered to the pixel's footprint on the surface, times a fixed diffuse light factor
 //            of the quad's orientation (0.75-1) so that box faces differ. Being filtered already,
 //            the texture is evaluated once per pixel and quad, at the mean of the hits of the

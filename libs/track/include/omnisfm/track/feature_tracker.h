@@ -82,10 +82,9 @@ class FeatureTracker {
   // Lost tracks recognised near their predicted position continue; the corners near where
   // they are found are removed, and their positions added to `reacquired`.
   void reacquire(std::vector<cv::Point2f>* corners, std::vector<cv::Point2f>* reacquired);
-  // Whether t's reference, at `found`'s warp, correlates repeat_ncc or better elsewhere in the
-  // disc (centre, radius) the track was looked for in.
-  bool repeated_nearby(const Track& t, const AffineWarp& found, const Eigen::Vector2d& centre,
-                       double radius) const;
+  // Whether t's reference, found at `found`, also aligns at a twin within `radius` of it:
+  // TrackerSettings::twin_ncc.
+  bool repeated_nearby(const Track& t, const AffineWarp& found, double radius) const;
   // Counts the end in *counter; a track that may come back (not one that left the region or
   // changed its look) is remembered for reacquisition.
   void end_track(size_t index, int* counter, bool may_return = true);

@@ -55,9 +55,9 @@ struct TrackerSettings {
   // loss) of where its image velocity before the loss puts it: its reference patch is aligned
   // from that prediction, from the nearest new corners and from tracks started since the loss.
   // If it aligns as well as it did before the loss (sudden_loss_ncc: a feature still partly
-  // hidden would be pulled off) at exactly one place (nothing else in the disc correlating
-  // repeat_ncc or better), and the ORB descriptor there is within
-  // max_descriptor_distance bits of the one taken where the track started, the old track
+  // hidden would be pulled off) at exactly one place, the ORB descriptor there is within
+  // max_descriptor_distance bits of the one taken where the track started, and no twin lies
+  // nearby (twin_ncc), the old track
   // continues; a young track that had started on the feature ends there (what it saw before
   // stays under its own id).
   bool reacquire = true;
@@ -66,10 +66,11 @@ struct TrackerSettings {
   double reacquire_radius_px = 6;
   double reacquire_radius_growth_px = 1.5;
   int max_descriptor_distance = 64;
-  // Repeated texture (bricks, tiles): a place found is refused when the reference, at the warp
-  // found, also correlates at least this well anywhere else in the search disc (farther than
-  // the patch's half size from it, whole pixels apart).
-  double repeat_ncc = 0.9;
+  // Repeated texture (bricks, tiles): a place found is refused when the reference, with the warp
+  // found, also aligns at twin_ncc or better at a twin farther than the patch's half size from
+  // it, within three search radii of it (the feature may have moved beyond the search while
+  // hidden, and its twin into it) or four patch widths, whichever is more.
+  double twin_ncc = 0.95;
 };
 
 }  // namespace omnisfm::track
