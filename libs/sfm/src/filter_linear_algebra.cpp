@@ -92,35 +92,36 @@ void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::
 // Column by column, so that every operation runs down contiguous memory; Eigen's product of a
 // 2x3 matrix and a strided block does not vectorise.
 void add_point_columns(const Eigen::MatrixXd& P, const std::vector<int>& first_column,
-                       const std::vector<Eigen::Matrix<double, 2, 3>>& H_point,
-                       Eigen::MatrixXd* PHt) {
+                       const std::vector<PointRows>& H_point, Eigen::MatrixXd* PHt) {
+  constexpr int kSize = FilterState::kPointSize;
   const Eigen::Index n = P.rows();
   for (size_t k = 0; k < H_point.size(); ++k) {
-    const Eigen::Matrix<double, 2, 3>& h = H_point[k];
-    const double* p0 = P.col(first_column[k]).data();
-    const double* p1 = P.col(first_column[k] + 1).data();
-    const double* p2 = P.col(first_column[k] + 2).data();
+    const PointRows& h = H_point[k];
     double* out0 = PHt->col(2 * k).data();
     double* out1 = PHt->col(2 * k + 1).data();
-    for (Eigen::Index i = 0; i < n; ++i) {
-      out0[i] += h(0, 0) * p0[i] + h(0, 1) * p1[i] + h(0, 2) * p2[i];
-      out1[i] += h(1, 0) * p0[i] + h(1, 1) * p1[i] + h(1, 2) * p2[i];
+    for (int j = 0; j < kSize; ++j) {
+      const double h0 = h(0, j), h1 = h(1, j);
+      const double* p = P.col(first_column[k] + j).data();
+      for (Eigen::Index i = 0; i < n; ++i) {
+        out0[i] += h0 * p[i];
+        out1[i] += h1 * p[i];
+      }
     }
   }
 }
 
 void add_point_rows_lower(const Eigen::MatrixXd& PHt, const std::vector<int>& first_column,
-                          const std::vector<Eigen::Matrix<double, 2, 3>>& H_point,
-                          Eigen::MatrixXd* S) {
+                          const std::vector<PointRows>& H_point, Eigen::MatrixXd* S) {
   const Eigen::Index columns = S->cols();
   for (Eigen::Index j = 0; j < columns; ++j) {
     const double* phT = PHt.col(j).data();
     double* s = S->col(j).data();
     for (size_t k = static_cast<size_t>(j / 2); k < H_point.size(); ++k) {
-      const Eigen::Matrix<double, 2, 3>& h = H_point[k];
-      const double* x = phT + first_column[k];
-      s[2 * k] += h(0, 0) * x[0] + h(0, 1) * x[1] + h(0, 2) * x[2];
-      s[2 * k + 1] += h(1, 0) * x[0] + h(1, 1) * x[1] + h(1, 2) * x[2];
+      const Eigen::Map<const Eigen::Matrix<double, FilterState::kPointSize, 1>> x(
+          phT + first_column[k]);
+      const Eigen::Vector2d hx = H_point[k] * x;
+      s[2 * k] += hx[0];
+      s[2 * k + 1] += hx[1];
     }
   }
 }

@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "omnisfm/sfm/filter_state.h"
+
 namespace omnisfm::sfm {
 
 // C := op(A) op(B), op transposing when asked.
@@ -22,17 +24,18 @@ bool cholesky_lower_in_place(Eigen::MatrixXd* S);
 // overwritten (with PHt L^-T).
 void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::MatrixXd& L);
 
+// A measurement's two rows of H in its point's columns.
+using PointRows = Eigen::Matrix<double, 2, FilterState::kPointSize>;
+
 // The point columns of H, measurement k's two rows touching only P's columns first_column[k]
-// .. first_column[k] + 2 through H_point[k]:
-// PHt.middleCols<2>(2k) += P.middleCols<3>(first_column[k]) H_point[k]^T for every k.
+// onwards through H_point[k]:
+// PHt.middleCols<2>(2k) += P.middleCols<kPointSize>(first_column[k]) H_point[k]^T for every k.
 void add_point_columns(const Eigen::MatrixXd& P, const std::vector<int>& first_column,
-                       const std::vector<Eigen::Matrix<double, 2, 3>>& H_point,
-                       Eigen::MatrixXd* PHt);
+                       const std::vector<PointRows>& H_point, Eigen::MatrixXd* PHt);
 
 // S += H_points PHt on S's lower triangle, H_points as in add_point_columns.
 void add_point_rows_lower(const Eigen::MatrixXd& PHt, const std::vector<int>& first_column,
-                          const std::vector<Eigen::Matrix<double, 2, 3>>& H_point,
-                          Eigen::MatrixXd* S);
+                          const std::vector<PointRows>& H_point, Eigen::MatrixXd* S);
 
 // Per measurement k (two rows each), the squared Mahalanobis distance of its residual after the
 // update, r_k = z_k - h_k(x+), under that residual's covariance R - H_k P+ H_k^T =

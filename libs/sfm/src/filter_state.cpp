@@ -6,25 +6,27 @@
 
 namespace omnisfm::sfm {
 
-Eigen::Vector3d PointAnchor::world_point(const Eigen::Vector3d& params,
-                                         Eigen::Matrix3d* J_params) const {
-  const Eigen::Vector3d u = basis.col(0) + params.x() * basis.col(1) + params.y() * basis.col(2);
+Eigen::Vector3d PointAnchor::world_point(const PointParams& params,
+                                         PointJacobian* J_params) const {
+  const Eigen::Vector3d u = basis.col(0) + params[0] * basis.col(1) + params[1] * basis.col(2);
   const double norm = u.norm();
   const Eigen::Vector3d direction = u / norm;
-  const double rho = params.z();
+  const double rho = params[2];
   if (J_params) {
     const Eigen::Matrix3d across =
         (Eigen::Matrix3d::Identity() - direction * direction.transpose()) / norm;
     *J_params << across * basis.col(1) / rho, across * basis.col(2) / rho,
-        -direction / (rho * rho);
+        -direction / (rho * rho), Eigen::Matrix3d::Identity();
   }
-  return origin + direction / rho;
+  return origin + params.tail<3>() + direction / rho;
 }
 
-Eigen::Vector3d PointAnchor::params_of(const Eigen::Vector3d& X) const {
+PointParams PointAnchor::params_of(const Eigen::Vector3d& X) const {
   const Eigen::Vector3d ray = X - origin;
   const double along = basis.col(0).dot(ray);
-  return {basis.col(1).dot(ray) / along, basis.col(2).dot(ray) / along, 1 / ray.norm()};
+  PointParams params;
+  params << basis.col(1).dot(ray) / along, basis.col(2).dot(ray) / along, 1 / ray.norm(), 0, 0, 0;
+  return params;
 }
 
 FilterMean FilterMean::plus(const Eigen::VectorXd& delta, double min_inverse_depth) const {
@@ -35,9 +37,13 @@ FilterMean FilterMean::plus(const Eigen::VectorXd& delta, double min_inverse_dep
   moved.sensors.gyro_bias += delta.segment<3>(FilterState::kBiasColumn);
   moved.sensors.wheel_scale += delta[FilterState::kScaleColumn];
   moved.points = points + delta.tail(points.size());
-  for (Eigen::Index k = 2; k < moved.points.size(); k += 3)
+  for (Eigen::Index k = 2; k < moved.points.size(); k += FilterState::kPointSize)
     moved.points[k] = std::max(moved.points[k], min_inverse_depth);
   return moved;
+}
+
+PointParams FilterMean::params(int slot) const {
+  return points.segment<FilterState::kPointSize>(FilterState::kPointSize * slot);
 }
 
 Eigen::Isometry3d FilterMean::cam_from_world() const {
@@ -52,21 +58,22 @@ int FilterState::slot_of(int track) const {
   return slot == track_slot_.end() ? -1 : slot->second;
 }
 
-int FilterState::add(int track, const PointAnchor& anchor, const Eigen::Vector3d& params,
-                     const Eigen::Matrix<double, 3, 6>& G, const Eigen::Vector3d& own_sigma) {
+int FilterState::add(int track, const PointAnchor& anchor, const PointParams& params,
+                     const Eigen::Matrix<double, kPointSize, 6>& G, const PointParams& own_sigma) {
+  constexpr int k = kPointSize;
   const int slot = num_slots();
   anchors_.push_back(anchor);
   slot_track_.push_back(track);
   track_slot_[track] = slot;
   const int n = static_cast<int>(P.rows());
-  P.conservativeResize(n + 3, n + 3);
-  const Eigen::MatrixXd cross = G * P.topLeftCorner(6, n);  // 3 x n
-  P.bottomLeftCorner(3, n) = cross;
-  P.topRightCorner(n, 3) = cross.transpose();
-  P.bottomRightCorner<3, 3>() = G * P.topLeftCorner<6, 6>() * G.transpose();
-  P.bottomRightCorner<3, 3>().diagonal() += own_sigma.cwiseAbs2();
-  mean.points.conservativeResize(3 * slot + 3);
-  mean.points.segment<3>(3 * slot) = params;
+  P.conservativeResize(n + k, n + k);
+  const Eigen::MatrixXd cross = G * P.topLeftCorner(6, n);  // k x n
+  P.bottomLeftCorner(k, n) = cross;
+  P.topRightCorner(n, k) = cross.transpose();
+  P.bottomRightCorner<k, k>() = G * P.topLeftCorner<6, 6>() * G.transpose();
+  P.bottomRightCorner<k, k>().diagonal() += own_sigma.cwiseAbs2();
+  mean.points.conservativeResize(k * slot + k);
+  mean.points.segment<k>(k * slot) = params;
   return slot;
 }
 
@@ -76,16 +83,17 @@ void FilterState::remove(int slot) {
   const int n = point_column(last);  // size after removal
   if (slot != last) {
     const int from = point_column(last), to = point_column(slot);
-    mean.points.segment<3>(3 * slot) = mean.points.segment<3>(3 * last);
+    mean.points.segment<kPointSize>(kPointSize * slot) =
+        mean.points.segment<kPointSize>(kPointSize * last);
     anchors_[slot] = anchors_[last];
-    P.middleCols<3>(to) = P.middleCols<3>(from);
-    P.middleRows<3>(to) = P.middleRows<3>(from);
+    P.middleCols<kPointSize>(to) = P.middleCols<kPointSize>(from);
+    P.middleRows<kPointSize>(to) = P.middleRows<kPointSize>(from);
     slot_track_[slot] = slot_track_[last];
     track_slot_[slot_track_[slot]] = slot;
   }
   slot_track_.pop_back();
   anchors_.pop_back();
-  mean.points.conservativeResize(3 * last);
+  mean.points.conservativeResize(kPointSize * last);
   P.conservativeResize(n, n);
 }
 

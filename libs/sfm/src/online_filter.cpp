@@ -99,33 +99,37 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   anchor.basis.col(1) = d_W.unitOrthogonal();
   anchor.basis.col(2) = d_W.cross(anchor.basis.col(1));
   if (smoothing_start_) start_anchors_[track] = anchor;
-  const Eigen::Vector3d params(0, 0, 1 / settings_.initial_depth);
+  PointParams params = PointParams::Zero();
+  params[2] = 1 / settings_.initial_depth;
 
-  // The point hangs on the current pose: X_W = R^T (X_C - t), with R = exp(dtheta) R, moved into
-  // the point's parameters through the inverse of their Jacobian.
-  Eigen::Matrix3d J_X_params;
-  const Eigen::Vector3d X_W = anchor.world_point(params, &J_X_params);
-  const Eigen::Vector3d X_C = R * X_W + t;
-  Eigen::Matrix<double, 3, 6> J_pose;
-  J_pose << R.transpose() * so3::skew(X_C - t), -R.transpose();
-  Eigen::Matrix<double, 3, 6> G = J_X_params.inverse() * J_pose;
+  // The point hangs on the current pose through its anchor: the ray's direction in the world,
+  // R^T d_C, turns with the rotation's error (R = exp(dtheta) R) and its origin, R^T (o_C - t),
+  // moves with both; neither depends on the depth.
+  Eigen::Matrix3d R_at = R;
+  Eigen::Vector3d t_at = t;
   if (at_given_points()) {
-    Eigen::Matrix3d J_given;
-    const Eigen::Vector3d X_given =
-        anchor.world_point(anchor.params_of(linearisation_points_.world_point(track)), &J_given);
-    const Eigen::Matrix3d R_given = linearisation_points_.cam_from_world(frame_).linear();
-    J_pose << R_given.transpose() * so3::skew(R_given * X_given), -R_given.transpose();
-    G = J_given.inverse() * J_pose;
+    const Eigen::Isometry3d T = linearisation_points_.cam_from_world(frame_);
+    R_at = T.linear();
+    t_at = T.translation();
   }
+  Eigen::Matrix<double, FilterState::kPointSize, 6> G;
+  G.setZero();
+  const Eigen::Matrix<double, 3, 3> d_direction = R_at.transpose() * so3::skew(direction);
+  G.block<1, 3>(0, 0) = anchor.basis.col(1).transpose() * d_direction;
+  G.block<1, 3>(1, 0) = anchor.basis.col(2).transpose() * d_direction;
+  G.block<3, 3>(3, 0) = R_at.transpose() * so3::skew(origin - t_at);
+  G.block<3, 3>(3, 3) = -R_at.transpose();
   const double across = radians_per_pixel * settings_.pixel_sigma;
-  state_.add(track, anchor, params, G, Eigen::Vector3d(across, across, settings_.inverse_depth_sigma));
+  PointParams own_sigma = PointParams::Zero();
+  own_sigma.head<3>() << across, across, settings_.inverse_depth_sigma;
+  state_.add(track, anchor, params, G, own_sigma);
 }
 
 bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R,
-                             const Eigen::Vector3d& t, const Eigen::Vector3d& params,
+                             const Eigen::Vector3d& t, const PointParams& params,
                              bool jacobians, Linearisation* out) const {
-  if (!(params.z() > 0)) return false;
-  Eigen::Matrix3d J_world_params;
+  if (!(params[2] > 0)) return false;
+  PointJacobian J_world_params;
   const Eigen::Vector3d RX = R * anchor.world_point(params, jacobians ? &J_world_params : nullptr);
   Eigen::Matrix<double, 2, 3> J_X;
   if (!camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr)) return false;
@@ -136,7 +140,8 @@ bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R
   return true;
 }
 
-void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) const {
+void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
+                          Candidate* c) const {
   const int m = static_cast<int>(meas.size());
   const Eigen::MatrixXd& P = state_.P;
   const int n = static_cast<int>(P.rows());
@@ -172,13 +177,18 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   // points' rows of H zero), which places the pose; the iterations then start from there.
   // Without new points, the first linearisation point is instead the posterior's minimum along
   // the pose's direction of the prior, where one full linearisation usually settles.
+  // Both only under the random walk, whose prediction says nothing of where the camera went. A
+  // prediction by the vehicle's sensors is itself a good linearisation point, and a point chosen
+  // by the measurements it linearises gains information along the scale the mirror barely shows
+  // (FilterSettings::predicted_settle_sigmas).
   std::vector<int> new_points;
   for (int k = 0; k < m; ++k)
     if (state_.anchor(meas[k].slot).updates < kEstablishedUpdates) new_points.push_back(k);
   const int linearisations = at_given_points() ? 1 : std::max(1, settings_.update_iterations);
-  if (new_points.empty() && linearisations > 1) start_on_pose_subspace(meas, point_columns, &at);
-  bool warm_step =
-      !new_points.empty() && static_cast<int>(new_points.size()) < m && linearisations > 2;
+  if (!predicted && new_points.empty() && linearisations > 1)
+    start_on_pose_subspace(meas, point_columns, &at);
+  bool warm_step = !predicted && !new_points.empty() &&
+                   static_cast<int>(new_points.size()) < m && linearisations > 2;
   if (warm_step)
     for (int k : new_points) {
       at.H_pose.middleRows<2>(2 * k).setZero();
@@ -192,7 +202,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
   PHt.resize(n, 2 * m);
   S.resize(2 * m, 2 * m);
   Eigen::MatrixXd HPHt;
-  const double settled_px = 0.03 * settings_.pixel_sigma;
+  const double settled_px =
+      (predicted ? settings_.predicted_settle_sigmas : 0.03) * settings_.pixel_sigma;
   // Levenberg's damping in the prior's metric, mu |x - x_i|^2_P^-1 added to the posterior cost:
   // the step is the iterated EKF's with P / (1 + mu) and the offset x_i - x_prior shrunk by
   // 1 / (1 + mu). mu starts at 0 (the plain iterated EKF) and follows Marquardt's rule on the
@@ -230,7 +241,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
     next.g = mu * at.g;
     next.g.head<6>().noalias() += at.H_pose.transpose() * weighted;
     for (int k = 0; k < m; ++k)
-      next.g.segment<3>(point_columns[k]).noalias() +=
+      next.g.segment<FilterState::kPointSize>(point_columns[k]).noalias() +=
           at.H_point[k].transpose() * weighted.segment<2>(2 * k);
     next.offset = shrink * (next.offset + mu * at.offset);
     next.g *= shrink;
@@ -276,8 +287,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, Candidate* c) co
       const Eigen::Vector2d linear_pixel =
           at.pixels.segment<2>(2 * k) +
           at.H_pose.middleRows<2>(2 * k) * (next.offset.head<6>() - at.offset.head<6>()) +
-          at.H_point[k] * (next.offset.segment<3>(point_columns[k]) -
-                           at.offset.segment<3>(point_columns[k]));
+          at.H_point[k] * (next.offset.segment<FilterState::kPointSize>(point_columns[k]) -
+                           at.offset.segment<FilterState::kPointSize>(point_columns[k]));
       linearisation_error =
           std::max(linearisation_error, (lin.pixel - linear_pixel).cwiseAbs().maxCoeff());
       next.cost +=
@@ -319,7 +330,7 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
     H_pose.block<2, 3>(2 * k, 3) = lin.pose.rightCols<3>();
     H_point[k] = lin.point;
     H_offset.segment<2>(2 * k) = H_pose.middleRows<2>(2 * k) * offset.head<6>() +
-                                 lin.point * offset.segment<3>(point_column);
+                                 lin.point * offset.segment<FilterState::kPointSize>(point_column);
     innovation.segment<2>(2 * k) = residual.segment<2>(2 * k) + H_offset.segment<2>(2 * k);
   }
   return residual.segment<2>(2 * k).squaredNorm();
@@ -331,12 +342,14 @@ void OnlineFilter::accept(Candidate* c) {
 }
 
 double OnlineFilter::prior_chi2(const Measurement& m) const {
+  constexpr int kSize = FilterState::kPointSize;
   const int c = FilterState::point_column(m.slot);
   const Eigen::MatrixXd& P = state_.P;
-  Eigen::Matrix<double, 2, 9> H;
+  Eigen::Matrix<double, 2, 6 + kSize> H;
   H << m.at_prior.pose, m.at_prior.point;
-  Eigen::Matrix<double, 9, 9> P_local;
-  P_local << P.topLeftCorner<6, 6>(), P.block<6, 3>(0, c), P.block<3, 6>(c, 0), P.block<3, 3>(c, c);
+  Eigen::Matrix<double, 6 + kSize, 6 + kSize> P_local;
+  P_local << P.topLeftCorner<6, 6>(), P.block<6, kSize>(0, c), P.block<kSize, 6>(c, 0),
+      P.block<kSize, kSize>(c, c);
   Eigen::Matrix2d S = H * P_local * H.transpose();
   S.diagonal().array() += settings_.pixel_sigma * settings_.pixel_sigma;
   const Eigen::Vector2d y = m.pixel - m.at_prior.pixel;
@@ -391,8 +404,13 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     if (at_given_points()) {
       const Eigen::Isometry3d T = linearisation_points_.cam_from_world(frame);
       Linearisation given;
-      if (linearise(anchor, T.linear(), T.translation(),
-                    anchor.params_of(linearisation_points_.world_point(track)), true, &given)) {
+      // The given point about the origin as the state now has it.
+      const PointParams at = state_.mean.params(slot);
+      PointAnchor moved_anchor = anchor;
+      moved_anchor.origin += at.tail<3>();
+      PointParams given_params = moved_anchor.params_of(linearisation_points_.world_point(track));
+      given_params.tail<3>() = at.tail<3>();
+      if (linearise(anchor, T.linear(), T.translation(), given_params, true, &given)) {
         measurement.at_prior.pose = given.pose;
         measurement.at_prior.point = given.point;
       }
@@ -415,7 +433,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   bool updated = false;
   Candidate candidate;
   while (!measurements.empty()) {
-    update(measurements, &candidate);
+    update(measurements, motion != nullptr, &candidate);
     linearisations_ += candidate.linearisations;
     // Without a factor of S (P not positive definite) only the pixels can be judged.
     const bool chi2 = settings_.outlier_test == OutlierTest::kChiSquare && candidate.PHt.size() > 0;

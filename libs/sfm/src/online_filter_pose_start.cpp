@@ -58,7 +58,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   for (int k = 0; k < m; ++k) {
     const Eigen::Matrix<double, 2, 6> J =
         prior->H_pose.middleRows<2>(2 * k) +
-        prior->H_point[k] * along.middleRows<3>(point_columns[k]);
+        prior->H_point[k] * along.middleRows<FilterState::kPointSize>(point_columns[k]);
     const Eigen::Vector2d r = prior->residual.segment<2>(2 * k);
     const double w = (r.norm() <= huber ? 1.0 : huber / r.norm()) / variance;
     A.noalias() += w * J.transpose() * J;

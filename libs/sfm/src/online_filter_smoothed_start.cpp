@@ -20,6 +20,15 @@ constexpr double kChiSquareTolerance = 0.01;
 // normal equations stay factorable.
 constexpr double kMinVariance = 1e-12;
 
+// The start solves each point about its anchor with the origin where it was placed: the window's
+// poses carry the origin's uncertainty, and six parameters for three unknowns would leave the
+// normal equations singular.
+PointParams at_placed_origin(const Eigen::Vector3d& x) {
+  PointParams params = PointParams::Zero();
+  params.head<3>() = x;
+  return params;
+}
+
 }  // namespace
 
 void OnlineFilter::solve_start() {
@@ -39,9 +48,9 @@ void OnlineFilter::solve_start() {
       const int slot = state_.slot_of(o.track);
       const auto ended = held_points_.find(o.track);
       if (slot >= 0)
-        params[o.track] = state_.mean.params(slot);
+        params[o.track] = anchors[o.track].params_of(state_.world_point(slot)).head<3>();
       else if (ended != held_points_.end())
-        params[o.track] = anchors[o.track].params_of(ended->second);
+        params[o.track] = anchors[o.track].params_of(ended->second).head<3>();
     }
   std::vector<Eigen::Matrix3d> R(num_frames);
   std::vector<Eigen::Vector3d> t(num_frames);
@@ -130,19 +139,21 @@ void OnlineFilter::solve_start() {
       for (const auto& o : frames[i].observations) {
         if (!index.count(o.track)) continue;
         Linearisation lin;
-        if (!linearise(anchors.at(o.track), Rs[i], ts[i], x.at(o.track), A != nullptr, &lin))
+        if (!linearise(anchors.at(o.track), Rs[i], ts[i], at_placed_origin(x.at(o.track)),
+                       A != nullptr, &lin))
           return INFINITY;
+        const Eigen::Matrix<double, 2, 3> J_point = lin.point.leftCols<3>();
         const Eigen::Vector2d f = lin.pixel - o.pixel;
         cost += pixel_weight * f.squaredNorm();
         if (worst && f.norm() > worst->pixels) *worst = {f.norm(), o.track, frames[i].frame};
         if (!A) continue;
         const int c = point_column(o.track);
-        A->block<3, 3>(c, c) += pixel_weight * lin.point.transpose() * lin.point;
-        g->segment<3>(c) += pixel_weight * lin.point.transpose() * f;
+        A->block<3, 3>(c, c) += pixel_weight * J_point.transpose() * J_point;
+        g->segment<3>(c) += pixel_weight * J_point.transpose() * f;
         if (i == 0) continue;
         const int p = pose_column(i);
         A->block<6, 6>(p, p) += pixel_weight * lin.pose.transpose() * lin.pose;
-        A->block<6, 3>(p, c) += pixel_weight * lin.pose.transpose() * lin.point;
+        A->block<6, 3>(p, c) += pixel_weight * lin.pose.transpose() * J_point;
         A->block<3, 6>(c, p) = A->block<6, 3>(p, c).transpose();
         g->segment<6>(p) += pixel_weight * lin.pose.transpose() * f;
       }
@@ -258,11 +269,17 @@ void OnlineFilter::solve_start() {
   const Eigen::LLT<Eigen::MatrixXd> llt(A);
   if (llt.info() != Eigen::Success) return;
   const int live = state_.num_slots();
-  std::vector<int> columns;
+  // columns[k]: the solve's column that the state's column state_columns[k] takes. The points'
+  // origins stay where they were placed (zero rows and columns): the solve's points are about them.
+  std::vector<int> columns, state_columns;
   for (int k = 0; k < 6; ++k) columns.push_back(pose_column(num_frames - 1) + k);
   for (int k = 0; k < 4; ++k) columns.push_back(sensor_column + k);
+  for (int k = 0; k < 10; ++k) state_columns.push_back(k);
   for (int s = 0; s < live; ++s)
-    for (int k = 0; k < 3; ++k) columns.push_back(point_column(state_.track_of(s)) + k);
+    for (int k = 0; k < 3; ++k) {
+      columns.push_back(point_column(state_.track_of(s)) + k);
+      state_columns.push_back(FilterState::point_column(s) + k);
+    }
   Eigen::MatrixXd selection = Eigen::MatrixXd::Zero(A.rows(), columns.size());
   for (size_t k = 0; k < columns.size(); ++k) selection(columns[k], k) = 1;
   const Eigen::MatrixXd inverse_columns = llt.solve(selection);
@@ -271,7 +288,8 @@ void OnlineFilter::solve_start() {
   P.setZero(size, size);
   for (size_t a = 0; a < columns.size(); ++a)
     for (size_t b = 0; b < columns.size(); ++b)
-      P(a, b) = inverse_columns(columns[a], static_cast<Eigen::Index>(b));
+      P(state_columns[a], state_columns[b]) =
+          inverse_columns(columns[a], static_cast<Eigen::Index>(b));
   double bias_walk = 0;  // what the solve neglected, the bias's walk over the window
   for (int i = 1; i < num_frames; ++i) bias_walk += frames[i].motion.bias_walk_variance;
   for (int j = 0; j < 4; ++j) {
@@ -287,9 +305,12 @@ void OnlineFilter::solve_start() {
   state_.mean.sensors.wheel_scale = prior_sensors[3] + sensors[3];
   state_.mean.R = R.back();
   state_.mean.t = t.back();
-  for (int s = 0; s < live; ++s) state_.mean.points.segment<3>(3 * s) = params.at(state_.track_of(s));
+  for (int s = 0; s < live; ++s)
+    state_.mean.points.segment<FilterState::kPointSize>(FilterState::kPointSize * s) =
+        at_placed_origin(params.at(state_.track_of(s)));
   for (const auto& [track, column] : index)
-    if (held_points_.count(track)) held_points_[track] = anchors.at(track).world_point(params.at(track));
+    if (held_points_.count(track))
+      held_points_[track] = anchors.at(track).world_point(at_placed_origin(params.at(track)));
   for (int i = 0; i < num_frames; ++i) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = R[i];

@@ -48,22 +48,23 @@ TEST(FilterLinearAlgebra, DowndateMatchesTheTextbookFormula) {
   }
 }
 
-// The point blocks of H (two rows per measurement, three columns per point) against the products
+// The point blocks of H (two rows per measurement, kPointSize columns per point) against the products
 // with H written out dense, points measured in shuffled order.
 TEST(FilterLinearAlgebra, PointBlocksMatchTheDenseProducts) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> normal(0, 1);
-  const int points = 9, n = 6 + 3 * points;
+  constexpr int kSize = FilterState::kPointSize;
+  const int points = 9, n = 6 + kSize * points;
   const Eigen::MatrixXd P = random_covariance(n, rng);
   const std::vector<int> slots = {4, 0, 7, 2, 8};
   const int m = static_cast<int>(slots.size());
   std::vector<int> first_column;
-  std::vector<Eigen::Matrix<double, 2, 3>> H_point;
+  std::vector<PointRows> H_point;
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * m, n);
   for (int k = 0; k < m; ++k) {
-    first_column.push_back(6 + 3 * slots[k]);
-    H_point.push_back(Eigen::Matrix<double, 2, 3>::NullaryExpr([&] { return normal(rng); }));
-    H.block<2, 3>(2 * k, first_column.back()) = H_point.back();
+    first_column.push_back(6 + kSize * slots[k]);
+    H_point.push_back(PointRows::NullaryExpr([&] { return normal(rng); }));
+    H.block<2, kSize>(2 * k, first_column.back()) = H_point.back();
   }
   const Eigen::MatrixXd offset = Eigen::MatrixXd::NullaryExpr(n, 2 * m, [&] { return normal(rng); });
   Eigen::MatrixXd PHt = offset;

@@ -19,20 +19,30 @@ PointAnchor anchor_along(const Eigen::Vector3d& origin, const Eigen::Vector3d& d
   return a;
 }
 
+PointParams params_of(double a, double b, double rho, const Eigen::Vector3d& offset) {
+  PointParams params;
+  params << a, b, rho, offset;
+  return params;
+}
+
 TEST(FilterState, WorldPointJacobianMatchesCentralDifferences) {
   const PointAnchor a = anchor_along({0.1, -0.2, 0.3}, {1, 2, -0.5});
-  const Eigen::Vector3d params(0.02, -0.03, 0.4);
-  Eigen::Matrix3d J;
+  const PointParams params = params_of(0.02, -0.03, 0.4, {0.01, -0.02, 0.005});
+  PointJacobian J;
   a.world_point(params, &J);
   const double h = 1e-6;
-  for (int k = 0; k < 3; ++k) {
-    Eigen::Vector3d up = params, down = params;
+  for (int k = 0; k < FilterState::kPointSize; ++k) {
+    PointParams up = params, down = params;
     up[k] += h;
     down[k] -= h;
     const Eigen::Vector3d numeric = (a.world_point(up) - a.world_point(down)) / (2 * h);
     EXPECT_LT((J.col(k) - numeric).norm(), 1e-6 * (1 + numeric.norm())) << "column " << k;
   }
-  EXPECT_LT((a.params_of(a.world_point(params)) - params).norm(), 1e-12);
+  // params_of places the origin where the anchor says.
+  const PointParams placed = params_of(0.02, -0.03, 0.4, Eigen::Vector3d::Zero());
+  EXPECT_LT((a.params_of(a.world_point(placed)) - placed).norm(), 1e-12);
+  EXPECT_LT((a.world_point(a.params_of(a.world_point(params))) - a.world_point(params)).norm(),
+            1e-12);
 }
 
 // Three points added, the middle one removed: the last takes its slot, and the mean and every
@@ -43,15 +53,18 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
   FilterState state;
   const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(10, 10, [&] { return normal(rng); });
   state.P = A * A.transpose() + Eigen::MatrixXd::Identity(10, 10);
+  constexpr int kSize = FilterState::kPointSize;
   for (int track : {7, 8, 9}) {
-    const Eigen::Matrix<double, 3, 6> G =
-        Eigen::Matrix<double, 3, 6>::NullaryExpr([&] { return normal(rng); });
-    const int slot = state.add(track, anchor_along(Eigen::Vector3d::Zero(), {1, static_cast<double>(track), 0}),
-                               Eigen::Vector3d(0, 0, 0.1 * track), G, Eigen::Vector3d(1, 2, 3));
+    const Eigen::Matrix<double, kSize, 6> G =
+        Eigen::Matrix<double, kSize, 6>::NullaryExpr([&] { return normal(rng); });
+    const int slot = state.add(
+        track, anchor_along(Eigen::Vector3d::Zero(), {1, static_cast<double>(track), 0}),
+        params_of(0, 0, 0.1 * track, Eigen::Vector3d::Zero()), G,
+        params_of(1, 2, 3, {4, 5, 6}));
     EXPECT_EQ(state.track_of(slot), track);
     // The point's error is G times the pose's plus its own.
     const int c = FilterState::point_column(slot);
-    EXPECT_LT((state.P.block<3, 6>(c, 0) - G * state.P.topLeftCorner<6, 6>()).norm(), 1e-12);
+    EXPECT_LT((state.P.block<kSize, 6>(c, 0) - G * state.P.topLeftCorner<6, 6>()).norm(), 1e-12);
     EXPECT_NEAR(state.P(c + 2, c + 2),
                 (G * state.P.topLeftCorner<6, 6>() * G.transpose())(2, 2) + 9, 1e-12);
   }
@@ -62,13 +75,13 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
   EXPECT_EQ(state.slot_of(8), -1);
   EXPECT_EQ(state.slot_of(7), 0);
   EXPECT_EQ(state.slot_of(9), 1);
-  EXPECT_EQ(state.mean.points.size(), 6);
-  EXPECT_DOUBLE_EQ(state.mean.params(1).z(), 0.9);
+  EXPECT_EQ(state.mean.points.size(), 2 * kSize);
+  EXPECT_DOUBLE_EQ(state.mean.params(1)[2], 0.9);
   // Old columns of what is left: the pose and sensors, track 7's, track 9's.
   std::vector<int> kept;
   for (int k = 0; k < 10; ++k) kept.push_back(k);
-  for (int k = 0; k < 3; ++k) kept.push_back(FilterState::point_column(0) + k);
-  for (int k = 0; k < 3; ++k) kept.push_back(FilterState::point_column(2) + k);
+  for (int k = 0; k < kSize; ++k) kept.push_back(FilterState::point_column(0) + k);
+  for (int k = 0; k < kSize; ++k) kept.push_back(FilterState::point_column(2) + k);
   ASSERT_EQ(state.P.rows(), static_cast<int>(kept.size()));
   for (size_t i = 0; i < kept.size(); ++i)
     for (size_t j = 0; j < kept.size(); ++j)
@@ -77,21 +90,22 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
 
 TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
   FilterState state;
-  state.add(4, anchor_along(Eigen::Vector3d::Zero(), {0, 1, 0}), Eigen::Vector3d(0, 0, 0.5),
-            Eigen::Matrix<double, 3, 6>::Zero(), Eigen::Vector3d::Ones());
+  state.add(4, anchor_along(Eigen::Vector3d::Zero(), {0, 1, 0}),
+            params_of(0, 0, 0.5, Eigen::Vector3d::Zero()),
+            Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
   Eigen::VectorXd delta = Eigen::VectorXd::Zero(FilterState::point_column(1));
   delta.head<3>() << 0, 0, 0.1;
   delta.segment<3>(3) << 1, 2, 3;
   delta.segment<3>(FilterState::kBiasColumn) << 0.01, 0.02, 0.03;
   delta[FilterState::kScaleColumn] = 0.05;
-  delta.tail<3>() << 0.1, -0.1, -2;  // the inverse depth past zero
+  delta.tail<6>() << 0.1, -0.1, -2, 0.2, 0.3, 0.4;  // the inverse depth past zero
   const FilterMean moved = state.mean.plus(delta, 1e-3);
   EXPECT_LT((moved.R - Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix()).norm(),
             1e-15);
   EXPECT_EQ(moved.t, Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(moved.sensors.gyro_bias, Eigen::Vector3d(0.01, 0.02, 0.03));
   EXPECT_DOUBLE_EQ(moved.sensors.wheel_scale, 1.05);
-  EXPECT_EQ(moved.params(0), Eigen::Vector3d(0.1, -0.1, 1e-3));
+  EXPECT_EQ(moved.params(0), params_of(0.1, -0.1, 1e-3, {0.2, 0.3, 0.4}));
 }
 
 }  // namespace

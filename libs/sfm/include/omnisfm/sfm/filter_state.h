@@ -4,15 +4,25 @@
 // vector with landmark accessors.
 //
 // Mean: cam_from_world (R, t), the vehicle's sensors' states, and per slot a live track's point
-// as two angles across its first ray and an inverse distance along it, about that ray's anchor.
+// in inverse depth with its anchor in the state (Civera, Davison and Montiel's six parameters):
+// two angles across its first ray and an inverse distance along it, then the offset of that ray's
+// origin from where it was first placed. A new point then depends on the pose it was first seen
+// from linearly and without its unknown depth: with the origin fixed, the pose's translation
+// error entered the angles divided by the depth guess (2 m for a point 0.5-20 m away), which
+// left the published pose covariance several times overconfident (eval::rover_pose_consistency).
 // Covariance columns: the pose 0-5 (the rotation's error a left perturbation, R = exp(dtheta) R,
-// then the translation's), the gyro's bias 6-8, the wheels' scale 9, then 3 per slot.
+// then the translation's), the gyro's bias 6-8, the wheels' scale 9, then 6 per slot.
 
 #include <Eigen/Geometry>
 #include <map>
 #include <vector>
 
 namespace omnisfm::sfm {
+
+// A point's parameters about its anchor: angles across its ray (0, 1), inverse distance along it
+// (2), the ray origin's offset in the world frame (3-5).
+using PointParams = Eigen::Matrix<double, 6, 1>;
+using PointJacobian = Eigen::Matrix<double, 3, 6>;  // world point per parameter
 
 // What the filter estimates of the vehicle's sensors, at which its next prediction is made.
 struct SensorStates {
@@ -21,32 +31,32 @@ struct SensorStates {
   double wheel_scale = 1;
 };
 
-// A point's fixed reference: where its first ray started, and a basis whose first column is that
-// ray's direction (world frame).
+// A point's reference: where its first ray started as first placed (the state's offset moves it),
+// and a basis whose first column is that ray's direction (world frame).
 struct PointAnchor {
   Eigen::Vector3d origin{0, 0, 0};
   Eigen::Matrix3d basis = Eigen::Matrix3d::Identity();
   int updates = 0;  // accepted updates the point has taken part in
 
   // The world point of parameters about this anchor, and its derivative with respect to them.
-  Eigen::Vector3d world_point(const Eigen::Vector3d& params,
-                              Eigen::Matrix3d* J_params = nullptr) const;
-  // The parameters of a world point: world_point's inverse.
-  Eigen::Vector3d params_of(const Eigen::Vector3d& world_point) const;
+  Eigen::Vector3d world_point(const PointParams& params, PointJacobian* J_params = nullptr) const;
+  // The parameters of a world point with the origin where it was first placed: world_point's
+  // inverse at a zero offset.
+  PointParams params_of(const Eigen::Vector3d& world_point) const;
 };
 
 struct FilterMean {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
   SensorStates sensors;
-  Eigen::VectorXd points;  // 3 per slot
+  Eigen::VectorXd points;  // FilterState::kPointSize per slot
 
   // Moved by `delta`, in the covariance's columns (the rotation to exp(delta's first three) R),
   // each inverse depth held at min_inverse_depth or beyond: noise can push a barely-parallaxed
   // point past infinity, and it is held far away instead.
   FilterMean plus(const Eigen::VectorXd& delta, double min_inverse_depth) const;
   Eigen::Isometry3d cam_from_world() const;
-  Eigen::Vector3d params(int slot) const { return points.segment<3>(3 * slot); }
+  PointParams params(int slot) const;
 };
 
 // add() and remove() keep the slots, the mean's points and the covariance in step.
@@ -55,7 +65,8 @@ class FilterState {
   static constexpr int kBiasColumn = 6;
   static constexpr int kScaleColumn = 9;
   static constexpr int kFirstPointColumn = 10;
-  static int point_column(int slot) { return kFirstPointColumn + 3 * slot; }
+  static constexpr int kPointSize = 6;
+  static int point_column(int slot) { return kFirstPointColumn + kPointSize * slot; }
 
   FilterMean mean;
   Eigen::MatrixXd P = Eigen::MatrixXd::Zero(kFirstPointColumn, kFirstPointColumn);
@@ -73,8 +84,8 @@ class FilterState {
 
   // A new slot, the last, for a track's point at `params` about `anchor`. The point hangs on the
   // pose: its error is G times the pose's plus its own (independent, `own_sigma` per parameter).
-  int add(int track, const PointAnchor& anchor, const Eigen::Vector3d& params,
-          const Eigen::Matrix<double, 3, 6>& G, const Eigen::Vector3d& own_sigma);
+  int add(int track, const PointAnchor& anchor, const PointParams& params,
+          const Eigen::Matrix<double, kPointSize, 6>& G, const PointParams& own_sigma);
   // The slot's point leaves; the last slot moves into its place.
   void remove(int slot);
 
