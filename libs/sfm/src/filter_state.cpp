@@ -97,4 +97,15 @@ void FilterState::remove(int slot) {
   P.conservativeResize(n, n);
 }
 
+void FilterState::take_back_prior(int column, double prior_mean, double prior_variance,
+                                  double min_inverse_depth) {
+  // With v = P(c, c): P' = P + P e e^T P / (prior_variance - v),
+  // x' = x + P e (x_c - prior_mean) / (prior_variance - v).
+  const double weight = 1 / (prior_variance - P(column, column));
+  const Eigen::VectorXd Pe = P.col(column);
+  const double value = mean.points[column - kFirstPointColumn];
+  mean = mean.plus(Pe * (weight * (value - prior_mean)), min_inverse_depth);
+  P.noalias() += weight * Pe * Pe.transpose();
+}
+
 }  // namespace omnisfm::sfm

@@ -48,6 +48,14 @@ void OnlineFilter::propagate() {
 void OnlineFilter::end_point(int slot) {
   const int track = state_.track_of(slot);
   const Eigen::Vector3d point = state_.world_point(slot);
+  // Not while the smoothed start is pending: it solves the window again, priors and all.
+  if (settings_.take_back_depth_priors && !smoothing_start_) {
+    const int depth_column = FilterState::point_column(slot) + 2;
+    const double prior_variance = std::pow(settings_.inverse_depth_sigma, 2);
+    if (state_.P(depth_column, depth_column) < 0.5 * prior_variance)
+      state_.take_back_prior(depth_column, 1 / settings_.initial_depth, prior_variance,
+                             kMinInverseDepth);
+  }
   state_.remove(slot);
   if (smoothing_start_)
     held_points_[track] = point;  // the smoothed start revises it, then hands it over

@@ -108,5 +108,38 @@ TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
   EXPECT_EQ(moved.params(0), params_of(0.1, -0.1, 1e-3, {0.2, 0.3, 0.4}));
 }
 
+// A prior applied to a point's inverse depth by a Kalman update, then taken back: the state it
+// started from, mean and covariance, everything the prior reached through the correlations.
+TEST(FilterState, TakingBackAPriorUndoesItsUpdate) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal(0, 1);
+  FilterState state;
+  for (int track : {3, 5})
+    state.add(track, anchor_along(Eigen::Vector3d::Zero(), {1, 0.5 * track, 0}),
+              params_of(0.01, -0.02, 0.3 + 0.1 * track, {0.01, 0.02, 0.03}),
+              Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
+  const int n = static_cast<int>(state.P.rows());
+  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return 0.1 * normal(rng); });
+  state.P = A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(n, n);
+  state.mean.t << 0.5, -0.2, 1.0;
+  state.mean.sensors.wheel_scale = 1.02;
+  const FilterState before = state;
+
+  const int c = FilterState::point_column(1) + 2;
+  const double prior_mean = 0.2, prior_variance = 0.25;
+  const Eigen::VectorXd gain = state.P.col(c) / (state.P(c, c) + prior_variance);
+  state.mean = state.mean.plus(gain * (prior_mean - state.mean.params(1)[2]), 1e-3);
+  state.P -= gain * state.P.row(c);
+  ASSERT_GT((state.P - before.P).norm(), 1e-3);
+
+  state.take_back_prior(c, prior_mean, prior_variance, 1e-3);
+  EXPECT_LT((state.P - before.P).norm(), 1e-10);
+  EXPECT_LT((state.mean.R - before.mean.R).norm(), 1e-12);
+  EXPECT_LT((state.mean.t - before.mean.t).norm(), 1e-12);
+  EXPECT_LT((state.mean.sensors.gyro_bias - before.mean.sensors.gyro_bias).norm(), 1e-12);
+  EXPECT_NEAR(state.mean.sensors.wheel_scale, before.mean.sensors.wheel_scale, 1e-12);
+  EXPECT_LT((state.mean.points - before.mean.points).norm(), 1e-12);
+}
+
 }  // namespace
 }  // namespace omnisfm::sfm

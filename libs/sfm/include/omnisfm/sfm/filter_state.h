@@ -88,6 +88,13 @@ class FilterState {
           const Eigen::Matrix<double, kPointSize, 6>& G, const PointParams& own_sigma);
   // The slot's point leaves; the last slot moves into its place.
   void remove(int slot);
+  // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
+  // the mean and the covariance: the state as if that prior had never been applied, exact for a
+  // linear model (the information form's subtraction, by Woodbury). The column's variance must be
+  // below prior_variance, which the measurements since ensure. Inverse depths stay at
+  // min_inverse_depth or beyond, as in FilterMean::plus.
+  void take_back_prior(int column, double prior_mean, double prior_variance,
+                       double min_inverse_depth);
 
  private:
   std::vector<PointAnchor> anchors_;  // per slot
