@@ -49,7 +49,7 @@ void OnlineFilter::end_point(int slot) {
   const int track = state_.track_of(slot);
   const Eigen::Vector3d point = state_.world_point(slot);
   // Not while the smoothed start is pending: it solves the window again, priors and all.
-  if (settings_.take_back_depth_priors && !smoothing_start_) {
+  if (settings_.take_back_depth_priors && scale_started_ && !smoothing_start_) {
     const int depth_column = FilterState::point_column(slot) + 2;
     const double prior_variance = std::pow(settings_.inverse_depth_sigma, 2);
     if (state_.P(depth_column, depth_column) < 0.5 * prior_variance)
