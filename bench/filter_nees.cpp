@@ -1,9 +1,9 @@
 // The filter's published pose covariance against its actual errors (not a benchmark: one run,
 // one line), eval::rover_pose_consistency over the simulated rover's seeds.
-//   filter_nees [SEEDS=25] [WHEEL_SCALE_ERROR=0.015] [ESTIMATE_WHEEL_SCALE=0] [AT_TRUTH=0]
+//   filter_nees [SEEDS=25] [WHEEL_SCALE_ERROR=0.015] [ESTIMATE_WHEEL_SCALE=1] [AT_TRUTH=0]
 //               [PREDICTED_SETTLE_SIGMAS=0.3]
 // WHEEL_SCALE_ERROR: how long the simulated wheel reads (the filter takes the calibration as
-// exact unless ESTIMATE_WHEEL_SCALE is 1: FilterSettings::estimate_wheel_scale). AT_TRUTH 1: the
+// exact when ESTIMATE_WHEEL_SCALE is 0: FilterSettings::estimate_wheel_scale). AT_TRUTH 1: the
 // filter linearised at the truth (OnlineFilter::linearise_at), Huang et al.'s ideal EKF.
 // PREDICTED_SETTLE_SIGMAS: FilterSettings::predicted_settle_sigmas.
 
@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 25;
   const double wheel_error = argc > 2 ? std::atof(argv[2]) : 0.015;
   omnisfm::sfm::FilterSettings settings;
-  settings.estimate_wheel_scale = argc > 3 && std::atoi(argv[3]) != 0;
+  if (argc > 3) settings.estimate_wheel_scale = std::atoi(argv[3]) != 0;
   const bool at_truth = argc > 4 && std::atoi(argv[4]) != 0;
   if (argc > 5) settings.predicted_settle_sigmas = std::atof(argv[5]);
   const omnisfm::eval::PoseConsistency c =

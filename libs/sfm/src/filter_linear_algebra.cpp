@@ -90,7 +90,7 @@ void downdate_covariance(Eigen::MatrixXd* P, Eigen::MatrixXd* PHt, const Eigen::
 }
 
 // Column by column, so that every operation runs down contiguous memory; Eigen's product of a
-// 2x3 matrix and a strided block does not vectorise.
+// 2 x kPointSize matrix and a strided block does not vectorise.
 void add_point_columns(const Eigen::MatrixXd& P, const std::vector<int>& first_column,
                        const std::vector<PointRows>& H_point, Eigen::MatrixXd* PHt) {
   constexpr int kSize = FilterState::kPointSize;

@@ -97,8 +97,9 @@ void FilterState::remove(int slot) {
   P.conservativeResize(n, n);
 }
 
-void FilterState::take_back_prior(int column, double prior_mean, double prior_variance,
+bool FilterState::take_back_prior(int column, double prior_mean, double prior_variance,
                                   double min_inverse_depth) {
+  if (!(P(column, column) < prior_variance)) return false;
   // With v = P(c, c): P' = P + P e e^T P / (prior_variance - v),
   // x' = x + P e (x_c - prior_mean) / (prior_variance - v).
   const double weight = 1 / (prior_variance - P(column, column));
@@ -106,6 +107,7 @@ void FilterState::take_back_prior(int column, double prior_mean, double prior_va
   const double value = mean.points[column - kFirstPointColumn];
   mean = mean.plus(Pe * (weight * (value - prior_mean)), min_inverse_depth);
   P.noalias() += weight * Pe * Pe.transpose();
+  return true;
 }
 
 }  // namespace omnisfm::sfm

@@ -154,7 +154,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   const Eigen::MatrixXd& P = state_.P;
   const int n = static_cast<int>(P.rows());
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
-  // Where each measured point's three parameters sit in the state.
+  // Where each measured point's parameters start in the state.
   std::vector<int> point_columns(m);
   for (int k = 0; k < m; ++k) point_columns[k] = FilterState::point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i

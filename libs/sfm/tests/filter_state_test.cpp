@@ -132,7 +132,11 @@ TEST(FilterState, TakingBackAPriorUndoesItsUpdate) {
   state.P -= gain * state.P.row(c);
   ASSERT_GT((state.P - before.P).norm(), 1e-3);
 
-  state.take_back_prior(c, prior_mean, prior_variance, 1e-3);
+  // A prior looser than what the state holds cannot have been applied to it.
+  const FilterState updated = state;
+  EXPECT_FALSE(state.take_back_prior(c, prior_mean, 0.5 * state.P(c, c), 1e-3));
+  EXPECT_EQ(state.P, updated.P);
+  ASSERT_TRUE(state.take_back_prior(c, prior_mean, prior_variance, 1e-3));
   EXPECT_LT((state.P - before.P).norm(), 1e-10);
   EXPECT_LT((state.mean.R - before.mean.R).norm(), 1e-12);
   EXPECT_LT((state.mean.t - before.mean.t).norm(), 1e-12);

@@ -1,5 +1,6 @@
 // The 20,000-frame drive (600 m) with the simulated wheel (reading 1.5 % long) and biased gyro,
-// the filter alone: within 2 % of the distance after a rigid alignment, no good track rejected;
+// the filter alone: within 1 % of the distance after a rigid alignment (the goal is 2 %), no good
+// track rejected;
 // and the wheels' scale it finds over 3,000 frames. About 10 s per seed, so under the CTest label
 // `long`.
 
@@ -20,7 +21,7 @@
 namespace omnisfm::sfm {
 namespace {
 
-TEST(LongDrive, OdometryAndGyroHoldTwoPercentOverSixHundredMetres) {
+TEST(LongDrive, OdometryAndGyroHoldOnePercentOverSixHundredMetres) {
   for (std::uint64_t seed : {1, 2, 3}) {
     const sim::Dataset drive = sim::long_drive(20000, 0.2, seed);
     sim::DeadReckoningOptions options;
@@ -36,17 +37,19 @@ TEST(LongDrive, OdometryAndGyroHoldTwoPercentOverSixHundredMetres) {
     std::printf("drive seed %d: %.0f m, rigid %.2f %% of the distance, rotation %.2f deg\n",
                 static_cast<int>(seed), rigid.distance_travelled_m,
                 rigid.translation_error_percent, rigid.mean_rotation_error_deg);
-    // Measured 1.76 / 1.82 / 1.91 %, mean rotation errors 11.5-12.6 deg (the pitch drifts).
-    EXPECT_LT(rigid.translation_error_percent, 2.0) << "seed " << seed;
+    // Measured 0.52 / 0.50 / 0.28 %, mean rotation errors 2.4 / 1.3 / 1.8 deg; 1.76-1.91 % and
+    // 11.5-12.6 deg before each point's anchor was a state and the priors were taken back.
+    EXPECT_LT(rigid.translation_error_percent, 1.0) << "seed " << seed;
     EXPECT_TRUE(r.outliers.empty()) << r.outliers.size() << " good tracks rejected";
   }
 }
 
 // Each new point's depth prior is a guess of the scene's scale; kept, thousands of them pull the
 // wheels' scale away from the truth with a sigma that says it is known. Measured over 3,000
-// frames (90 m, seed 1): 0.9936 +- 0.0011 for a true 1 / 1.015 = 0.9852 with the priors taken
-// back as points leave, 1.0065 +- 0.0011 with them kept.
-TEST(LongDrive, DepthPriorsDoNotSetTheWheelsScale) {
+// frames (90 m, seed 1): 0.9936 +- 0.0009 for a true 1 / 1.015 = 0.9852 with the priors taken
+// back as points leave, 1.0066 +- 0.0009 with them kept. Taken back, the scale is still 9 of its
+// sigmas off: the filter is still overconfident over long drives (README, "Endless sequences").
+TEST(LongDrive, TakingBackDepthPriorsMovesTheWheelsScaleToTheTruth) {
   const std::uint64_t seed = 1;
   const sim::Dataset drive = sim::long_drive(3000, 0.2, seed);
   sim::DeadReckoningOptions options;

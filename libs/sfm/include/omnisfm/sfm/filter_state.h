@@ -90,10 +90,10 @@ class FilterState {
   void remove(int slot);
   // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
   // the mean and the covariance: the state as if that prior had never been applied, exact for a
-  // linear model (the information form's subtraction, by Woodbury). The column's variance must be
-  // below prior_variance, which the measurements since ensure. Inverse depths stay at
-  // min_inverse_depth or beyond, as in FilterMean::plus.
-  void take_back_prior(int column, double prior_mean, double prior_variance,
+  // linear model (the information form's subtraction, by Woodbury). Inverse depths stay at
+  // min_inverse_depth or beyond, as in FilterMean::plus. False, changing nothing, unless the
+  // column's variance is below prior_variance (measurements since have added to the prior).
+  bool take_back_prior(int column, double prior_mean, double prior_variance,
                        double min_inverse_depth);
 
  private:
