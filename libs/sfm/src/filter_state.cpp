@@ -29,6 +29,20 @@ PointParams PointAnchor::params_of(const Eigen::Vector3d& X) const {
   return params;
 }
 
+Eigen::Matrix<double, 6, 6> ray_pose_jacobian(const PointAnchor& anchor, const Eigen::Matrix3d& R,
+                                              const Eigen::Vector3d& t,
+                                              const Eigen::Vector3d& origin,
+                                              const Eigen::Vector3d& direction) {
+  // R^T d and R^T (o - t) with R = exp(dtheta) R: each turns by R^T [.]x dtheta.
+  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
+  const Eigen::Matrix3d d_direction = R.transpose() * so3::skew(direction);
+  G.block<1, 3>(0, 0) = anchor.basis.col(1).transpose() * d_direction;
+  G.block<1, 3>(1, 0) = anchor.basis.col(2).transpose() * d_direction;
+  G.block<3, 3>(3, 0) = R.transpose() * so3::skew(origin - t);
+  G.block<3, 3>(3, 3) = -R.transpose();
+  return G;
+}
+
 FilterMean FilterMean::plus(const Eigen::VectorXd& delta, double min_inverse_depth) const {
   FilterMean moved;
   moved.R = so3::exp(delta.head<3>()) * R;

@@ -110,9 +110,7 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   PointParams params = PointParams::Zero();
   params[2] = 1 / settings_.initial_depth;
 
-  // The point hangs on the current pose through its anchor: the ray's direction in the world,
-  // R^T d_C, turns with the rotation's error (R = exp(dtheta) R) and its origin, R^T (o_C - t),
-  // moves with both; neither depends on the depth.
+  // The point hangs on the pose through its anchor (at the given pose in a consistency study).
   Eigen::Matrix3d R_at = R;
   Eigen::Vector3d t_at = t;
   if (at_given_points()) {
@@ -120,13 +118,8 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
     R_at = T.linear();
     t_at = T.translation();
   }
-  Eigen::Matrix<double, FilterState::kPointSize, 6> G;
-  G.setZero();
-  const Eigen::Matrix<double, 3, 3> d_direction = R_at.transpose() * so3::skew(direction);
-  G.block<1, 3>(0, 0) = anchor.basis.col(1).transpose() * d_direction;
-  G.block<1, 3>(1, 0) = anchor.basis.col(2).transpose() * d_direction;
-  G.block<3, 3>(3, 0) = R_at.transpose() * so3::skew(origin - t_at);
-  G.block<3, 3>(3, 3) = -R_at.transpose();
+  const Eigen::Matrix<double, FilterState::kPointSize, 6> G =
+      ray_pose_jacobian(anchor, R_at, t_at, origin, direction);
   const double across = radians_per_pixel * settings_.pixel_sigma;
   PointParams own_sigma = PointParams::Zero();
   own_sigma.head<3>() << across, across, settings_.inverse_depth_sigma;

@@ -3,6 +3,8 @@
 
 #include "omnisfm/sfm/filter_state.h"
 
+#include "../src/so3.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -143,6 +145,35 @@ TEST(FilterState, TakingBackAPriorUndoesItsUpdate) {
   EXPECT_LT((state.mean.sensors.gyro_bias - before.mean.sensors.gyro_bias).norm(), 1e-12);
   EXPECT_NEAR(state.mean.sensors.wheel_scale, before.mean.sensors.wheel_scale, 1e-12);
   EXPECT_LT((state.mean.points - before.mean.points).norm(), 1e-12);
+}
+
+// A new point's parameters about its anchor under the pose's error, against central differences:
+// the perturbed pose's world ray expressed about the anchor made at the unperturbed one.
+TEST(FilterState, RayPoseJacobianMatchesCentralDifferences) {
+  const Eigen::Matrix3d R = so3::exp(Eigen::Vector3d(0.3, -0.7, 1.1));
+  const Eigen::Vector3d t(0.4, -1.2, 2.5), origin(0.01, -0.02, 0.05);
+  const Eigen::Vector3d direction = Eigen::Vector3d(0.3, 0.8, -0.5).normalized();
+  const PointAnchor anchor = anchor_along(R.transpose() * (origin - t), R.transpose() * direction);
+  const auto params_at = [&](const Eigen::Matrix<double, 6, 1>& error) {
+    const Eigen::Matrix3d R_moved = so3::exp(error.head<3>()) * R;
+    const Eigen::Vector3d t_moved = t + error.tail<3>();
+    const Eigen::Vector3d d = R_moved.transpose() * direction;
+    const double along = anchor.basis.col(0).dot(d);
+    PointParams params;
+    params << anchor.basis.col(1).dot(d) / along, anchor.basis.col(2).dot(d) / along, 0.5,
+        R_moved.transpose() * (origin - t_moved) - anchor.origin;
+    return params;
+  };
+  const Eigen::Matrix<double, 6, 6> G = ray_pose_jacobian(anchor, R, t, origin, direction);
+  const double h = 1e-6;
+  for (int k = 0; k < 6; ++k) {
+    Eigen::Matrix<double, 6, 1> up = Eigen::Matrix<double, 6, 1>::Zero(), down = up;
+    up[k] = h;
+    down[k] = -h;
+    const PointParams numeric = (params_at(up) - params_at(down)) / (2 * h);
+    EXPECT_LT((G.col(k) - numeric).norm(), 1e-7 * (1 + numeric.norm())) << "column " << k;
+  }
+  EXPECT_LT(params_at(Eigen::Matrix<double, 6, 1>::Zero()).norm() - 0.5, 1e-12);
 }
 
 }  // namespace

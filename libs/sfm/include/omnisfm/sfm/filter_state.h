@@ -45,6 +45,15 @@ struct PointAnchor {
   PointParams params_of(const Eigen::Vector3d& world_point) const;
 };
 
+// How a new point's parameters about `anchor` move with the error of the pose (R, t) it was seen
+// from (the rotation's a left perturbation, then the translation's), its ray leaving the camera at
+// origin along direction (camera frame): the ray's origin moves with both, its direction turns
+// with the rotation, and neither depends on the depth, whose row is zero.
+Eigen::Matrix<double, 6, 6> ray_pose_jacobian(const PointAnchor& anchor, const Eigen::Matrix3d& R,
+                                              const Eigen::Vector3d& t,
+                                              const Eigen::Vector3d& origin,
+                                              const Eigen::Vector3d& direction);
+
 struct FilterMean {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
