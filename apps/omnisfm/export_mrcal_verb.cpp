@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "omnisfm/io/central_mrcal_model.h"
+#include "omnisfm/calib/central_mrcal_model.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/io/shared_data.h"
@@ -37,7 +37,7 @@ std::string rounded(double value, int digits = 3) {
   return text;
 }
 
-std::string error_summary(const io::ReprojectionError& error) {
+std::string error_summary(const calib::ReprojectionError& error) {
   return "RMS " + rounded(error.rms_px) + " px, worst " + rounded(error.worst_px) + " px " +
          (std::isinf(error.distance_m) ? std::string("at infinity")
                                        : "at " + rounded(error.distance_m, 6) + " m");
@@ -81,22 +81,22 @@ void add_export_mrcal_verb(CLI::App& app) {
         options->grid_step_px > 0
             ? options->grid_step_px
             : std::max(camera.image_width(), camera.image_height()) / kDefaultGridColumns;
-    const std::vector<io::PixelRay> rays = io::valid_pixel_rays(camera, step_px);
-    io::CentralFitSettings settings;
+    const std::vector<calib::PixelRay> rays = calib::valid_pixel_rays(camera, step_px);
+    calib::CentralFitSettings settings;
     settings.distance_m = options->distance_m;
     settings.knots = options->knots;
-    const io::CentralMrcalModel model = [&] {
+    const calib::CentralMrcalModel model = [&] {
       try {
-        return io::fit_central_mrcal_model(camera, rays, settings);
+        return calib::fit_central_mrcal_model(camera, rays, settings);
       } catch (const std::invalid_argument& e) {
         throw io::InputError(camera_file, 0, e.what());
       }
     }();
 
-    std::vector<io::ReprojectionError> errors;
+    std::vector<calib::ReprojectionError> errors;
     for (double distance :
          {options->distance_m, 10 * options->distance_m, std::numeric_limits<double>::infinity()})
-      errors.push_back(io::reprojection_error(model, rays, distance));
+      errors.push_back(calib::reprojection_error(model, rays, distance));
 
     const std::vector<std::string> notes = {
         "omnisfm export-mrcal: the central mrcal model nearest to the camera " + camera_file + ",",
@@ -111,7 +111,7 @@ void add_export_mrcal_verb(CLI::App& app) {
     io::write_cameramodel(options->out, model, notes);
 
     io::VnlogWriter table(std::cout, {"distance_m", "points", "failed", "rms_px", "worst_px"});
-    for (const io::ReprojectionError& error : errors)
+    for (const calib::ReprojectionError& error : errors)
       table.row_texts({rounded(error.distance_m, 6), std::to_string(error.num_points),
                        std::to_string(error.num_failed), rounded(error.rms_px),
                        rounded(error.worst_px)});

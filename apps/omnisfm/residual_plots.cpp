@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "omnisfm/io/gnuplot.h"
-#include "omnisfm/io/percentile.h"
+#include "omnisfm/core/percentile.h"
 #include "omnisfm/io/residual_vectors_plot.h"
 #include "omnisfm/io/vnlog.h"
 
@@ -98,7 +98,7 @@ bool write_residual_plots(const std::string& dir, int image_width, int image_hei
   if (!out.flush()) throw std::runtime_error(dir + "/residuals.vnl: write failed");
   write_per_frame(dir + "/residuals_per_frame.vnl", residuals);
   // The 99th-percentile inlier residual drawn as 4 % of the image width.
-  const double typical = std::max(io::percentile(inlier_norms, 0.99), 1e-3);
+  const double typical = std::max(core::percentile(inlier_norms, 0.99), 1e-3);
   const double scale = std::max(1.0, io::round_down_125(0.04 * image_width / typical));
   const bool vectors = draw(dir, "residuals.gp", vectors_script(image_width, image_height, scale, any_outlier));
   const bool per_frame = draw(dir, "residuals_per_frame.gp", per_frame_script(any_outlier));

@@ -12,7 +12,7 @@
 
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/gnuplot.h"
-#include "omnisfm/io/percentile.h"
+#include "omnisfm/core/percentile.h"
 #include "omnisfm/io/residual_vectors_plot.h"
 #include "omnisfm/io/vnlog.h"
 
@@ -271,8 +271,8 @@ std::string report_text(const CalibrationOutcome& outcome) {
     out << "  " << what << ", over " << sigmas.size() << " pixels of a " << map.step_px
         << "-pixel grid that see the mirror:\n";
     if (!sigmas.empty()) {
-      out << "    median " << fixed(io::percentile(sigmas, 0.5), 3) << " px, 90th percentile "
-          << fixed(io::percentile(sigmas, 0.9), 3) << " px, largest "
+      out << "    median " << fixed(core::percentile(sigmas, 0.5), 3) << " px, 90th percentile "
+          << fixed(core::percentile(sigmas, 0.9), 3) << " px, largest "
           << fixed(*std::max_element(sigmas.begin(), sigmas.end()), 3) << " px\n";
     }
   };

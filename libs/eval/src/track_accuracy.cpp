@@ -6,7 +6,7 @@
 #include <map>
 #include <set>
 
-#include "omnisfm/io/percentile.h"
+#include "omnisfm/core/percentile.h"
 #include "omnisfm/sim/track_simulator.h"
 
 namespace omnisfm::eval {
@@ -83,8 +83,8 @@ TrackAccuracy track_accuracy(const sim::Dataset& dataset,
   a.mistracked_tracks = static_cast<int>(mistracked.size());
   a.mistracked.assign(mistracked.begin(), mistracked.end());
   a.observations = static_cast<int>(followed.size());
-  a.median_px = io::percentile(followed, 0.5);
-  a.p95_px = io::percentile(followed, 0.95);
+  a.median_px = core::percentile(followed, 0.5);
+  a.p95_px = core::percentile(followed, 0.95);
   a.max_px = followed.empty() ? 0 : *std::max_element(followed.begin(), followed.end());
   return a;
 }

@@ -1,4 +1,4 @@
-#include "omnisfm/io/central_mrcal_model.h"
+#include "omnisfm/calib/central_mrcal_model.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,7 +18,7 @@ extern "C" {
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/shared_data.h"
 
-namespace omnisfm::io {
+namespace omnisfm::calib {
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,7 +27,7 @@ using camera::CatadioptricCamera;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 CatadioptricCamera shipped_camera(const std::string& name) {
-  return read_camera_file(find_shared_file("cameras/" + name));
+  return io::read_camera_file(io::find_shared_file("cameras/" + name));
 }
 
 // A hyperbolic mirror with the pinhole at one focus is central: the reflected rays meet at the
@@ -107,7 +107,7 @@ TEST(CentralMrcalModelTest, TheWrittenFileReadsBackExactlyInMrcal) {
       fs::temp_directory_path() / ("omnisfm-central-mrcal-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string path = (dir / "approx.cameramodel").string();
-  write_cameramodel(path, model, {"a note", "another"});
+  io::write_cameramodel(path, model, {"a note", "another"});
 
   mrcal_cameramodel_t* read = mrcal_read_cameramodel_file(path.c_str());
   ASSERT_NE(read, nullptr);
@@ -146,4 +146,4 @@ TEST(CentralMrcalModelTest, RejectsBadSettings) {
 }
 
 }  // namespace
-}  // namespace omnisfm::io
+}  // namespace omnisfm::calib

@@ -1,4 +1,4 @@
-#include "omnisfm/io/central_mrcal_model.h"
+#include "omnisfm/calib/central_mrcal_model.h"
 
 #include <ceres/ceres.h>
 #include <ceres/normal_prior.h>
@@ -7,15 +7,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <ostream>
 #include <set>
 #include <stdexcept>
 
 #include "omnisfm/camera/mrcal_lensmodel.h"
-#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/number_text.h"
 
-namespace omnisfm::io {
+namespace omnisfm::calib {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -175,14 +173,6 @@ std::vector<Eigen::Vector2d> closed_convex_hull(std::vector<Eigen::Vector2d> poi
   return hull;
 }
 
-void write_numbers(std::ostream& out, const double* values, int count) {
-  out << "[";
-  for (int i = 0; i < count; ++i) {
-    out << (i % 6 == 0 ? "\n        " : " ") << format_double(values[i]) << ",";
-  }
-  out << " ]";
-}
-
 }  // namespace
 
 std::vector<PixelRay> valid_pixel_rays(const camera::CatadioptricCamera& camera, double step_px) {
@@ -251,9 +241,9 @@ CentralMrcalModel fit_central_mrcal_model(const camera::CatadioptricCamera& came
   const double widest_angle_deg = widest_angle * 180 / kPi;
   if (widest_angle_deg > kWidestAngleDeg)
     throw std::invalid_argument(
-        "the field reaches " + format_double(std::round(widest_angle_deg)) +
+        "the field reaches " + io::format_double(std::round(widest_angle_deg)) +
         " degrees from the mirror's axis; a stereographic model takes at most " +
-        format_double(kWidestAngleDeg));
+        io::format_double(kWidestAngleDeg));
   const int fov_x_deg = static_cast<int>(std::ceil(2 * widest_angle_deg)) + kFovMarginDeg;
   model.lensmodel = "LENSMODEL_SPLINED_STEREOGRAPHIC_order=3_Nx=" + std::to_string(knots) +
                     "_Ny=" + std::to_string(knots) + "_fov_x_deg=" + std::to_string(fov_x_deg);
@@ -337,31 +327,4 @@ ReprojectionError reprojection_error(const CentralMrcalModel& model,
   return error;
 }
 
-void write_cameramodel(const std::string& path, const CentralMrcalModel& model,
-                       const std::vector<std::string>& notes) {
-  const mrcal_lensmodel_t lensmodel = camera::mrcal_lensmodel_named(model.lensmodel);
-  const int num_intrinsics = mrcal_lensmodel_num_params(&lensmodel);
-  if (model.intrinsics.size() != num_intrinsics || !model.intrinsics.allFinite())
-    throw std::runtime_error(path + ": " + model.lensmodel + " needs " +
-                             std::to_string(num_intrinsics) + " finite intrinsics");
-  const Eigen::AngleAxisd rotation(model.R_model_from_C);
-  Eigen::Matrix<double, 6, 1> rt;
-  rt << rotation.angle() * rotation.axis(), model.t_model_from_C;
-  write_text_atomically(path, [&](std::ostream& out) {
-    for (const std::string& note : notes) out << "# " << note << "\n";
-    out << "{\n    'lensmodel':  '" << model.lensmodel << "',\n\n";
-    out << "    # intrinsics are fx,fy,cx,cy,distortion0,distortion1,....\n";
-    out << "    'intrinsics': ";
-    write_numbers(out, model.intrinsics.data(), num_intrinsics);
-    out << ",\n\n    'valid_intrinsics_region': [";
-    for (const Eigen::Vector2d& corner : model.valid_region)
-      out << "\n        [ " << format_double(corner.x()) << ", " << format_double(corner.y())
-          << " ],";
-    out << " ],\n\n    # extrinsics are rt_fromref\n    'extrinsics': ";
-    write_numbers(out, rt.data(), 6);
-    out << ",\n\n    'imagersize': [ " << model.image_width << ", " << model.image_height
-        << ", ],\n}\n";
-  });
-}
-
-}  // namespace omnisfm::io
+}  // namespace omnisfm::calib

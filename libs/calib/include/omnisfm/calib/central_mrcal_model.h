@@ -31,8 +31,9 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/io/cameramodel_file.h"
 
-namespace omnisfm::io {
+namespace omnisfm::calib {
 
 // A pixel and its reflected ray in frame C: origin on the mirror, unit direction.
 struct PixelRay {
@@ -44,17 +45,10 @@ struct PixelRay {
 // valid, with their rays.
 std::vector<PixelRay> valid_pixel_rays(const camera::CatadioptricCamera& camera, double step_px);
 
-struct CentralMrcalModel {
-  std::string lensmodel;       // mrcal's name, configuration included
-  Eigen::VectorXd intrinsics;  // fx fy cx cy, then the spline's control points
-  int image_width = 0, image_height = 0;
-  Eigen::Matrix3d R_model_from_C = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d t_model_from_C = Eigen::Vector3d::Zero();
-  // mrcal's valid_intrinsics_region: the convex outline of the fitted pixels, closed (the first
-  // point repeated). It takes in the camera's own reflection at the centre, which no single
-  // outline can leave out.
-  std::vector<Eigen::Vector2d> valid_region;
-
+// The fitted model: a .cameramodel's contents (its valid_intrinsics_region the convex outline of
+// the fitted pixels, which takes in the camera's own reflection at the centre, which no single
+// outline can leave out), and its projection.
+struct CentralMrcalModel : io::MrcalCameraModel {
   // The pixel of X (frame C); false where mrcal gives no finite pixel.
   bool project(const Eigen::Vector3d& X_C, Eigen::Vector2d* pixel) const;
   // The pixel of the direction `direction` (frame C) at infinite distance.
@@ -83,10 +77,4 @@ struct ReprojectionError {
 ReprojectionError reprojection_error(const CentralMrcalModel& model,
                                      const std::vector<PixelRay>& rays, double distance_m);
 
-// Writes a .cameramodel that stock mrcal reads, every number with round-trip precision (mrcal's
-// own C writer keeps 6 decimals). `notes` become comment lines at the top. The file is replaced
-// whole or not at all; throws std::runtime_error when writing fails.
-void write_cameramodel(const std::string& path, const CentralMrcalModel& model,
-                       const std::vector<std::string>& notes);
-
-}  // namespace omnisfm::io
+}  // namespace omnisfm::calib

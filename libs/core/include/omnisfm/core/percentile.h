@@ -1,0 +1,17 @@
+#pragma once
+// The percentiles that reports and plots quote (median, 95th) of a set of errors.
+
+#include <algorithm>
+#include <vector>
+
+namespace omnisfm::core {
+
+// The value below which `fraction` of `values` lie (nearest rank, the lower one); 0 for none.
+inline double percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0;
+  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[k];
+}
+
+}  // namespace omnisfm::core
