@@ -10,8 +10,8 @@ OnlineOutputs::OnlineOutputs(const std::string& dir)
       points_file_(dir + "/points.vnl"),
       outliers_file_(dir + "/outliers.vnl"),
       trajectory_(trajectory_file_),
-      points_writer_(points_file_, {"track", "x", "y", "z"}),
-      outliers_writer_(outliers_file_, {"track", "frame"}) {}
+      points_writer_(points_file_),
+      outliers_writer_(outliers_file_) {}
 
 void OnlineOutputs::attach(sfm::OnlineFilter* filter) {
   filter->on_point_ended([this](int track, const Eigen::Vector3d& p) { point(track, p); });
@@ -39,12 +39,12 @@ void OnlineOutputs::pose(double timestamp, const Eigen::Isometry3d& cam_from_wor
 }
 
 void OnlineOutputs::point(int track, const Eigen::Vector3d& p) {
-  points_writer_.row({double(track), p.x(), p.y(), p.z()});
+  points_writer_.point(track, p);
   ++points_;
 }
 
 void OnlineOutputs::outlier(const sfm::RejectedTrack& r) {
-  outliers_writer_.row({double(r.track), double(r.frame)});
+  outliers_writer_.outlier(r.track, r.frame);
   ++outliers_;
 }
 
@@ -61,8 +61,7 @@ void OnlineOutputs::finish(const std::string& report) {
   points_file_.close();
   // The PLY header needs the count: the points are read back from points.vnl, a row at a time.
   std::ofstream ply(dir_ + "/points.ply");
-  ply << "ply\nformat ascii 1.0\nelement vertex " << points_
-      << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  io::write_ply_header(ply, points_);
   io::VnlogReader points(dir_ + "/points.vnl");
   const auto xyz = points.columns({"x", "y", "z"});
   while (points.next())

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "omnisfm/io/outliers_file.h"
+#include "omnisfm/io/points_file.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
 #include "omnisfm/sfm/online_filter.h"
@@ -47,7 +49,8 @@ class OnlineOutputs {
   std::string dir_;
   std::ofstream trajectory_file_, points_file_, outliers_file_;
   io::TumTrajectoryWriter trajectory_;
-  io::VnlogWriter points_writer_, outliers_writer_;
+  io::PointsTableWriter points_writer_;
+  io::OutliersTableWriter outliers_writer_;
   struct Waiting {
     int frame;
     double time;

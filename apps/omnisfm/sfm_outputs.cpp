@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/io/outliers_file.h"
+#include "omnisfm/io/points_file.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
 #include "residual_plots.h"
@@ -162,15 +164,14 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
   }
 #endif
   std::ofstream table(dir + "/points.vnl");
-  io::VnlogWriter writer(table, {"track", "x", "y", "z"});
-  for (const auto& [track, X] : points) writer.row({double(track), X.x(), X.y(), X.z()});
+  io::PointsTableWriter points_table(table);
+  for (const auto& [track, X] : points) points_table.point(track, X);
   std::ofstream ply(dir + "/points.ply");
-  ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
-      << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  for (const auto& [track, X] : points) ply << X.x() << ' ' << X.y() << ' ' << X.z() << '\n';
+  io::write_ply_header(ply, static_cast<long>(points.size()));
+  for (const auto& [track, X] : points) io::write_ply_point(ply, X);
   std::ofstream outliers(dir + "/outliers.vnl");
-  io::VnlogWriter outlier_writer(outliers, {"track", "frame"});
-  for (const auto& r : result.outliers) outlier_writer.row({double(r.track), double(r.frame)});
+  io::OutliersTableWriter outliers_table(outliers);
+  for (const auto& r : result.outliers) outliers_table.outlier(r.track, r.frame);
   std::ofstream summary(dir + "/report.txt");
   summary << report;
   table.flush();
