@@ -1,4 +1,4 @@
-// The batch's reprojection residual: its analytic Jacobians against central differences.
+// The batch's reprojection residual: its analytic Jacobians against Ceres' numeric ones.
 
 #include <gtest/gtest.h>
 
@@ -41,11 +41,11 @@ std::vector<Observation> observations(const camera::CatadioptricCamera& camera, 
   return out;
 }
 
-// Relative to each block's largest entry: the mirror solve stops within about 1e-11 px, which
-// central differences with steps of 1e-6 turn into errors of some 1e-5 px per unit.
+// Relative, per entry: the mirror solve stops within about 1e-11 px, which numeric
+// differentiation's small steps turn into errors of up to some 1e-5 of an entry.
 constexpr double kDerivativeTolerance = 1e-5;
 
-TEST(ProjectionCost, JacobiansMatchCentralDifferences) {
+TEST(ProjectionCost, JacobiansMatchNumericDerivatives) {
   const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
   for (const Observation& o : observations(camera, 50)) {
     ProjectionCost cost(&camera, o.pixel);
@@ -53,7 +53,7 @@ TEST(ProjectionCost, JacobiansMatchCentralDifferences) {
   }
 }
 
-TEST(ScaledProjectionCost, JacobiansMatchCentralDifferences) {
+TEST(ScaledProjectionCost, JacobiansMatchNumericDerivatives) {
   const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
   for (const Observation& o : observations(camera, 50)) {
     // The same camera-frame point with the scene 1.3x larger and u = 1.3.
