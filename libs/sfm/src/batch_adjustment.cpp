@@ -254,6 +254,163 @@ KnownDistanceFactor known_distance_factor(const std::vector<PoseVector>& poses,
 
 // On the rover, seed 2, one point's reflection sits at the rim: with the exact patch 11 of 16
 // iterations were refused, and the estimate stayed at the filter's scale.
+// One reprojection residual per observation, on its frame's pose, its track's point and the
+// inverse scale.
+std::vector<ceres::ResidualBlockId> add_projections(
+    const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& used,
+    const BatchSettings& settings, bool with_extra_terms, std::vector<PoseVector>* poses,
+    std::map<int, Eigen::Vector3d>* points, double* inverse_scale, ceres::Problem* problem) {
+  const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
+  std::vector<ceres::ResidualBlockId> projections;
+  for (const auto& o : used) {
+    ceres::LossFunction* loss =
+        settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
+    // Against the sensors' whitened terms the pixels weigh as their noise says; alone, a weight
+    // would change only the cost's units.
+    if (with_extra_terms) loss = new ceres::ScaledLoss(loss, pixel_weight, ceres::TAKE_OWNERSHIP);
+    projections.push_back(problem->AddResidualBlock(
+        new ScaledProjectionCost(&camera, o.pixel), loss, (*poses)[o.frame].data(),
+        points->at(o.track).data(), inverse_scale));
+  }
+  return projections;
+}
+
+// The batch's problem in Ceres: the linear solver by how densely frames share points, the
+// stopping rule in chi-square. `dof`: residuals less free parameters.
+ceres::Solver::Options batch_solver_options(ceres::Problem* problem,
+                                            std::map<int, Eigen::Vector3d>* points,
+                                            const std::vector<core::TrackObservation>& used,
+                                            int num_poses, const BatchSettings& settings,
+                                            int threads, double dof) {
+  ceres::Solver::Options options;
+  options.linear_solver_ordering = points_eliminated_first(*problem, points);
+  const double fill = reduced_system_fill(used, num_poses);
+  if (fill > 0.25) {
+    // When most frames share points (short sequences, long tracks) the reduced camera system is
+    // dense, and forming and factoring it costs more than the whole evaluation. Conjugate
+    // gradients on it, with its block diagonal as preconditioner, never form it; a small forcing
+    // term keeps the steps as good as a direct solve's, so Levenberg-Marquardt takes as many.
+    options.linear_solver_type = ceres::ITERATIVE_SCHUR;
+    options.preconditioner_type = ceres::SCHUR_JACOBI;
+    options.eta = 1e-6;
+  } else {
+    // Long sequences: frames share points with their neighbours only, the reduced system is
+    // banded and a sparse Cholesky solves it exactly, where conjugate gradients would need
+    // thousands of iterations along the drive's slow deformations.
+    options.linear_solver_type = ceres::SPARSE_SCHUR;
+  }
+  // The start (the filter's estimate) is close: begin near Gauss-Newton. Ceres' default radius
+  // damps the weakly observed scale so hard that it takes a dozen iterations to release it.
+  options.initial_trust_region_radius = 1e7;
+  options.max_num_iterations = settings.max_iterations;
+  options.num_threads = threads;
+  options.logging_type = ceres::SILENT;
+  // Converged when a step lowers chi-square by less than 0.01, i.e. moves the estimate by less
+  // than a tenth of its standard deviation (the pixel variance taken from the cost). A fixed
+  // relative tolerance instead lets Levenberg-Marquardt creep for hundreds of iterations along a
+  // long drive's slow, curved deformations without changing anything that can be measured.
+  options.function_tolerance = std::max(1e-10, 0.01 / dof);
+  options.parameter_tolerance = 1e-10;
+  return options;
+}
+
+// The degrees of freedom of the batch's chi-square: residuals less free parameters (NumParameters
+// counts a held first pose, and the inverse scale, held outside solve_with_scale).
+double degrees_of_freedom(const ceres::Problem& problem, bool gauge_fixed) {
+  const double held = (gauge_fixed ? 0 : 6) + 1;
+  return std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
+}
+
+// The solution's poses and the points the problem held: a start point whose observations were all
+// left out was not adjusted, and its track is not the batch's.
+void take_estimates(const ceres::Problem& problem, const std::vector<PoseVector>& poses,
+                    const std::map<int, Eigen::Vector3d>& points, BatchResult* result) {
+  for (const auto& v : poses) {
+    result->cam_from_world.push_back(isometry_of(v));
+    result->pose_parameters.push_back(v);
+  }
+  for (const auto& [track, p] : points)
+    if (problem.HasParameterBlock(p.data())) result->points[track] = p;
+}
+
+// The solution's covariances into `result`: the poses, consecutive poses, points, each point
+// with the poses that saw it (when asked), and the extra terms' blocks.
+void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>& poses,
+                         const std::map<int, Eigen::Vector3d>& points,
+                         const std::vector<core::TrackObservation>& used_observations,
+                         const BatchSettings& settings, ExtraTerms* extra, int threads,
+                         BatchResult* result) {
+  ceres::Covariance::Options covariance_options;
+  // Sparse QR: the gauge is fixed by the first pose (and the scale, when held, by a coordinate
+  // of a far one), so the problem is of full rank.
+  covariance_options.algorithm_type = ceres::SPARSE_QR;
+  covariance_options.num_threads = threads;
+  ceres::Covariance covariance(covariance_options);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  const auto variable = [&](const PoseVector& v) {
+    return problem->HasParameterBlock(v.data()) && !problem->IsParameterBlockConstant(v.data());
+  };
+  for (size_t f = 0; f < poses.size(); ++f) {
+    if (!variable(poses[f])) continue;
+    blocks.emplace_back(poses[f].data(), poses[f].data());
+    if (f + 1 < poses.size() && variable(poses[f + 1]))
+      blocks.emplace_back(poses[f].data(), poses[f + 1].data());
+  }
+  for (const auto& [track, p] : points)
+    if (problem->HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
+  std::set<std::pair<int, int>> seen_from;  // (track, frame)
+  if (settings.point_pose_covariances)
+    for (const auto& o : used_observations) {
+      const auto point = points.find(o.track);
+      if (point == points.end() || !problem->HasParameterBlock(point->second.data()) ||
+          !variable(poses[o.frame]) || !seen_from.emplace(o.track, o.frame).second)
+        continue;
+      blocks.emplace_back(point->second.data(), poses[o.frame].data());
+    }
+  std::vector<std::pair<double*, int>> extra_blocks;
+  if (extra)
+    for (const auto& [block, size] : extra->blocks_with_covariance())
+      if (problem->HasParameterBlock(block) && !problem->IsParameterBlockConstant(block)) {
+        extra_blocks.emplace_back(block, size);
+        blocks.emplace_back(block, block);
+      }
+  if (covariance.Compute(blocks, problem)) {
+    // Alone, scaled by the residual variance: the pixel noise is estimated, not assumed. With
+    // the sensors' terms every residual is whitened by its stated noise model, which is taken
+    // as it is (the pixels' from pixel_sigma).
+    const double variance = extra ? 1 : result->variance_factor;
+    result->pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
+    result->consecutive_pose_covariances.assign(poses.empty() ? 0 : poses.size() - 1,
+                                               Eigen::Matrix<double, 6, 6>::Zero());
+    for (size_t f = 0; f < poses.size(); ++f) {
+      if (!variable(poses[f])) continue;
+      Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
+      covariance.GetCovarianceBlock(poses[f].data(), poses[f].data(), c.data());
+      result->pose_covariances[f] = variance * c;
+      if (f + 1 < poses.size() && variable(poses[f + 1])) {
+        covariance.GetCovarianceBlock(poses[f].data(), poses[f + 1].data(), c.data());
+        result->consecutive_pose_covariances[f] = variance * c;
+      }
+    }
+    for (const auto& [track, p] : points) {
+      if (!problem->HasParameterBlock(p.data())) continue;
+      Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c;
+      covariance.GetCovarianceBlock(p.data(), p.data(), c.data());
+      result->point_covariances[track] = variance * c;
+    }
+    for (const auto& [track, frame] : seen_from) {
+      Eigen::Matrix<double, 3, 6, Eigen::RowMajor> c;
+      covariance.GetCovarianceBlock(points.at(track).data(), poses[frame].data(), c.data());
+      result->point_pose_covariances[{track, frame}] = variance * c;
+    }
+    for (const auto& [block, size] : extra_blocks) {
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(size, size);
+      covariance.GetCovarianceBlock(block, block, c.data());
+      extra->take_covariance(block, variance * Eigen::MatrixXd(c));
+    }
+  }
+}
+
 camera::CatadioptricCamera batch_camera(const camera::CatadioptricCamera& camera) {
   constexpr double kWidening = 0.1;
   std::unique_ptr<camera::MirrorProfile> mirror = camera.mirror().clone();
@@ -273,6 +430,9 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   return batch_adjust(camera, observations, cam_from_world, start_points, settings, nullptr);
 }
 
+// The problem, its options, the solves and the covariances are steps of their own; the scale's
+// sequence of solves (with the scale free, plain, then held where the images do not fix it)
+// stays in one body, as it moves the problem's blocks between the solves and counts them.
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<core::TrackObservation>& observations,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
@@ -303,17 +463,9 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   double inverse_scale = 1;
   ceres::Problem problem;
   const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
-  std::vector<ceres::ResidualBlockId> projections;
-  for (const auto& o : used_observations) {
-    ceres::LossFunction* loss =
-        settings.huber_px > 0 ? new ceres::HuberLoss(settings.huber_px) : nullptr;
-    // Against the sensors' whitened terms the pixels weigh as their noise says; alone, a weight
-    // would change only the cost's units.
-    if (extra) loss = new ceres::ScaledLoss(loss, pixel_weight, ceres::TAKE_OWNERSHIP);
-    projections.push_back(problem.AddResidualBlock(
-        new ScaledProjectionCost(&optimised, o.pixel), loss, poses[o.frame].data(),
-        points.at(o.track).data(), &inverse_scale));
-  }
+  const std::vector<ceres::ResidualBlockId> projections =
+      add_projections(optimised, used_observations, settings, extra != nullptr, &poses, &points,
+                      &inverse_scale, &problem);
   const double used = static_cast<double>(used_observations.size());
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
@@ -324,38 +476,9 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   if (!gauge_fixed && problem.HasParameterBlock(poses[0].data()))
     problem.SetParameterBlockConstant(poses[0].data());
 
-  ceres::Solver::Options options;
-  options.linear_solver_ordering = points_eliminated_first(problem, &points);
-  const double fill = reduced_system_fill(used_observations, static_cast<int>(poses.size()));
-  if (fill > 0.25) {
-    // When most frames share points (short sequences, long tracks) the reduced camera system is
-    // dense, and forming and factoring it costs more than the whole evaluation. Conjugate
-    // gradients on it, with its block diagonal as preconditioner, never form it; a small forcing
-    // term keeps the steps as good as a direct solve's, so Levenberg-Marquardt takes as many.
-    options.linear_solver_type = ceres::ITERATIVE_SCHUR;
-    options.preconditioner_type = ceres::SCHUR_JACOBI;
-    options.eta = 1e-6;
-  } else {
-    // Long sequences: frames share points with their neighbours only, the reduced system is
-    // banded and a sparse Cholesky solves it exactly, where conjugate gradients would need
-    // thousands of iterations along the drive's slow deformations.
-    options.linear_solver_type = ceres::SPARSE_SCHUR;
-  }
-  // The start (the filter's estimate) is close: begin near Gauss-Newton. Ceres' default radius
-  // damps the weakly observed scale so hard that it takes a dozen iterations to release it.
-  options.initial_trust_region_radius = 1e7;
-  options.max_num_iterations = settings.max_iterations;
-  options.num_threads = threads;
-  options.logging_type = ceres::SILENT;
-  // Converged when a step lowers chi-square by less than 0.01, i.e. moves the estimate by less
-  // than a tenth of its standard deviation (the pixel variance taken from the cost). A fixed
-  // relative tolerance instead lets Levenberg-Marquardt creep for hundreds of iterations along a
-  // long drive's slow, curved deformations without changing anything that can be measured.
-  // Degrees of freedom: residuals less free parameters (NumParameters counts a held first pose).
-  const double held = (gauge_fixed ? 0 : 6) + 1;  // and the inverse scale
-  const double dof = std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
-  options.function_tolerance = std::max(1e-10, 0.01 / dof);
-  options.parameter_tolerance = 1e-10;
+  const double dof = degrees_of_freedom(problem, gauge_fixed);
+  ceres::Solver::Options options = batch_solver_options(
+      &problem, &points, used_observations, static_cast<int>(poses.size()), settings, threads, dof);
   // With extra residuals, the pixel figures are the reprojections' share of the cost alone.
   const auto reprojection_cost = [&] {
     ceres::Problem::EvaluateOptions reprojections;
@@ -434,86 +557,11 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   result.solve_seconds = solve_seconds;
   result.variance_factor = 2 * summary.final_cost / variance_dof;
   result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
-  for (const auto& v : poses) {
-    result.cam_from_world.push_back(isometry_of(v));
-    result.pose_parameters.push_back(v);
-  }
-  // Only the points the problem held: a start point whose observations were all left out was
-  // not adjusted, and its track is not the batch's.
-  for (const auto& [track, p] : points)
-    if (problem.HasParameterBlock(p.data())) result.points[track] = p;
+  take_estimates(problem, poses, points, &result);
 
-  if (settings.covariances && summary.IsSolutionUsable()) {
-    ceres::Covariance::Options covariance_options;
-    // Sparse QR: the gauge is fixed by the first pose (and the scale, when held, by a coordinate
-    // of a far one), so the problem is of full rank.
-    covariance_options.algorithm_type = ceres::SPARSE_QR;
-    covariance_options.num_threads = threads;
-    ceres::Covariance covariance(covariance_options);
-    std::vector<std::pair<const double*, const double*>> blocks;
-    const auto variable = [&](const PoseVector& v) {
-      return problem.HasParameterBlock(v.data()) && !problem.IsParameterBlockConstant(v.data());
-    };
-    for (size_t f = 0; f < poses.size(); ++f) {
-      if (!variable(poses[f])) continue;
-      blocks.emplace_back(poses[f].data(), poses[f].data());
-      if (f + 1 < poses.size() && variable(poses[f + 1]))
-        blocks.emplace_back(poses[f].data(), poses[f + 1].data());
-    }
-    for (const auto& [track, p] : points)
-      if (problem.HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
-    std::set<std::pair<int, int>> seen_from;  // (track, frame)
-    if (settings.point_pose_covariances)
-      for (const auto& o : used_observations) {
-        const auto point = points.find(o.track);
-        if (point == points.end() || !problem.HasParameterBlock(point->second.data()) ||
-            !variable(poses[o.frame]) || !seen_from.emplace(o.track, o.frame).second)
-          continue;
-        blocks.emplace_back(point->second.data(), poses[o.frame].data());
-      }
-    std::vector<std::pair<double*, int>> extra_blocks;
-    if (extra)
-      for (const auto& [block, size] : extra->blocks_with_covariance())
-        if (problem.HasParameterBlock(block) && !problem.IsParameterBlockConstant(block)) {
-          extra_blocks.emplace_back(block, size);
-          blocks.emplace_back(block, block);
-        }
-    if (covariance.Compute(blocks, &problem)) {
-      // Alone, scaled by the residual variance: the pixel noise is estimated, not assumed. With
-      // the sensors' terms every residual is whitened by its stated noise model, which is taken
-      // as it is (the pixels' from pixel_sigma).
-      const double variance = extra ? 1 : result.variance_factor;
-      result.pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
-      result.consecutive_pose_covariances.assign(poses.empty() ? 0 : poses.size() - 1,
-                                                 Eigen::Matrix<double, 6, 6>::Zero());
-      for (size_t f = 0; f < poses.size(); ++f) {
-        if (!variable(poses[f])) continue;
-        Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
-        covariance.GetCovarianceBlock(poses[f].data(), poses[f].data(), c.data());
-        result.pose_covariances[f] = variance * c;
-        if (f + 1 < poses.size() && variable(poses[f + 1])) {
-          covariance.GetCovarianceBlock(poses[f].data(), poses[f + 1].data(), c.data());
-          result.consecutive_pose_covariances[f] = variance * c;
-        }
-      }
-      for (const auto& [track, p] : points) {
-        if (!problem.HasParameterBlock(p.data())) continue;
-        Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c;
-        covariance.GetCovarianceBlock(p.data(), p.data(), c.data());
-        result.point_covariances[track] = variance * c;
-      }
-      for (const auto& [track, frame] : seen_from) {
-        Eigen::Matrix<double, 3, 6, Eigen::RowMajor> c;
-        covariance.GetCovarianceBlock(points.at(track).data(), poses[frame].data(), c.data());
-        result.point_pose_covariances[{track, frame}] = variance * c;
-      }
-      for (const auto& [block, size] : extra_blocks) {
-        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(size, size);
-        covariance.GetCovarianceBlock(block, block, c.data());
-        extra->take_covariance(block, variance * Eigen::MatrixXd(c));
-      }
-    }
-  }
+  if (settings.covariances && summary.IsSolutionUsable())
+    compute_covariances(&problem, poses, points, used_observations, settings, extra, threads,
+                        &result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }
