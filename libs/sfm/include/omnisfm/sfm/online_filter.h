@@ -307,6 +307,16 @@ class OnlineFilter {
   // The start solved (online_filter_smoothed_start.cpp), then the points it held handed over.
   void smooth_start();
   void solve_start();
+  struct StartEstimate;
+  struct StartWindow;
+  // The window's problem from the frames recorded, and in `x` its start, the filter's estimates.
+  StartWindow start_window(StartEstimate* x);
+  // Solved with the paper's rejection, `A` the normal equations at the solution; false where the
+  // filter's own estimate does not project.
+  bool solve_start_window(StartWindow* window, StartEstimate* x, Eigen::MatrixXd* A);
+  // The filter restarted from the solution: its last pose, the sensors and the live points, with
+  // their covariance from A's inverse, and the window's poses and held points revised.
+  void restart_from(const StartWindow& window, const StartEstimate& x, const Eigen::MatrixXd& A);
 
   bool at_given_points() const { return static_cast<bool>(linearisation_points_.cam_from_world); }
 
