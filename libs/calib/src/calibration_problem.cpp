@@ -133,6 +133,140 @@ std::vector<bool> estimate_mask(const camera::CatadioptricCamera& camera,
   return mask;
 }
 
+namespace {
+
+// The solver's options for a calibration of `num_views` views.
+ceres::Solver::Options calibration_solver_options(const CalibrationSettings& settings,
+                                                  std::size_t num_views) {
+  ceres::Solver::Options options;
+  options.linear_solver_type = num_views > 20 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
+  options.max_num_iterations = settings.max_iterations;
+  options.function_tolerance = 1e-12;
+  options.parameter_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-12;
+  options.num_threads = settings.threads > 0
+                            ? settings.threads
+                            : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  options.logging_type = ceres::SILENT;
+  return options;
+}
+
+// One pass of the outlier rejection after a solve whose cost was `final_cost` over `used`
+// observations: what lies beyond the threshold (in sigmas of the inliers' residuals) becomes an
+// outlier, and what the starting guess could not project comes back once the solved camera
+// projects it within the threshold. Returns how many changed.
+int reject_outliers(const camera::CatadioptricCamera& camera,
+                    const std::vector<CalibrationView>& views,
+                    const std::vector<Eigen::Matrix<double, 6, 1>>& poses, double final_cost,
+                    int used, int num_unknowns, const CalibrationSettings& settings,
+                    std::vector<Observation>* observations) {
+  double sum_squares = 2 * final_cost;
+  if (settings.cauchy_scale_px > 0) {  // the solver's cost is the robust one: use the squares
+    sum_squares = 0;
+    for (const auto& o : *observations) {
+      Eigen::Vector2d r;
+      if (!o.outlier && residual_of(camera, views[o.view], poses[o.view].data(), o.index, &r))
+        sum_squares += r.squaredNorm();
+    }
+  }
+  const double sigma = std::sqrt(sum_squares / std::max(1, 2 * used - num_unknowns));
+  int changed = 0;
+  for (auto& o : *observations) {
+    Eigen::Vector2d r;
+    const bool beyond =
+        !residual_of(camera, views[o.view], poses[o.view].data(), o.index, &r) ||
+        r.cwiseAbs().maxCoeff() > settings.outlier_threshold_sigma * sigma;
+    if (!o.outlier && beyond) {
+      o.outlier = true;
+      ++changed;
+    } else if (o.outlier && o.unprojectable_at_start && !beyond) {
+      o.outlier = o.unprojectable_at_start = false;
+      ++changed;
+    }
+  }
+  return changed;
+}
+
+// The residuals and their figures (RMS overall and per view, the worst, sigma) into `report`.
+void report_residuals(const camera::CatadioptricCamera& camera,
+                      const std::vector<CalibrationView>& views,
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& poses,
+                      const std::vector<Observation>& observations, int num_unknowns,
+                      CalibrationReport* report) {
+  report->view_rms_px.assign(views.size(), 0.0);
+  std::vector<int> view_count(views.size(), 0);
+  double sum2 = 0;
+  int inliers = 0;
+  for (const auto& o : observations) {
+    ObservationResidual r{o.view, o.index, {NAN, NAN}, o.outlier};
+    residual_of(camera, views[o.view], poses[o.view].data(), o.index, &r.residual);
+    report->residuals.push_back(r);
+    if (o.outlier) {
+      ++report->num_outliers;
+      continue;
+    }
+    const double e2 = r.residual.squaredNorm();
+    sum2 += e2;
+    ++inliers;
+    report->view_rms_px[o.view] += e2;
+    ++view_count[o.view];
+    report->worst_px = std::max(report->worst_px, std::sqrt(e2));
+  }
+  report->num_observations = static_cast<int>(observations.size());
+  report->rms_px = std::sqrt(sum2 / std::max(1, 2 * inliers));
+  for (size_t v = 0; v < views.size(); ++v)
+    report->view_rms_px[v] = std::sqrt(report->view_rms_px[v] / std::max(1, 2 * view_count[v]));
+  report->residual_sigma_px = std::sqrt(sum2 / std::max(1, 2 * inliers - num_unknowns));
+}
+
+// Covariance of the camera parameters, the poses marginalised: the camera block of
+// sigma^2 (J^T J)^-1 over all unknowns (the free parameters, then 6 per view), from the inliers.
+void report_covariance(const camera::CatadioptricCamera& camera,
+                       const std::vector<CalibrationView>& views,
+                       const std::vector<Eigen::Matrix<double, 6, 1>>& poses,
+                       const std::vector<Observation>& observations,
+                       const std::vector<int>& free_params, CalibrationReport* report) {
+  const int n = camera.num_params();
+  const int m = static_cast<int>(free_params.size());
+  if (m == 0) return;
+  const int num_unknowns = m + 6 * static_cast<int>(views.size());
+  int inliers = 0;
+  for (const auto& o : observations) inliers += o.outlier ? 0 : 1;
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * inliers, num_unknowns);
+  Eigen::Matrix<double, 2, Eigen::Dynamic> J_params(2, n);
+  int row = 0;
+  for (const auto& o : observations) {
+    if (o.outlier) continue;
+    Eigen::Matrix<double, 3, 6> J_pose;
+    const Eigen::Vector3d X =
+        transform_point(poses[o.view].data(), views[o.view].points[o.index], &J_pose);
+    Eigen::Vector2d pixel;
+    Eigen::Matrix<double, 2, 3> J_X;
+    camera.project(X, &pixel, &J_X, J_params.data());
+    for (int c = 0; c < m; ++c) J.block<2, 1>(row, c) = J_params.col(free_params[c]);
+    J.block<2, 6>(row, m + 6 * o.view) = J_X * J_pose;
+    row += 2;
+  }
+  // Columns scaled to unit length first: metres, radians and pixels differ by orders of
+  // magnitude, and the rank test must see the geometry, not the units.
+  const Eigen::VectorXd scale = J.colwise().norm().cwiseMax(1e-300).cwiseInverse();
+  const Eigen::MatrixXd Js = J * scale.asDiagonal();
+  const Eigen::MatrixXd H = Js.transpose() * Js;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(H);
+  lu.setThreshold(1e-12);
+  if (lu.rank() < H.rows()) {
+    report->converged = false;
+    report->message = "degenerate geometry: the estimated parameters are not all observable";
+  } else {
+    const Eigen::MatrixXd covariance = scale.asDiagonal() * lu.inverse() * scale.asDiagonal();
+    report->joint_covariance = report->residual_sigma_px * report->residual_sigma_px *
+                               (covariance + covariance.transpose()) / 2;
+    report->covariance = report->joint_covariance.topLeftCorner(m, m);
+  }
+}
+
+}  // namespace
+
 CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<CalibrationView>* views,
                             const CalibrationSettings& settings) {
   const int n = camera->num_params();
@@ -194,16 +328,7 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
       problem.SetManifold(params.data(), new ceres::SubsetManifold(n, fixed));
     }
 
-    ceres::Solver::Options options;
-    options.linear_solver_type = views->size() > 20 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
-    options.max_num_iterations = settings.max_iterations;
-    options.function_tolerance = 1e-12;
-    options.parameter_tolerance = 1e-12;
-    options.gradient_tolerance = 1e-12;
-    options.num_threads = settings.threads > 0
-                              ? settings.threads
-                              : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-    options.logging_type = ceres::SILENT;
+    ceres::Solver::Options options = calibration_solver_options(settings, views->size());
     ProgressCallback progress(settings.progress, used, report.iterations);
     if (settings.progress) options.callbacks.push_back(&progress);
     ceres::Solver::Summary summary;
@@ -220,98 +345,16 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
 
     // Reject what lies beyond the threshold; stop when nothing changes.
     if (round == settings.max_outlier_rounds) break;
-    double sum_squares = 2 * summary.final_cost;
-    if (settings.cauchy_scale_px > 0) {  // the solver's cost is the robust one: use the squares
-      sum_squares = 0;
-      for (const auto& o : observations) {
-        Eigen::Vector2d r;
-        if (!o.outlier && residual_of(*camera, (*views)[o.view], poses[o.view].data(), o.index, &r))
-          sum_squares += r.squaredNorm();
-      }
-    }
-    const double sigma = std::sqrt(sum_squares / std::max(1, 2 * used - num_unknowns));
-    // What the starting guess could not project comes back once the solved camera projects it
-    // within the threshold.
-    int changed = 0;
-    for (auto& o : observations) {
-      Eigen::Vector2d r;
-      const bool beyond =
-          !residual_of(*camera, (*views)[o.view], poses[o.view].data(), o.index, &r) ||
-          r.cwiseAbs().maxCoeff() > settings.outlier_threshold_sigma * sigma;
-      if (!o.outlier && beyond) {
-        o.outlier = true;
-        ++changed;
-      } else if (o.outlier && o.unprojectable_at_start && !beyond) {
-        o.outlier = o.unprojectable_at_start = false;
-        ++changed;
-      }
-    }
+    const int changed = reject_outliers(*camera, *views, poses, summary.final_cost, used,
+                                        num_unknowns, settings, &observations);
     if (changed == 0) break;
   }
 
-  // Residuals, per-view figures.
-  report.view_rms_px.assign(views->size(), 0.0);
-  std::vector<int> view_count(views->size(), 0);
-  double sum2 = 0;
-  int inliers = 0;
-  for (const auto& o : observations) {
-    ObservationResidual r{o.view, o.index, {NAN, NAN}, o.outlier};
-    residual_of(*camera, (*views)[o.view], poses[o.view].data(), o.index, &r.residual);
-    report.residuals.push_back(r);
-    if (o.outlier) {
-      ++report.num_outliers;
-      continue;
-    }
-    const double e2 = r.residual.squaredNorm();
-    sum2 += e2;
-    ++inliers;
-    report.view_rms_px[o.view] += e2;
-    ++view_count[o.view];
-    report.worst_px = std::max(report.worst_px, std::sqrt(e2));
-  }
-  report.num_observations = static_cast<int>(observations.size());
-  report.rms_px = std::sqrt(sum2 / std::max(1, 2 * inliers));
+  report_residuals(*camera, *views, poses, observations, num_unknowns, &report);
   for (size_t v = 0; v < views->size(); ++v)
-    report.view_rms_px[v] = std::sqrt(report.view_rms_px[v] / std::max(1, 2 * view_count[v]));
-  report.residual_sigma_px = std::sqrt(sum2 / std::max(1, 2 * inliers - num_unknowns));
-  for (size_t v = 0; v < views->size(); ++v) (*views)[v].cam_from_object = core::isometry_of(poses[v].data());
+    (*views)[v].cam_from_object = core::isometry_of(poses[v].data());
 
-  // Covariance of the camera parameters, the poses marginalised: the camera block of
-  // sigma^2 (J^T J)^-1 over all unknowns.
-  const int m = static_cast<int>(free_params.size());
-  if (m > 0) {
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * inliers, num_unknowns);
-    Eigen::Matrix<double, 2, Eigen::Dynamic> J_params(2, n);
-    int row = 0;
-    for (const auto& o : observations) {
-      if (o.outlier) continue;
-      Eigen::Matrix<double, 3, 6> J_pose;
-      const Eigen::Vector3d X =
-          transform_point(poses[o.view].data(), (*views)[o.view].points[o.index], &J_pose);
-      Eigen::Vector2d pixel;
-      Eigen::Matrix<double, 2, 3> J_X;
-      camera->project(X, &pixel, &J_X, J_params.data());
-      for (int c = 0; c < m; ++c) J.block<2, 1>(row, c) = J_params.col(free_params[c]);
-      J.block<2, 6>(row, m + 6 * o.view) = J_X * J_pose;
-      row += 2;
-    }
-    // Columns scaled to unit length first: metres, radians and pixels differ by orders of
-    // magnitude, and the rank test must see the geometry, not the units.
-    const Eigen::VectorXd scale = J.colwise().norm().cwiseMax(1e-300).cwiseInverse();
-    const Eigen::MatrixXd Js = J * scale.asDiagonal();
-    const Eigen::MatrixXd H = Js.transpose() * Js;
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(H);
-    lu.setThreshold(1e-12);
-    if (lu.rank() < H.rows()) {
-      report.converged = false;
-      report.message = "degenerate geometry: the estimated parameters are not all observable";
-    } else {
-      const Eigen::MatrixXd covariance = scale.asDiagonal() * lu.inverse() * scale.asDiagonal();
-      report.joint_covariance = report.residual_sigma_px * report.residual_sigma_px *
-                                (covariance + covariance.transpose()) / 2;
-      report.covariance = report.joint_covariance.topLeftCorner(m, m);
-    }
-  }
+  report_covariance(*camera, *views, poses, observations, free_params, &report);
   return report;
 }
 
