@@ -141,6 +141,58 @@ bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R
   return true;
 }
 
+// The update's first linearisation point. A point that has taken part in fewer than
+// kEstablishedUpdates updates knows its depth only from the prior, and its measurement ties that
+// depth to the camera's motion since the point entered: a product the linearisation at the prior
+// misses, so the first Gauss-Newton steps overshoot and drag the pose along (predicted pixels
+// moving tens of pixels between iterates). The first linearisation point is therefore the update
+// by the established points alone (the new points' rows of H zero, *warm_step), which places the
+// pose; the iterations then start from there. Without new points, the first linearisation point
+// is instead the posterior's minimum along the pose's direction of the prior, where one full
+// linearisation usually settles. Both only under the random walk, whose prediction says nothing
+// of where the camera went. A prediction by the vehicle's sensors is itself a good linearisation
+// point, and a point chosen by the measurements it linearises gains information along the scale
+// the mirror barely shows (FilterSettings::predicted_settle_sigmas).
+OnlineFilter::Iterate OnlineFilter::first_iterate(const std::vector<Measurement>& meas,
+                                                  const std::vector<int>& point_columns,
+                                                  bool predicted, int linearisations,
+                                                  bool* warm_step) const {
+  const int m = static_cast<int>(meas.size());
+  const int n = static_cast<int>(state_.P.rows());
+  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  Iterate at;
+  at.allocate(m);
+  at.offset = Eigen::VectorXd::Zero(n);
+  at.g = Eigen::VectorXd::Zero(n);
+  at.cost = 0;
+  for (int k = 0; k < m; ++k)
+    at.cost += at.take(k, meas[k].at_prior, meas[k].pixel, point_columns[k],
+                       Eigen::Matrix3d::Identity(), true) /
+               variance;
+  std::vector<int> new_points;
+  for (int k = 0; k < m; ++k)
+    if (state_.anchor(meas[k].slot).updates < kEstablishedUpdates) new_points.push_back(k);
+  if (!predicted && new_points.empty() && linearisations > 1)
+    start_on_pose_subspace(meas, point_columns, &at);
+  *warm_step = !predicted && !new_points.empty() && static_cast<int>(new_points.size()) < m &&
+               linearisations > 2;
+  if (*warm_step)
+    for (int k : new_points) {
+      at.H_pose.middleRows<2>(2 * k).setZero();
+      at.H_point[k].setZero();
+    }
+  return at;
+}
+
+void OnlineFilter::Iterate::allocate(int m) {
+  H_pose.resize(2 * m, 6);
+  H_point.resize(m);
+  pixels.resize(2 * m);
+  residual.resize(2 * m);
+  innovation.resize(2 * m);
+  H_offset.resize(2 * m);
+}
+
 void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
                           Candidate* c) const {
   const int m = static_cast<int>(meas.size());
@@ -152,49 +204,12 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   for (int k = 0; k < m; ++k) point_columns[k] = FilterState::point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
-  Iterate at, next;
-  for (Iterate* it : {&at, &next}) {
-    it->H_pose.resize(2 * m, 6);
-    it->H_point.resize(m);
-    it->pixels.resize(2 * m);
-    it->residual.resize(2 * m);
-    it->innovation.resize(2 * m);
-    it->H_offset.resize(2 * m);
-  }
-  at.offset = Eigen::VectorXd::Zero(n);
-  at.g = Eigen::VectorXd::Zero(n);
-  at.cost = 0;
-  for (int k = 0; k < m; ++k)
-    at.cost += at.take(k, meas[k].at_prior, meas[k].pixel, point_columns[k],
-                       Eigen::Matrix3d::Identity(), true) /
-               variance;
-  c->residuals.resize(m);
-
-  // A point that has taken part in fewer than kEstablishedUpdates updates knows its depth only
-  // from the prior, and its measurement ties that depth to the camera's motion since the point entered:
-  // a product the linearisation at the prior misses, so the first Gauss-Newton steps overshoot
-  // and drag the pose along (predicted pixels moving tens of pixels between iterates). The first
-  // linearisation point is therefore the update by the established points alone (the new
-  // points' rows of H zero), which places the pose; the iterations then start from there.
-  // Without new points, the first linearisation point is instead the posterior's minimum along
-  // the pose's direction of the prior, where one full linearisation usually settles.
-  // Both only under the random walk, whose prediction says nothing of where the camera went. A
-  // prediction by the vehicle's sensors is itself a good linearisation point, and a point chosen
-  // by the measurements it linearises gains information along the scale the mirror barely shows
-  // (FilterSettings::predicted_settle_sigmas).
-  std::vector<int> new_points;
-  for (int k = 0; k < m; ++k)
-    if (state_.anchor(meas[k].slot).updates < kEstablishedUpdates) new_points.push_back(k);
   const int linearisations = at_given_points() ? 1 : std::max(1, settings_.update_iterations);
-  if (!predicted && new_points.empty() && linearisations > 1)
-    start_on_pose_subspace(meas, point_columns, &at);
-  bool warm_step = !predicted && !new_points.empty() &&
-                   static_cast<int>(new_points.size()) < m && linearisations > 2;
-  if (warm_step)
-    for (int k : new_points) {
-      at.H_pose.middleRows<2>(2 * k).setZero();
-      at.H_point[k].setZero();
-    }
+  bool warm_step = false;
+  Iterate at = first_iterate(meas, point_columns, predicted, linearisations, &warm_step);
+  Iterate next;
+  next.allocate(m);
+  c->residuals.resize(m);
 
   // P H^T and S's factor are built in the candidate: every step is taken (the warm start's is
   // overwritten by the next linearisation).
@@ -258,44 +273,11 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
     // that shrunk as the step was: linearising there again would change nothing measurable,
     // and P H^T and S stay this linearisation's, which the iterate came from.
     const bool may_relinearise = linearisation + 1 < linearisations;
-    const Eigen::Matrix3d chart = so3::left_jacobian(next.offset.head<3>());
-    bool settled = true, projected = true;
-    double linearisation_error = 0;  // largest |h(x_{i+1}) - h(x_i) - H_i (x_{i+1} - x_i)|
     next.cost = prior_cost;
-    for (int k = 0; k < m; ++k) {
-      const int s = meas[k].slot;
-      Linearisation lin;
-      if (!linearise(state_.anchor(s), moved.R, moved.t, moved.params(s), may_relinearise, &lin)) {
-        // Off the mirror here: its previous linearisation stays (the prior's, if that one was
-        // the established points' only), and it fails the outlier test unless a later iterate
-        // brings it back.
-        const bool stale_prior = warm_step && at.H_point[k].isZero();
-        next.H_pose.middleRows<2>(2 * k) =
-            stale_prior ? meas[k].at_prior.pose : at.H_pose.middleRows<2>(2 * k);
-        next.H_point[k] = stale_prior ? meas[k].at_prior.point : at.H_point[k];
-        next.pixels.segment<2>(2 * k) = at.pixels.segment<2>(2 * k);
-        next.residual.segment<2>(2 * k).setConstant(INFINITY);
-        next.innovation.segment<2>(2 * k) =
-            stale_prior ? (meas[k].pixel - meas[k].at_prior.pixel).eval()
-                        : at.innovation.segment<2>(2 * k);
-        next.H_offset.segment<2>(2 * k) =
-            stale_prior ? Eigen::Vector2d::Zero().eval() : at.H_offset.segment<2>(2 * k).eval();
-        projected = false;
-        continue;
-      }
-      if ((lin.pixel - at.pixels.segment<2>(2 * k)).cwiseAbs().maxCoeff() >= settled_px * shrink)
-        settled = false;
-      const Eigen::Vector2d linear_pixel =
-          at.pixels.segment<2>(2 * k) +
-          at.H_pose.middleRows<2>(2 * k) * (next.offset.head<6>() - at.offset.head<6>()) +
-          at.H_point[k] * (next.offset.segment<FilterState::kPointSize>(point_columns[k]) -
-                           at.offset.segment<FilterState::kPointSize>(point_columns[k]));
-      linearisation_error =
-          std::max(linearisation_error, (lin.pixel - linear_pixel).cwiseAbs().maxCoeff());
-      next.cost +=
-          next.take(k, lin, meas[k].pixel, point_columns[k], chart, may_relinearise) / variance;
-    }
-    if (!projected) next.cost = INFINITY;
+    const IterateCheck check = project_iterate(meas, point_columns, moved, may_relinearise,
+                                               warm_step, settled_px * shrink, at, &next);
+    const bool settled = check.settled, projected = check.projected;
+    const double linearisation_error = check.linearisation_error;
     const double gain = (at.cost - next.cost) / std::max(at.cost - model_cost, 1e-12);
     std::swap(at, next);
     if (warm_step) {
@@ -320,6 +302,51 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
     S.diagonal().array() += variance;
     if (!cholesky_lower_in_place(&S)) PHt.resize(0, 0);
   }
+}
+
+OnlineFilter::IterateCheck OnlineFilter::project_iterate(
+    const std::vector<Measurement>& meas, const std::vector<int>& point_columns,
+    const FilterMean& moved, bool jacobians, bool warm_step, double settled_px, const Iterate& at,
+    Iterate* next_iterate) const {
+  Iterate& next = *next_iterate;
+  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  const int m = static_cast<int>(meas.size());
+  const Eigen::Matrix3d chart = so3::left_jacobian(next.offset.head<3>());
+  IterateCheck check;
+  for (int k = 0; k < m; ++k) {
+    const int s = meas[k].slot;
+    Linearisation lin;
+    if (!linearise(state_.anchor(s), moved.R, moved.t, moved.params(s), jacobians, &lin)) {
+      // Off the mirror here: its previous linearisation stays (the prior's, if that one was
+      // the established points' only), and it fails the outlier test unless a later iterate
+      // brings it back.
+      const bool stale_prior = warm_step && at.H_point[k].isZero();
+      next.H_pose.middleRows<2>(2 * k) =
+          stale_prior ? meas[k].at_prior.pose : at.H_pose.middleRows<2>(2 * k);
+      next.H_point[k] = stale_prior ? meas[k].at_prior.point : at.H_point[k];
+      next.pixels.segment<2>(2 * k) = at.pixels.segment<2>(2 * k);
+      next.residual.segment<2>(2 * k).setConstant(INFINITY);
+      next.innovation.segment<2>(2 * k) =
+          stale_prior ? (meas[k].pixel - meas[k].at_prior.pixel).eval()
+                      : at.innovation.segment<2>(2 * k);
+      next.H_offset.segment<2>(2 * k) =
+          stale_prior ? Eigen::Vector2d::Zero().eval() : at.H_offset.segment<2>(2 * k).eval();
+      check.projected = false;
+      continue;
+    }
+    if ((lin.pixel - at.pixels.segment<2>(2 * k)).cwiseAbs().maxCoeff() >= settled_px)
+      check.settled = false;
+    const Eigen::Vector2d linear_pixel =
+        at.pixels.segment<2>(2 * k) +
+        at.H_pose.middleRows<2>(2 * k) * (next.offset.head<6>() - at.offset.head<6>()) +
+        at.H_point[k] * (next.offset.segment<FilterState::kPointSize>(point_columns[k]) -
+                         at.offset.segment<FilterState::kPointSize>(point_columns[k]));
+    check.linearisation_error =
+        std::max(check.linearisation_error, (lin.pixel - linear_pixel).cwiseAbs().maxCoeff());
+    next.cost += next.take(k, lin, meas[k].pixel, point_columns[k], chart, jacobians) / variance;
+  }
+  if (!check.projected) next.cost = INFINITY;
+  return check;
 }
 
 double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen::Vector2d& observed,

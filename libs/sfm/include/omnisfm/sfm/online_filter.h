@@ -249,6 +249,8 @@ class OnlineFilter {
     Eigen::VectorXd g;
     double cost = 0;         // the posterior cost at x_i (infinite where a point did not project)
 
+    void allocate(int measurements);  // the per-measurement parts
+
     // Measurement k linearised at this iterate (its offset set), `observed` its pixel and its
     // point's parameters at `point_column` of the state: h(x_i) and z - h(x_i), and with
     // `jacobians` also H's rows (the rotation's times `chart`), H_i (x_i - x_prior) and the
@@ -275,6 +277,22 @@ class OnlineFilter {
                               const std::vector<int>& point_columns, Iterate* prior) const;
   // The squared Mahalanobis distance of a measurement's innovation at the propagated state.
   double prior_chi2(const Measurement& measurement) const;
+  // The update's first iterate, at the propagated state or where the iterations start from it
+  // (online_filter.cpp); `warm_step`: a linearisation point only, not yet an update.
+  Iterate first_iterate(const std::vector<Measurement>& meas, const std::vector<int>& point_columns,
+                        bool predicted, int linearisations, bool* warm_step) const;
+  // The measurements at an iterate's mean `moved` (`next`'s offset set): its pixels, residuals and
+  // cost (added to next->cost, infinite where a point does not project), with `jacobians` its
+  // Jacobians too; whether every pixel moved by less than `settled_px` from `at`'s, and the
+  // largest miss of `at`'s linear model.
+  struct IterateCheck {
+    bool settled = true, projected = true;
+    double linearisation_error = 0;
+  };
+  IterateCheck project_iterate(const std::vector<Measurement>& meas,
+                               const std::vector<int>& point_columns, const FilterMean& moved,
+                               bool jacobians, bool warm_step, double settled_px,
+                               const Iterate& at, Iterate* next) const;
   // The iterated update from the current (propagated) state; `predicted`: propagated by the
   // vehicle's sensors, not the random walk.
   void update(const std::vector<Measurement>& measurements, bool predicted,
