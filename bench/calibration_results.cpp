@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "omnisfm/camera/camera_kinds.h"
 #include "omnisfm/calib/calibration_views.h"
 #include "omnisfm/calib/cross_validation.h"
 #include "omnisfm/calib/staged_calibration.h"
@@ -329,11 +330,14 @@ void real_data(const std::string& root) {
         omnisfm::io::read_corners(set.folder + "/corners.vnl"),
         omnisfm::io::read_board(set.folder + "/board.vnl"), set.folder + "/corners.vnl",
         set.folder + "/board.vnl");
-    const std::string model = "omnisfm " + camera.mirror().kind() + "+" + camera.inner().kind();
+    const std::string model = std::string("omnisfm ") +
+                              omnisfm::camera::name_of(camera.mirror().kind()) + "+" +
+                              omnisfm::camera::name_of(camera.inner().kind());
     print_row(set.name, model + ", pose+intrinsics+shape", omnisfm_fit(set, views, groups, false));
     print_row(set.name, model + ", pose+intrinsics+shape, 4-sigma rej.",
               omnisfm_fit(set, views, groups, true));
-    if (camera.inner().kind() == "pinhole")  // an orthographic camera has no distortion to add
+    // An orthographic camera has no distortion to add.
+    if (camera.inner().kind() == omnisfm::camera::InnerKind::kPinhole)
       print_row(set.name, model + ", all (+ distortion)", omnisfm_fit(set, views, {"all"}, false));
     print_row(set.name, "OpenCV omnidir (Mei, 10 parameters)",
               omnidir_fit(views, cv::Size(camera.image_width(), camera.image_height())));

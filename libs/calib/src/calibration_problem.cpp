@@ -111,7 +111,7 @@ std::vector<bool> estimate_mask(const camera::CatadioptricCamera& camera,
                                 const std::vector<std::string>& groups) {
   const int n = camera.num_params(), ni = camera.shape_param_offset();
   const int shape_end = camera.pose_param_offset();
-  const bool has_core = camera.inner().kind() != "mrcal" || ni >= 4;
+  const bool has_core = camera.inner().kind() != camera::InnerKind::kMrcal || ni >= 4;
   std::vector<bool> mask(n, false);
   for (const auto& g : groups) {
     if (g == "mirror-pose") {

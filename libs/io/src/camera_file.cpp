@@ -7,11 +7,8 @@
 #include <ostream>
 #include <stdexcept>
 
-#include "omnisfm/camera/conic_profile.h"
-#include "omnisfm/camera/equiangular_profile.h"
+#include "omnisfm/camera/camera_kinds.h"
 #include "omnisfm/camera/mrcal_camera.h"
-#include "omnisfm/camera/orthographic_camera.h"
-#include "omnisfm/camera/pinhole_camera.h"
 #include "omnisfm/camera/table_profile.h"
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/camera_covariance.h"
@@ -24,32 +21,40 @@ namespace omnisfm::io {
 namespace fs = std::filesystem;
 using camera::CatadioptricCamera;
 using camera::InnerCamera;
+using camera::InnerKind;
+using camera::MirrorKind;
 using camera::MirrorProfile;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-const std::vector<std::string> kInnerKinds = {"pinhole", "orthographic", "mrcal"};
-const std::vector<std::string> kMirrorKinds = {"equiangular", "conic", "table"};
 const std::vector<std::string> kCommonKeys = {"image_width", "image_height", "inner",
                                               "mirror",      "mirror_rx",    "mirror_ry",
                                               "mirror_tx",   "mirror_ty",    "mirror_tz"};
 
-std::vector<std::string> inner_keys(const std::string& kind) {
-  if (kind == "pinhole") return {"fx", "fy", "cx", "cy", "dist"};
-  if (kind == "orthographic") return {"fx", "fy", "cx", "cy"};
-  return {"inner_cameramodel"};
+std::vector<std::string> inner_keys(InnerKind kind) {
+  switch (kind) {
+    case InnerKind::kPinhole:
+      return {"fx", "fy", "cx", "cy", "dist"};
+    case InnerKind::kOrthographic:
+      return {"fx", "fy", "cx", "cy"};
+    case InnerKind::kMrcal:
+      return {"inner_cameramodel"};
+  }
+  return {};
 }
 
-std::vector<std::string> mirror_keys(const std::string& kind) {
-  if (kind == "equiangular") {
-    return {"equiangular_alpha", "equiangular_r0", "mirror_theta_min", "mirror_theta_max"};
+std::vector<std::string> mirror_keys(MirrorKind kind) {
+  switch (kind) {
+    case MirrorKind::kEquiangular:
+      return {"equiangular_alpha", "equiangular_r0", "mirror_theta_min", "mirror_theta_max"};
+    case MirrorKind::kConic:
+      return {"conic_z0", "conic_c", "conic_kappa", "mirror_rho_min", "mirror_rho_max"};
+    case MirrorKind::kTable:
+      return {"mirror_table", "mirror_rho_min", "mirror_rho_max"};
   }
-  if (kind == "conic") {
-    return {"conic_z0", "conic_c", "conic_kappa", "mirror_rho_min", "mirror_rho_max"};
-  }
-  return {"mirror_table", "mirror_rho_min", "mirror_rho_max"};
+  return {};
 }
 
 bool contains(const std::vector<std::string>& list, const std::string& item) {
@@ -62,30 +67,34 @@ std::string joined(const std::vector<std::string>& list, const std::string& sepa
   return text;
 }
 
-std::string kind_of(const IniSection& section, const std::string& key,
-                    const std::vector<std::string>& kinds) {
-  const std::string kind = section.get_string(key);
-  if (!contains(kinds, kind)) {
-    section.fail(key, "'" + kind + "' is not one of " + joined(kinds, ", "));
+template <typename Kind>
+Kind kind_of(const IniSection& section, const std::string& key, const std::vector<Kind>& kinds,
+             bool (*named)(const std::string&, Kind*)) {
+  const std::string name = section.get_string(key);
+  Kind kind;
+  if (!named(name, &kind)) {
+    std::vector<std::string> names;
+    for (Kind k : kinds) names.push_back(camera::name_of(k));
+    section.fail(key, "'" + name + "' is not one of " + joined(names, ", "));
   }
   return kind;
 }
 
 // Reports the first key, in file order, that the chosen inner camera and mirror do not use.
-void reject_unknown_keys(const IniSection& section, const std::string& inner_kind,
-                         const std::string& mirror_kind) {
+void reject_unknown_keys(const IniSection& section, InnerKind inner_kind, MirrorKind mirror_kind) {
   std::vector<std::string> allowed = kCommonKeys;
   for (const std::string& key : inner_keys(inner_kind)) allowed.push_back(key);
   for (const std::string& key : mirror_keys(mirror_kind)) allowed.push_back(key);
   for (const IniEntry& entry : section.entries()) {
     if (contains(allowed, entry.key)) continue;
     bool for_inner = false, for_mirror = false;
-    for (const std::string& kind : kInnerKinds) for_inner |= contains(inner_keys(kind), entry.key);
-    for (const std::string& kind : kMirrorKinds) {
+    for (InnerKind kind : camera::inner_kinds()) for_inner |= contains(inner_keys(kind), entry.key);
+    for (MirrorKind kind : camera::mirror_kinds())
       for_mirror |= contains(mirror_keys(kind), entry.key);
-    }
-    if (for_inner) section.fail(entry.key, "does not apply to inner = " + inner_kind);
-    if (for_mirror) section.fail(entry.key, "does not apply to mirror = " + mirror_kind);
+    if (for_inner)
+      section.fail(entry.key, std::string("does not apply to inner = ") + name_of(inner_kind));
+    if (for_mirror)
+      section.fail(entry.key, std::string("does not apply to mirror = ") + name_of(mirror_kind));
     section.fail(entry.key, "unknown key");
   }
 }
@@ -138,9 +147,9 @@ std::string referenced_path(const IniSection& section, const std::string& key) {
   return (fs::path(section.file()).parent_path() / path).string();
 }
 
-std::unique_ptr<InnerCamera> read_inner(const IniSection& section, const std::string& kind,
-                                        int width, int height) {
-  if (kind == "mrcal") {
+std::unique_ptr<InnerCamera> read_inner(const IniSection& section, InnerKind kind, int width,
+                                        int height) {
+  if (kind == InnerKind::kMrcal) {
     const std::string path = referenced_path(section, "inner_cameramodel");
     std::unique_ptr<camera::MrcalCamera> inner;
     try {
@@ -161,10 +170,8 @@ std::unique_ptr<InnerCamera> read_inner(const IniSection& section, const std::st
   const double cx = finite(section, "cx");
   const double cy = finite(section, "cy");
   try {
-    if (kind == "orthographic") {
-      return std::make_unique<camera::OrthographicCamera>(
-          camera::OrthographicIntrinsics{fx, fy, cx, cy});
-    }
+    if (kind == InnerKind::kOrthographic)
+      return camera::make_inner(kind, Eigen::Vector4d(fx, fy, cx, cy));
     const std::vector<double> dist = section.get_doubles("dist", {0, 0, 0, 0, 0});
     if (dist.size() != 5) {
       section.fail("dist", "expected 5 numbers (k1 k2 p1 p2 k3), found " +
@@ -173,8 +180,9 @@ std::unique_ptr<InnerCamera> read_inner(const IniSection& section, const std::st
     for (double coefficient : dist) {
       if (!std::isfinite(coefficient)) section.fail("dist", "must be finite numbers");
     }
-    return std::make_unique<camera::PinholeCamera>(
-        camera::PinholeIntrinsics{fx, fy, cx, cy, dist[0], dist[1], dist[2], dist[3], dist[4]});
+    Eigen::VectorXd params(9);
+    params << fx, fy, cx, cy, dist[0], dist[1], dist[2], dist[3], dist[4];
+    return camera::make_inner(kind, params);
   } catch (const std::invalid_argument& error) {
     section.fail("inner", error.what());
   }
@@ -202,7 +210,8 @@ std::unique_ptr<MirrorProfile> read_equiangular(const IniSection& section) {
                                          format_double(theta_limit) + ", not " +
                                          format_double(theta_max));
   }
-  return std::make_unique<camera::EquiangularProfile>(alpha, r0, theta_min, theta_max);
+  return camera::make_mirror(MirrorKind::kEquiangular, Eigen::Vector2d(alpha, r0), theta_min,
+                             theta_max);
 }
 
 std::unique_ptr<MirrorProfile> read_conic(const IniSection& section) {
@@ -218,7 +227,7 @@ std::unique_ptr<MirrorProfile> read_conic(const IniSection& section) {
                                        format_double(1 / (c * std::sqrt(1 + kappa))) + ", not " +
                                        format_double(rho_max));
   }
-  return std::make_unique<camera::ConicProfile>(z0, c, kappa, rho_min, rho_max);
+  return camera::make_mirror(MirrorKind::kConic, Eigen::Vector3d(z0, c, kappa), rho_min, rho_max);
 }
 
 std::unique_ptr<MirrorProfile> read_table(const IniSection& section) {
@@ -254,14 +263,21 @@ std::unique_ptr<MirrorProfile> read_table(const IniSection& section) {
     section.fail("mirror_rho_max", "must lie inside the table, which ends at rho = " +
                                        format_double(rho.back()));
   }
-  return std::make_unique<camera::TableProfile>(std::move(rho), std::move(z), rho_min, rho_max);
+  return camera::make_mirror(MirrorKind::kTable, Eigen::VectorXd(0), rho_min, rho_max,
+                             {std::move(rho), std::move(z)});
 }
 
-std::unique_ptr<MirrorProfile> read_mirror(const IniSection& section, const std::string& kind) {
+std::unique_ptr<MirrorProfile> read_mirror(const IniSection& section, MirrorKind kind) {
   try {
-    if (kind == "equiangular") return read_equiangular(section);
-    if (kind == "conic") return read_conic(section);
-    return read_table(section);
+    switch (kind) {
+      case MirrorKind::kEquiangular:
+        return read_equiangular(section);
+      case MirrorKind::kConic:
+        return read_conic(section);
+      case MirrorKind::kTable:
+        return read_table(section);
+    }
+    section.fail("mirror", "unknown kind");
   } catch (const std::invalid_argument& error) {
     section.fail("mirror", error.what());
   }
@@ -272,8 +288,10 @@ std::unique_ptr<MirrorProfile> read_mirror(const IniSection& section, const std:
 CatadioptricCamera camera_from_ini(const IniFile& ini) {
   reject_unknown_sections(ini);
   const IniSection& section = ini.section(kCameraSection);
-  const std::string inner_kind = kind_of(section, "inner", kInnerKinds);
-  const std::string mirror_kind = kind_of(section, "mirror", kMirrorKinds);
+  const InnerKind inner_kind =
+      kind_of(section, "inner", camera::inner_kinds(), &camera::inner_kind_named);
+  const MirrorKind mirror_kind =
+      kind_of(section, "mirror", camera::mirror_kinds(), &camera::mirror_kind_named);
   reject_unknown_keys(section, inner_kind, mirror_kind);
 
   const int width = positive_int(section, "image_width");
@@ -304,61 +322,61 @@ void set_number(IniSection& section, const std::string& key, double value) {
 }
 
 void write_inner(const InnerCamera& inner, const fs::path& ini_path, IniSection& section) {
-  section.set("inner", inner.kind());
-  if (const auto* pinhole = dynamic_cast<const camera::PinholeCamera*>(&inner)) {
-    const camera::PinholeIntrinsics& k = pinhole->intrinsics();
-    set_number(section, "fx", k.fx);
-    set_number(section, "fy", k.fy);
-    set_number(section, "cx", k.cx);
-    set_number(section, "cy", k.cy);
-    section.set("dist", format_double(k.k1) + " " + format_double(k.k2) + " " +
-                            format_double(k.p1) + " " + format_double(k.p2) + " " +
-                            format_double(k.k3));
-  } else if (const auto* orthographic = dynamic_cast<const camera::OrthographicCamera*>(&inner)) {
-    const camera::OrthographicIntrinsics& k = orthographic->intrinsics();
-    set_number(section, "fx", k.fx);
-    set_number(section, "fy", k.fy);
-    set_number(section, "cx", k.cx);
-    set_number(section, "cy", k.cy);
-  } else if (const auto* mrcal = dynamic_cast<const camera::MrcalCamera*>(&inner)) {
-    const std::string name = ini_path.stem().string() + ".inner.cameramodel";
-    write_atomically((ini_path.parent_path() / name).string(),
-                     [mrcal](const std::string& temporary) { mrcal->write(temporary); });
-    section.set("inner_cameramodel", name);
-  } else {
-    throw std::runtime_error(ini_path.string() + ": cannot write an inner camera of kind " +
-                             inner.kind());
+  section.set("inner", camera::name_of(inner.kind()));
+  const Eigen::VectorXd p = inner.params();
+  switch (inner.kind()) {
+    case InnerKind::kPinhole:
+    case InnerKind::kOrthographic:
+      set_number(section, "fx", p[0]);
+      set_number(section, "fy", p[1]);
+      set_number(section, "cx", p[2]);
+      set_number(section, "cy", p[3]);
+      if (inner.kind() == InnerKind::kPinhole)
+        section.set("dist", format_double(p[4]) + " " + format_double(p[5]) + " " +
+                                format_double(p[6]) + " " + format_double(p[7]) + " " +
+                                format_double(p[8]));
+      return;
+    case InnerKind::kMrcal: {
+      const auto& mrcal = static_cast<const camera::MrcalCamera&>(inner);
+      const std::string name = ini_path.stem().string() + ".inner.cameramodel";
+      write_atomically((ini_path.parent_path() / name).string(),
+                       [&mrcal](const std::string& temporary) { mrcal.write(temporary); });
+      section.set("inner_cameramodel", name);
+      return;
+    }
   }
 }
 
 void write_mirror(const MirrorProfile& mirror, const fs::path& ini_path, IniSection& section) {
-  section.set("mirror", mirror.kind());
-  if (const auto* equiangular = dynamic_cast<const camera::EquiangularProfile*>(&mirror)) {
-    set_number(section, "equiangular_alpha", equiangular->alpha());
-    set_number(section, "equiangular_r0", equiangular->r0());
-    set_number(section, "mirror_theta_min", mirror.s_min());
-    set_number(section, "mirror_theta_max", mirror.s_max());
-  } else if (const auto* conic = dynamic_cast<const camera::ConicProfile*>(&mirror)) {
-    set_number(section, "conic_z0", conic->z0());
-    set_number(section, "conic_c", conic->c());
-    set_number(section, "conic_kappa", conic->kappa());
-    set_number(section, "mirror_rho_min", mirror.s_min());
-    set_number(section, "mirror_rho_max", mirror.s_max());
-  } else if (const auto* table = dynamic_cast<const camera::TableProfile*>(&mirror)) {
-    const std::string name = ini_path.stem().string() + ".profile.vnl";
-    write_text_atomically((ini_path.parent_path() / name).string(), [table](std::ostream& out) {
-      VnlogWriter writer(out, {"rho", "z"});
-      for (std::size_t i = 0; i < table->rho_samples().size(); ++i) {
-        writer.row({table->rho_samples()[i], table->z_samples()[i]});
-      }
-    });
-    section.set("mirror_table", name);
-    set_number(section, "mirror_rho_min", mirror.s_min());
-    set_number(section, "mirror_rho_max", mirror.s_max());
-  } else {
-    throw std::runtime_error(ini_path.string() + ": cannot write a mirror of kind " +
-                             mirror.kind());
+  section.set("mirror", camera::name_of(mirror.kind()));
+  const Eigen::VectorXd shape = mirror.shape_params();
+  switch (mirror.kind()) {
+    case MirrorKind::kEquiangular:
+      set_number(section, "equiangular_alpha", shape[0]);
+      set_number(section, "equiangular_r0", shape[1]);
+      set_number(section, "mirror_theta_min", mirror.s_min());
+      set_number(section, "mirror_theta_max", mirror.s_max());
+      return;
+    case MirrorKind::kConic:
+      set_number(section, "conic_z0", shape[0]);
+      set_number(section, "conic_c", shape[1]);
+      set_number(section, "conic_kappa", shape[2]);
+      break;
+    case MirrorKind::kTable: {
+      const auto& table = static_cast<const camera::TableProfile&>(mirror);
+      const std::string name = ini_path.stem().string() + ".profile.vnl";
+      write_text_atomically((ini_path.parent_path() / name).string(), [&table](std::ostream& out) {
+        VnlogWriter writer(out, {"rho", "z"});
+        for (std::size_t i = 0; i < table.rho_samples().size(); ++i) {
+          writer.row({table.rho_samples()[i], table.z_samples()[i]});
+        }
+      });
+      section.set("mirror_table", name);
+      break;
+    }
   }
+  set_number(section, "mirror_rho_min", mirror.s_min());
+  set_number(section, "mirror_rho_max", mirror.s_max());
 }
 
 }  // namespace

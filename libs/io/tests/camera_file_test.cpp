@@ -123,7 +123,7 @@ TEST_F(CameraFileTest, MrcalInnerCameraRoundTrip) {
         "inner_cameramodel = lens.cameramodel\nmirror = equiangular\nequiangular_alpha = 5\n"
         "equiangular_r0 = 0.05\nmirror_theta_min = 0.02\nmirror_theta_max = 0.35\n");
   const CatadioptricCamera read = read_camera_file(path("cam.ini"));
-  ASSERT_EQ(read.inner().kind(), "mrcal");
+  ASSERT_EQ(read.inner().kind(), camera::InnerKind::kMrcal);
   const auto& lens = dynamic_cast<const camera::MrcalCamera&>(read.inner());
   EXPECT_EQ(lens.lensmodel_name(), "LENSMODEL_OPENCV8");
   ASSERT_EQ(lens.params().size(), 12);
@@ -162,8 +162,8 @@ TEST_F(CameraFileTest, ShippedCamerasRead) {
 
 TEST_F(CameraFileTest, DefaultCameraIsTheEquiangularOne) {
   const CatadioptricCamera camera = read_camera_file(default_camera_file());
-  EXPECT_EQ(camera.mirror().kind(), "equiangular");
-  EXPECT_EQ(camera.inner().kind(), "pinhole");
+  EXPECT_EQ(camera.mirror().kind(), camera::MirrorKind::kEquiangular);
+  EXPECT_EQ(camera.inner().kind(), camera::InnerKind::kPinhole);
   const auto& profile = dynamic_cast<const camera::EquiangularProfile&>(camera.mirror());
   EXPECT_EQ(profile.alpha(), 5.0);
   EXPECT_EQ(profile.r0(), 0.05);

@@ -5,11 +5,8 @@
 #include <ostream>
 #include <stdexcept>
 
-#include "omnisfm/camera/conic_profile.h"
-#include "omnisfm/camera/equiangular_profile.h"
+#include "omnisfm/camera/camera_kinds.h"
 #include "omnisfm/camera/mrcal_camera.h"
-#include "omnisfm/camera/orthographic_camera.h"
-#include "omnisfm/camera/pinhole_camera.h"
 #include "omnisfm/camera/table_profile.h"
 #include "omnisfm/io/number_text.h"
 
@@ -32,70 +29,50 @@ Eigen::VectorXd to_eigen(const std::vector<double>& v) {
                            what);
 }
 
-void require_size(const std::vector<double>& v, size_t size, const std::string& what) {
-  if (v.size() != size)
-    fail(what + " needs " + std::to_string(size) + " parameters, not " + std::to_string(v.size()));
-}
-
 std::unique_ptr<camera::InnerCamera> read_inner(CArchive& in) {
-  std::string kind;
+  std::string name;
   std::vector<double> p;
-  in >> kind >> p;
-  if (kind == "pinhole") {
-    require_size(p, 9, "a pinhole camera");
-    return std::make_unique<camera::PinholeCamera>(
-        camera::PinholeIntrinsics{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]});
+  in >> name >> p;
+  camera::InnerKind kind;
+  if (!camera::inner_kind_named(name, &kind)) fail("unknown inner camera kind '" + name + "'");
+  camera::MrcalLens lens;
+  if (kind == camera::InnerKind::kMrcal) {
+    in >> lens.lensmodel;
+    lens.image_width = in.ReadAs<int32_t>();
+    lens.image_height = in.ReadAs<int32_t>();
   }
-  if (kind == "orthographic") {
-    require_size(p, 4, "an orthographic camera");
-    return std::make_unique<camera::OrthographicCamera>(
-        camera::OrthographicIntrinsics{p[0], p[1], p[2], p[3]});
-  }
-  if (kind == "mrcal") {
-    std::string lensmodel;
-    in >> lensmodel;
-    const int32_t width = in.ReadAs<int32_t>();
-    const int32_t height = in.ReadAs<int32_t>();
-    return std::make_unique<camera::MrcalCamera>(lensmodel, to_eigen(p), width, height);
-  }
-  fail("unknown inner camera kind '" + kind + "'");
+  return camera::make_inner(kind, to_eigen(p), lens);
 }
 
 void write_inner(CArchive& out, const camera::InnerCamera& inner) {
-  out << inner.kind() << to_std(inner.params());
-  if (const auto* mrcal = dynamic_cast<const camera::MrcalCamera*>(&inner)) {
-    out << mrcal->lensmodel_name();
-    out.WriteAs<int32_t>(mrcal->image_width());
-    out.WriteAs<int32_t>(mrcal->image_height());
+  out << std::string(camera::name_of(inner.kind())) << to_std(inner.params());
+  if (inner.kind() == camera::InnerKind::kMrcal) {
+    const auto& mrcal = static_cast<const camera::MrcalCamera&>(inner);
+    out << mrcal.lensmodel_name();
+    out.WriteAs<int32_t>(mrcal.image_width());
+    out.WriteAs<int32_t>(mrcal.image_height());
   }
 }
 
 std::unique_ptr<camera::MirrorProfile> read_mirror(CArchive& in) {
-  std::string kind;
+  std::string name;
   std::vector<double> shape;
   double s_min = 0, s_max = 0;
-  in >> kind >> shape >> s_min >> s_max;
-  if (kind == "equiangular") {
-    require_size(shape, 2, "an equiangular mirror");
-    return std::make_unique<camera::EquiangularProfile>(shape[0], shape[1], s_min, s_max);
-  }
-  if (kind == "conic") {
-    require_size(shape, 3, "a conic mirror");
-    return std::make_unique<camera::ConicProfile>(shape[0], shape[1], shape[2], s_min, s_max);
-  }
-  if (kind == "table") {
-    require_size(shape, 0, "a tabulated mirror");
-    std::vector<double> rho, z;
-    in >> rho >> z;
-    return std::make_unique<camera::TableProfile>(std::move(rho), std::move(z), s_min, s_max);
-  }
-  fail("unknown mirror kind '" + kind + "'");
+  in >> name >> shape >> s_min >> s_max;
+  camera::MirrorKind kind;
+  if (!camera::mirror_kind_named(name, &kind)) fail("unknown mirror kind '" + name + "'");
+  camera::ProfileTable table;
+  if (kind == camera::MirrorKind::kTable) in >> table.rho >> table.z;
+  return camera::make_mirror(kind, to_eigen(shape), s_min, s_max, table);
 }
 
 void write_mirror(CArchive& out, const camera::MirrorProfile& mirror) {
-  out << mirror.kind() << to_std(mirror.shape_params()) << mirror.s_min() << mirror.s_max();
-  if (const auto* table = dynamic_cast<const camera::TableProfile*>(&mirror))
-    out << table->rho_samples() << table->z_samples();
+  out << std::string(camera::name_of(mirror.kind())) << to_std(mirror.shape_params())
+      << mirror.s_min() << mirror.s_max();
+  if (mirror.kind() == camera::MirrorKind::kTable) {
+    const auto& table = static_cast<const camera::TableProfile&>(mirror);
+    out << table.rho_samples() << table.z_samples();
+  }
 }
 
 camera::CatadioptricCamera read_camera_v0(CArchive& in) {
@@ -155,7 +132,8 @@ void CCatadioptricCameraModel::getDescriptionAsText(std::ostream& o) const {
     return;
   }
   const camera::CatadioptricCamera& c = *camera_;
-  o << "Catadioptric camera model: " << c.inner().kind() << " camera, " << c.mirror().kind()
+  o << "Catadioptric camera model: " << camera::name_of(c.inner().kind()) << " camera, "
+    << camera::name_of(c.mirror().kind())
     << " mirror, " << c.image_width() << "x" << c.image_height() << " pixels\n";
   if (const auto* mrcal = dynamic_cast<const camera::MrcalCamera*>(&c.inner()))
     o << "  lens model: " << mrcal->lensmodel_name() << "\n";

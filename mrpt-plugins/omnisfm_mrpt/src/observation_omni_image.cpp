@@ -1,3 +1,4 @@
+#include "omnisfm/camera/camera_kinds.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 
 #include <mrpt/serialization/CArchive.h>
@@ -14,7 +15,8 @@ mrpt::img::TCamera inner_camera_params(const camera::CatadioptricCamera& camera)
   mrpt::img::TCamera params;
   params.ncols = static_cast<uint32_t>(camera.image_width());
   params.nrows = static_cast<uint32_t>(camera.image_height());
-  params.cameraName = "omnisfm " + camera.inner().kind() + " inner camera";
+  params.cameraName =
+      std::string("omnisfm ") + camera::name_of(camera.inner().kind()) + " inner camera";
   params.distortion = mrpt::img::DistortionModel::none;
   if (const auto* pinhole = dynamic_cast<const camera::PinholeCamera*>(&camera.inner())) {
     const camera::PinholeIntrinsics& k = pinhole->intrinsics();

@@ -167,7 +167,7 @@ TEST(ObservationTrackedFeatures, KeepsEveryIdAndPixel) {
     EXPECT_EQ(read->features[i].v, original.features[i].v);
   }
   ASSERT_TRUE(read->model.has_camera());
-  EXPECT_EQ(read->model.camera().mirror().kind(), "conic");
+  EXPECT_EQ(read->model.camera().mirror().kind(), camera::MirrorKind::kConic);
 }
 
 TEST(ObservationTrackedFeatures, WithoutAModel) {

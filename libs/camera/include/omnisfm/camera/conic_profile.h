@@ -15,7 +15,7 @@ class ConicProfile final : public MirrorProfile {
   ConicProfile(double z0, double c, double kappa, double rho_min, double rho_max);
 
   std::unique_ptr<MirrorProfile> clone() const override;
-  std::string kind() const override { return "conic"; }
+  MirrorKind kind() const override { return MirrorKind::kConic; }
   int num_shape_params() const override { return 3; }
   std::vector<std::string> shape_param_names() const override;
   Eigen::VectorXd shape_params() const override;

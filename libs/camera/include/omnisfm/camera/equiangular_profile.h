@@ -16,7 +16,7 @@ class EquiangularProfile final : public MirrorProfile {
   EquiangularProfile(double alpha, double r0, double theta_min, double theta_max);
 
   std::unique_ptr<MirrorProfile> clone() const override;
-  std::string kind() const override { return "equiangular"; }
+  MirrorKind kind() const override { return MirrorKind::kEquiangular; }
   int num_shape_params() const override { return 2; }
   std::vector<std::string> shape_param_names() const override;
   Eigen::VectorXd shape_params() const override;

@@ -10,13 +10,15 @@
 
 namespace omnisfm::camera {
 
+// Named, and made from numbers, in camera_kinds.h.
+enum class InnerKind { kPinhole, kOrthographic, kMrcal };
+
 class InnerCamera {
  public:
   virtual ~InnerCamera() = default;
   virtual std::unique_ptr<InnerCamera> clone() const = 0;
 
-  // "pinhole", "orthographic" or "mrcal", as in the camera file's `inner` key.
-  virtual std::string kind() const = 0;
+  virtual InnerKind kind() const = 0;
   // True when every pixel looks along +z (a telecentric lens); false for central cameras.
   virtual bool is_orthographic() const = 0;
 

@@ -18,6 +18,9 @@ struct MeridianPoint {
   double d2rho = 0, d2z = 0;  // d2/ds2
 };
 
+// Named, and made from numbers, in camera_kinds.h.
+enum class MirrorKind { kEquiangular, kConic, kTable };
+
 // Most shape parameters any profile has.
 constexpr int kMaxShapeParams = 3;
 
@@ -30,8 +33,7 @@ class MirrorProfile {
   virtual ~MirrorProfile() = default;
   virtual std::unique_ptr<MirrorProfile> clone() const = 0;
 
-  // "equiangular", "conic" or "table", as in the camera file's `mirror` key.
-  virtual std::string kind() const = 0;
+  virtual MirrorKind kind() const = 0;
 
   virtual int num_shape_params() const = 0;
   virtual std::vector<std::string> shape_param_names() const = 0;

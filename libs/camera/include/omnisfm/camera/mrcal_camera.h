@@ -20,7 +20,7 @@ class MrcalCamera final : public InnerCamera {
   MrcalCamera& operator=(const MrcalCamera& other);
 
   std::unique_ptr<InnerCamera> clone() const override;
-  std::string kind() const override { return "mrcal"; }
+  InnerKind kind() const override { return InnerKind::kMrcal; }
   bool is_orthographic() const override { return false; }
   int num_params() const override;
   std::vector<std::string> param_names() const override;

@@ -16,7 +16,7 @@ class OrthographicCamera final : public InnerCamera {
   explicit OrthographicCamera(const OrthographicIntrinsics& intrinsics);
 
   std::unique_ptr<InnerCamera> clone() const override;
-  std::string kind() const override { return "orthographic"; }
+  InnerKind kind() const override { return InnerKind::kOrthographic; }
   bool is_orthographic() const override { return true; }
   int num_params() const override { return 4; }
   std::vector<std::string> param_names() const override;

@@ -19,7 +19,7 @@ class PinholeCamera final : public InnerCamera {
   explicit PinholeCamera(const PinholeIntrinsics& intrinsics);
 
   std::unique_ptr<InnerCamera> clone() const override;
-  std::string kind() const override { return "pinhole"; }
+  InnerKind kind() const override { return InnerKind::kPinhole; }
   bool is_orthographic() const override { return false; }
   int num_params() const override { return 9; }
   std::vector<std::string> param_names() const override;

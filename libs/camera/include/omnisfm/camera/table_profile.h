@@ -14,7 +14,7 @@ class TableProfile final : public MirrorProfile {
   TableProfile(std::vector<double> rho, std::vector<double> z, double rho_min, double rho_max);
 
   std::unique_ptr<MirrorProfile> clone() const override;
-  std::string kind() const override { return "table"; }
+  MirrorKind kind() const override { return MirrorKind::kTable; }
   int num_shape_params() const override { return 0; }
   std::vector<std::string> shape_param_names() const override { return {}; }
   Eigen::VectorXd shape_params() const override { return {}; }
