@@ -18,6 +18,7 @@
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/tracks_file.h"
 #include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sfm/sfm_report.h"
 #include "omnisfm/sim/dataset_writer.h"
 #include "omnisfm/sim/image_file.h"
 #include "omnisfm/sim/imaging.h"
@@ -150,7 +151,7 @@ void add_demo_verb(CLI::App& app) {
             eval::outlier_detection(found, std::set<int>(far_off.begin(), far_off.end()));
 
         std::ostringstream report;
-        report << scale_line(r, sfm::BatchSettings()) << figures_line("online", online)
+        report << sfm::scale_line(r, sfm::BatchSettings()) << figures_line("online", online)
                << figures_line("batch", batch);
         fs::create_directories(dir / "sfm");
         write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());

@@ -16,6 +16,7 @@
 #include "omnisfm/mrpt_plugin/online_replay.h"
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
 #include "omnisfm/sfm/fused_pipeline.h"
+#include "omnisfm/sfm/sfm_report.h"
 #include "omnisfm/mrpt_plugin/scene_file.h"
 #include "omnisfm/mrpt_plugin/slam_rawlog.h"
 #include "online_outputs.h"
@@ -293,13 +294,10 @@ void add_run_verb(CLI::App& app) {
     report << "rawlog " << o->rawlog << ": " << in.read.objects << " objects; vision from "
            << in.vision << "\n"
            << "frames " << result.num_frames << ", observations " << in.tracks.size()
-           << ", " << outliers_phrase(result) << "\n"
+           << ", " << sfm::outliers_phrase(result) << "\n"
            << sensors_line(in);
     if (batch_ran)
-      report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "
-             << result.batch.iterations << " iterations; RMS " << result.batch.final_rms_px
-             << " px per coordinate\n"
-             << scale_line(result, settings.sfm.batch)
+      report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.sfm.batch)
              << (in.sensors.empty() ? "" : noise_check_line(result.batch))
              << motion_estimates_line(in.sensors, result);
 

@@ -28,66 +28,7 @@ std::vector<io::StampedPose> trajectory(const std::vector<Eigen::Isometry3d>& ca
   return out;
 }
 
-// A relative standard deviation in per cent, two significant figures.
-std::string percent(double relative) {
-  char text[32];
-  const double p = 100 * relative;
-  std::snprintf(text, sizeof text, p >= 10 ? "%.0f %%" : "%.2g %%", p);
-  return text;
-}
-
-// What the images alone say of the scale: "the images fix it <how> +- X %".
-std::string images_fix_it(const sfm::BatchResult& batch, const char* how) {
-  if (!std::isfinite(batch.scale_sigma_relative))
-    return "the images do not fix it at all (its information is singular)";
-  return std::string("the images ") + how + " +- " + percent(batch.scale_sigma_relative) +
-         " (1 sigma)";
-}
-
 }  // namespace
-
-std::string outliers_phrase(const sfm::SfmResult& result) {
-  std::string phrase = "outlier tracks " + std::to_string(result.outliers.size());
-  if (result.taken_back > 0)
-    phrase += " (the batch took back " + std::to_string(result.taken_back) +
-              " that the filter had rejected)";
-  return phrase;
-}
-
-std::string scale_line(const sfm::SfmResult& result, const sfm::BatchSettings& settings) {
-  const sfm::BatchResult& batch = result.batch;
-  std::ostringstream line;
-  line << "scale: ";
-  switch (batch.scale_source) {
-    case sfm::BatchScale::kFromImages:
-      line << "from the images, +- " << percent(batch.scale_sigma_relative)
-           << " (1 sigma; kept free: within a factor 2 at 3 sigma)";
-      break;
-    case sfm::BatchScale::kHeldAtStart:
-      line << "held at the filter's: " << images_fix_it(batch, "fix it only to")
-           << ", and a free scale is kept only to +- " << percent(settings.max_free_scale_sigma)
-           << " (a factor 2 at 3 sigma); lengths are in the filter's units, not metres ([sfm] "
-              "known_distance_m holds them at a known distance)";
-      break;
-    case sfm::BatchScale::kHeldAtKnownDistance:
-      line << "held at the known distance, " << settings.known_distance_m
-           << " m between the first and last cameras ([sfm] known_distance_m); "
-           << images_fix_it(batch, "alone would fix it to");
-      break;
-    case sfm::BatchScale::kFromSensors:
-      line << "from the motion sensors (" << (result.world_is_enu ? "GPS fixes" : "odometry")
-           << ")";
-      if (std::isfinite(result.odometry_scale_sigma))
-        line << "; the wheel's scale +- "
-             << percent(result.odometry_scale_sigma / result.odometry_scale) << " (1 sigma)";
-      break;
-    case sfm::BatchScale::kNoTranslation:
-      line << "none: no camera moves away from the first";
-      break;
-  }
-  line << "\n";
-  return line.str();
-}
 
 std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& poses) {
   std::vector<Eigen::Isometry3d> out;

@@ -19,14 +19,6 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
 // world_from_cam of cam_from_world poses.
 std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& cam_from_world);
 
-// The report's count of outlier tracks: "outlier tracks N", and how many of the filter's
-// rejections the batch took back.
-std::string outliers_phrase(const sfm::SfmResult& result);
-
-// The report's line on the batch's scale, beginning "scale:": where it comes from, its relative
-// standard deviation, and "held" (why, and where) when the batch held it.
-std::string scale_line(const sfm::SfmResult& result, const sfm::BatchSettings& settings);
-
 // One line of the paper's figures.
 std::string figures_line(const char* name, const eval::TrajectoryErrors& e);
 

@@ -13,6 +13,7 @@
 #include "omnisfm/io/vnlog.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sfm/settings_file.h"
+#include "omnisfm/sfm/sfm_report.h"
 #include "online_outputs.h"
 #include "sfm_outputs.h"
 #include "verb_inputs.h"
@@ -166,15 +167,11 @@ void add_sfm_verb(CLI::App& app) {
     for (int f = 0; f < result.num_frames; ++f) times.push_back(clock.time(f));
     std::ostringstream report;
     report << "frames " << result.num_frames << ", observations " << tracks.size()
-           << ", " << outliers_phrase(result) << "\n"
+           << ", " << sfm::outliers_phrase(result) << "\n"
            << "filter: " << result.online_seconds << " s ("
            << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n";
     if (settings.run_batch)
-      report << "batch: " << (result.batch.converged ? "converged" : "did not converge") << " in "
-             << result.batch.iterations << " iterations, " << result.batch.solve_seconds
-             << " s; RMS " << result.batch.initial_rms_px << " -> " << result.batch.final_rms_px
-             << " px per coordinate (" << result.batch.message << ")\n"
-             << scale_line(result, settings.batch);
+      report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.batch);
     TruthComparison comparison;
     if (!truth.empty()) {
       comparison = compare_with_truth(result, settings.run_batch, truth, o->ground_truth);

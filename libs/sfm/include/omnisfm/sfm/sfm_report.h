@@ -1,0 +1,23 @@
+#pragma once
+// The lines report.txt holds on a shape-from-motion result, which the sfm, run and demo verbs
+// write (as calib/calibration_report.h holds a calibration's).
+
+#include <string>
+
+#include "omnisfm/sfm/batch_adjustment.h"
+#include "omnisfm/sfm/pipeline.h"
+
+namespace omnisfm::sfm {
+
+// "outlier tracks N", and how many of the filter's rejections the batch took back.
+std::string outliers_phrase(const SfmResult& result);
+
+// The batch's solve, ending in a newline: "batch: converged in N iterations, S s; RMS a -> b px
+// per coordinate (the solver's message)".
+std::string batch_line(const BatchResult& batch);
+
+// The batch's scale, beginning "scale:" and ending in a newline: where it comes from, its
+// relative standard deviation, and "held" (why, and where) when the batch held it.
+std::string scale_line(const SfmResult& result, const BatchSettings& settings);
+
+}  // namespace omnisfm::sfm

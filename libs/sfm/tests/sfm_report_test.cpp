@@ -1,0 +1,68 @@
+#include "omnisfm/sfm/sfm_report.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace omnisfm::sfm {
+namespace {
+
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(SfmReport, ScaleLineSaysHeldWhereverTheBatchHeldIt) {
+  SfmResult result;
+  BatchSettings settings;
+  settings.known_distance_m = 4.2;
+  result.batch.scale_sigma_relative = 0.031;
+  result.batch.scale_source = BatchScale::kFromImages;
+  const std::string free = scale_line(result, settings);
+  EXPECT_EQ(free.rfind("scale: from the images, +- 3.1 %", 0), 0u) << free;
+  EXPECT_FALSE(has(free, "held")) << free;
+  result.batch.scale_source = BatchScale::kHeldAtStart;
+  result.batch.scale_sigma_relative = 0.8;
+  const std::string at_start = scale_line(result, settings);
+  EXPECT_TRUE(has(at_start, "held at the filter's")) << at_start;
+  EXPECT_TRUE(has(at_start, "+- 80 %")) << at_start;
+  result.batch.scale_source = BatchScale::kHeldAtKnownDistance;
+  result.batch.scale_sigma_relative = INFINITY;
+  const std::string known = scale_line(result, settings);
+  EXPECT_TRUE(has(known, "held at the known distance, 4.2 m")) << known;
+  EXPECT_TRUE(has(known, "do not fix it at all")) << known;
+  for (BatchScale source : {BatchScale::kFromImages, BatchScale::kHeldAtStart,
+                            BatchScale::kHeldAtKnownDistance, BatchScale::kFromSensors,
+                            BatchScale::kNoTranslation}) {
+    result.batch.scale_source = source;
+    const std::string line = scale_line(result, settings);
+    EXPECT_EQ(line.rfind("scale: ", 0), 0u) << line;
+    EXPECT_EQ(line.back(), '\n') << line;
+  }
+}
+
+TEST(SfmReport, OutliersPhraseCountsWhatTheBatchTookBack) {
+  SfmResult result;
+  result.outliers.resize(3);
+  EXPECT_EQ(outliers_phrase(result), "outlier tracks 3");
+  result.taken_back = 2;
+  EXPECT_EQ(outliers_phrase(result),
+            "outlier tracks 3 (the batch took back 2 that the filter had rejected)");
+}
+
+TEST(SfmReport, BatchLineGivesTheSolveAndItsResiduals) {
+  BatchResult batch;
+  batch.converged = true;
+  batch.iterations = 7;
+  batch.solve_seconds = 0.25;
+  batch.initial_rms_px = 1.5;
+  batch.final_rms_px = 0.2;
+  batch.message = "Function tolerance reached.";
+  EXPECT_EQ(batch_line(batch), "batch: converged in 7 iterations, 0.25 s; RMS 1.5 -> 0.2 px per "
+                               "coordinate (Function tolerance reached.)\n");
+  batch.converged = false;
+  EXPECT_TRUE(has(batch_line(batch), "batch: did not converge in 7"));
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
