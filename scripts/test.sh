@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up omnisfm and runs the whole test suite (every CTest label) in build/, then the readers',
 # the camera's and the plugin's tests (label sanitize) and the fuzz targets under
-# AddressSanitizer and UndefinedBehaviorSanitizer in build-sanitize/ (README, "Reliability").
+# AddressSanitizer and UndefinedBehaviorSanitizer in build-sanitize/ (docs/reliability.md).
 #   scripts/test.sh [CTEST ARGS...]   the arguments go to the first ctest run
 #   OMNISFM_SANITIZE=0                skips the sanitizer build
 #   OMNISFM_SANITIZE_LABELS=REGEX     the labels run there (default: sanitize|fuzz)

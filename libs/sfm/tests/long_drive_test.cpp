@@ -46,8 +46,9 @@ TEST(LongDrive, OdometryAndGyroHoldOnePercentOverSixHundredMetres) {
 // wheels' scale with a sigma that says it is known. Measured over 3,000 frames (90 m, seed 1):
 // 1.0066 +- 0.0009 with the priors kept, 0.9936 +- 0.0009 taken back, for a true 1 / 1.015 =
 // 0.9852. What remains is the images' own scale, not the wheel's: over 600 m the estimate is
-// 0.993-0.995 at seed 1 whether the wheel reads 3 % long, true or 3 % short (README, "Endless
-// sequences"), so the bound on the truth holds at the simulation's wheel error only.
+// 0.993-0.995 at seed 1 whether the wheel reads 3 % long, true or 3 % short (docs/shape-from-
+// motion.md, "Endless sequences"), so the bound on the truth holds at the simulation's wheel
+// error only.
 TEST(LongDrive, TakingBackDepthPriorsRemovesTheirPullOnTheScale) {
   const std::uint64_t seed = 1;
   const sim::Dataset drive = sim::long_drive(3000, 0.2, seed);
