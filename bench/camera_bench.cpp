@@ -156,9 +156,10 @@ void BM_OmnisfmProject(benchmark::State& state, Rig rig, Jacobians jacobians) {
   const CatadioptricCamera& camera = samples.camera;
   Eigen::Vector2d pixel;
   Eigen::Matrix<double, 2, 3> J_X;
-  std::vector<double> J_params(2 * camera.num_params());
+  omnisfm::camera::ParamsJacobian J_params;
   Eigen::Matrix<double, 2, 3>* J_X_out = jacobians == Jacobians::kNone ? nullptr : &J_X;
-  double* J_params_out = jacobians == Jacobians::kAll ? J_params.data() : nullptr;
+  omnisfm::camera::ParamsJacobian* J_params_out =
+      jacobians == Jacobians::kAll ? &J_params : nullptr;
   for (auto _ : state) {
     for (const Eigen::Vector3d& X : samples.points) {
       bool valid = camera.project(X, &pixel, J_X_out, J_params_out);

@@ -53,9 +53,8 @@ class ProjectionResidual : public ceres::CostFunction {
     const Eigen::Vector3d X = transform_point(parameters[1], point_, want_pose ? &J_pose : nullptr);
     Eigen::Vector2d pixel;
     Eigen::Matrix<double, 2, 3> J_X;
-    thread_local Eigen::Matrix<double, 2, Eigen::Dynamic> J_params;
-    if (want_camera) J_params.resize(2, n);
-    if (!camera.project(X, &pixel, want_pose ? &J_X : nullptr, want_camera ? J_params.data() : nullptr))
+    thread_local camera::ParamsJacobian J_params;
+    if (!camera.project(X, &pixel, want_pose ? &J_X : nullptr, want_camera ? &J_params : nullptr))
       return false;
     residuals[0] = pixel.x() - pixel_.x();
     residuals[1] = pixel.y() - pixel_.y();
@@ -233,7 +232,7 @@ void report_covariance(const camera::CatadioptricCamera& camera,
   int inliers = 0;
   for (const auto& o : observations) inliers += o.outlier ? 0 : 1;
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * inliers, num_unknowns);
-  Eigen::Matrix<double, 2, Eigen::Dynamic> J_params(2, n);
+  camera::ParamsJacobian J_params;
   int row = 0;
   for (const auto& o : observations) {
     if (o.outlier) continue;
@@ -242,7 +241,7 @@ void report_covariance(const camera::CatadioptricCamera& camera,
         transform_point(poses[o.view].data(), views[o.view].points[o.index], &J_pose);
     Eigen::Vector2d pixel;
     Eigen::Matrix<double, 2, 3> J_X;
-    camera.project(X, &pixel, &J_X, J_params.data());
+    camera.project(X, &pixel, &J_X, &J_params);
     for (int c = 0; c < m; ++c) J.block<2, 1>(row, c) = J_params.col(free_params[c]);
     J.block<2, 6>(row, m + 6 * o.view) = J_X * J_pose;
     row += 2;

@@ -81,8 +81,8 @@ bool projection_covariance(const camera::CatadioptricCamera& camera,
   }
   Eigen::Vector2d q;
   Eigen::Matrix<double, 2, 3> J_X;
-  Eigen::Matrix<double, 2, Eigen::Dynamic> J_params(2, camera.num_params());
-  if (!camera.project(mean, &q, &J_X, J_params.data())) return false;
+  camera::ParamsJacobian J_params;
+  if (!camera.project(mean, &q, &J_X, &J_params)) return false;
   Eigen::Matrix<double, 2, Eigen::Dynamic> J(2, n);
   for (int k = 0; k < m; ++k) J.col(k) = J_params.col(columns[k]);
   J.rightCols(6 * num_views) = J_X * J_mean_poses;
@@ -112,11 +112,11 @@ UncertaintyMap projection_uncertainty_in_camera_frame(const camera::Catadioptric
   const int m = static_cast<int>(columns.size());
   if (covariance.rows() != m || covariance.cols() != m)
     throw std::invalid_argument("projection_uncertainty: the covariance does not match the names");
-  Eigen::Matrix<double, 2, Eigen::Dynamic> J_params(2, camera.num_params());
+  camera::ParamsJacobian J_params;
   Eigen::Matrix<double, 2, Eigen::Dynamic> J(2, m);
   return map_over_image(camera, distance_m, step_px, [&](const Eigen::Vector3d& X_C, double* sigma) {
     Eigen::Vector2d q;
-    if (!camera.project(X_C, &q, nullptr, J_params.data())) return false;
+    if (!camera.project(X_C, &q, nullptr, &J_params)) return false;
     for (int k = 0; k < m; ++k) J.col(k) = J_params.col(columns[k]);
     *sigma = worst_direction_sigma(J * covariance * J.transpose());
     return true;

@@ -438,7 +438,7 @@ bool CatadioptricCamera::solve(const Eigen::Vector3d& X_M, double cos_base, doub
 }
 
 bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
-                                 Eigen::Matrix<double, 2, 3>* J_X, double* J_params,
+                                 Eigen::Matrix<double, 2, 3>* J_X, ParamsJacobian* J_params,
                                  Reflection* reflection) const {
   // The camera's own centre sees only itself.
   if (!X.allFinite() || (!inner_->is_orthographic() && X.norm() < 1e-12)) return false;
@@ -482,7 +482,11 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
       R_.col(2);
   const Eigen::Vector3d m_C = S * Eigen::Vector3d(mp.rho, 0, mp.z) + t;
   Eigen::Matrix<double, 2, 3> J_pixel_mC;
-  if (!inner_->project(m_C, pixel, want_jacobians ? &J_pixel_mC : nullptr, J_params)) return false;
+  // The inner camera's columns come first.
+  thread_local ParamsJacobian J_inner;
+  if (!inner_->project(m_C, pixel, want_jacobians ? &J_pixel_mC : nullptr,
+                       J_params ? &J_inner : nullptr))
+    return false;
   if (reflection)
     *reflection = {s_positive, std::atan2(s < 0 ? -sin_phi : sin_phi, s < 0 ? -cos_phi : cos_phi),
                    m_C, iteration};
@@ -510,7 +514,8 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   if (J_X) *J_X = GK * dF_dX_C;
   if (!J_params) return true;
 
-  // The inner camera's columns were written by inner_->project.
+  J_params->resize(2, num_params());
+  J_params->leftCols(J_inner.cols()) = J_inner;
   const int ns = mirror_->num_shape_params();
   const double inv_dv = 1 / dv, inv_du = central ? 1 / du : 0.0;
   const Eigen::Vector3d w_l = u_l + v_l;
@@ -521,7 +526,7 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
         -(dm - v_l * v_l.dot(dm)) * inv_dv - (dm - u_l * u_l.dot(dm)) * inv_du;
     const double w_dtangent = w_l.x() * J_shape(2, j) + w_l.z() * J_shape(3, j);
     const Eigen::Vector2d dF(tangent_l.dot(W_dm) + w_dtangent, W_dm.y());
-    Eigen::Map<Eigen::Vector2d>(J_params + 2 * (shape_param_offset() + j)) = GK * dF + G * dm;
+    J_params->col(shape_param_offset() + j) = GK * dF + G * dm;
   }
 
   // Mirror pose: X_M = R^T (X - t); the camera's centre -R^T t, or its direction -R^T z.
@@ -538,9 +543,9 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   for (int j = 0; j < 2; ++j) {
     const Eigen::Vector2d dF =
         dF_dXl * to_local(dRs[j]->transpose() * (X - t)) + dF_dcamera_l * to_local(dcamera_M_[j]);
-    Eigen::Map<Eigen::Vector2d>(J_params + 2 * (po + j)) = J_pixel_mC * (*dRs[j] * m_M) + GK * dF;
+    J_params->col(po + j) = J_pixel_mC * (*dRs[j] * m_M) + GK * dF;
   }
-  Eigen::Map<Eigen::Matrix<double, 2, 3>> J_t(J_params + 2 * (po + 2));
+  auto J_t = J_params->middleCols<3>(po + 2);
   if (central)
     J_t = J_pixel_mC - GK * ((dF_dXl + dF_dcamera_l) * S.transpose());
   else

@@ -145,7 +145,7 @@ bool MrcalCamera::set_params(const Eigen::VectorXd& params) {
 }
 
 bool MrcalCamera::project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
-                          Eigen::Matrix<double, 2, 3>* J_p, double* J_params) const {
+                          Eigen::Matrix<double, 2, 3>* J_p, ParamsJacobian* J_params) const {
   if (!(p.z() > 0)) return false;
   const mrcal_point3_t point = {{p.x(), p.y(), p.z()}};
   mrcal_point2_t q;
@@ -162,10 +162,8 @@ bool MrcalCamera::project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
   if (J_p)
     *J_p << dq_dp[0].x, dq_dp[0].y, dq_dp[0].z, dq_dp[1].x, dq_dp[1].y, dq_dp[1].z;
   if (J_params)
-    for (int j = 0; j < n; ++j) {
-      J_params[2 * j] = dq_dintrinsics[j];
-      J_params[2 * j + 1] = dq_dintrinsics[n + j];
-    }
+    *J_params = Eigen::Map<const Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>>(
+        dq_dintrinsics.data(), 2, n);
   return true;
 }
 

@@ -39,12 +39,13 @@ bool OrthographicCamera::set_params(const Eigen::VectorXd& v) {
 }
 
 bool OrthographicCamera::project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
-                                 Eigen::Matrix<double, 2, 3>* J_p, double* J_params) const {
+                                 Eigen::Matrix<double, 2, 3>* J_p, ParamsJacobian* J_params) const {
   if (!p.allFinite()) return false;
   *pixel << k_.fx * p.x() + k_.cx, k_.fy * p.y() + k_.cy;
   if (J_p) *J_p << k_.fx, 0, 0, 0, k_.fy, 0;
   if (J_params) {
-    Eigen::Map<Eigen::Matrix<double, 2, 4>> J(J_params);
+    ParamsJacobian& J = *J_params;
+    J.resize(2, 4);
     J << p.x(), 0, 1, 0, 0, p.y(), 0, 1;
   }
   return true;

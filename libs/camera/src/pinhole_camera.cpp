@@ -58,7 +58,7 @@ bool PinholeCamera::set_params(const Eigen::VectorXd& v) {
 }
 
 bool PinholeCamera::project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
-                            Eigen::Matrix<double, 2, 3>* J_p, double* J_params) const {
+                            Eigen::Matrix<double, 2, 3>* J_p, ParamsJacobian* J_params) const {
   if (!(p.z() > 0)) return false;
   const double iz = 1 / p.z();
   const double a = p.x() * iz, b = p.y() * iz;
@@ -72,7 +72,8 @@ bool PinholeCamera::project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
   }
   if (J_params) {
     const double r2 = a * a + b * b;
-    Eigen::Map<Eigen::Matrix<double, 2, 9>> J(J_params);
+    ParamsJacobian& J = *J_params;
+    J.resize(2, 9);
     J << d.x(), 0, 1, 0, k_.fx * a * r2, k_.fx * a * r2 * r2, k_.fx * 2 * a * b,
         k_.fx * (r2 + 2 * a * a), k_.fx * a * r2 * r2 * r2,  //
         0, d.y(), 0, 1, k_.fy * b * r2, k_.fy * b * r2 * r2, k_.fy * (r2 + 2 * b * b),

@@ -98,10 +98,11 @@ TEST_P(CameraContract, JacobianCallsGiveIdenticalPixels) {
   for (const auto& X : field_points(300, 4)) {
     Eigen::Vector2d plain, with_point, with_all;
     Eigen::Matrix<double, 2, 3> J_X;
-    std::vector<double> J_params(2 * camera_->num_params());
+    ParamsJacobian J_params;
     ASSERT_TRUE(camera_->project(X, &plain));
     ASSERT_TRUE(camera_->project(X, &with_point, &J_X));
-    ASSERT_TRUE(camera_->project(X, &with_all, &J_X, J_params.data()));
+    ASSERT_TRUE(camera_->project(X, &with_all, &J_X, &J_params));
+    EXPECT_EQ(J_params.cols(), camera_->num_params());
     EXPECT_EQ(plain, with_point);
     EXPECT_EQ(plain, with_all);
   }
@@ -148,8 +149,9 @@ TEST_P(CameraContract, ParameterJacobianMatchesCentralDifferences) {
   const auto names = camera_->param_names();
   for (const auto& X : points) {
     Eigen::Vector2d pixel;
-    Eigen::Matrix<double, 2, Eigen::Dynamic> J(2, n);
-    ASSERT_TRUE(camera_->project(X, &pixel, nullptr, J.data()));
+    ParamsJacobian J;
+    ASSERT_TRUE(camera_->project(X, &pixel, nullptr, &J));
+    ASSERT_EQ(J.cols(), n);
     Eigen::Matrix<double, 2, Eigen::Dynamic> numeric(2, n);
     CatadioptricCamera perturbed = *camera_;
     for (int j = 0; j < n; ++j) {

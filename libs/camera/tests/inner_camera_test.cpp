@@ -36,8 +36,9 @@ TEST_P(InnerContract, JacobiansMatchCentralDifferences) {
   for (const auto& p : points()) {
     Eigen::Vector2d q;
     Eigen::Matrix<double, 2, 3> J_p;
-    Eigen::Matrix<double, 2, Eigen::Dynamic> J(2, n);
-    ASSERT_TRUE(camera_->project(p, &q, &J_p, J.data()));
+    ParamsJacobian J;
+    ASSERT_TRUE(camera_->project(p, &q, &J_p, &J));
+    ASSERT_EQ(J.cols(), n);
     for (int j = 0; j < 3; ++j) {
       const Eigen::Vector2d numeric = testing::five_point_derivative(
           [&](double h) {

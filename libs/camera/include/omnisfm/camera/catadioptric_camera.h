@@ -47,10 +47,10 @@ class CatadioptricCamera {
   CatadioptricCamera(CatadioptricCamera&&) noexcept = default;
   CatadioptricCamera& operator=(CatadioptricCamera&&) noexcept = default;
 
-  // Pixel of a point X in frame C. J_X: d pixel / d X. J_params: d pixel / d params(), a
-  // 2 x num_params() column-major array. Returns false where X has no valid reflection.
+  // Pixel of a point X in frame C. J_X: d pixel / d X. J_params: d pixel / d params() (resized
+  // to 2 x num_params()). Returns false where X has no valid reflection.
   bool project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel,
-               Eigen::Matrix<double, 2, 3>* J_X = nullptr, double* J_params = nullptr,
+               Eigen::Matrix<double, 2, 3>* J_X = nullptr, ParamsJacobian* J_params = nullptr,
                Reflection* reflection = nullptr) const;
 
   // The reflected ray of a pixel, in frame C: origin on the mirror, unit direction.

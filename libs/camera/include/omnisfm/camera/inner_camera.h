@@ -10,6 +10,10 @@
 
 namespace omnisfm::camera {
 
+// d pixel / d parameters: two rows, a column per parameter of the model that fills it (its
+// num_params()); the model sizes it.
+using ParamsJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic>;
+
 // Named, and made from numbers, in camera_kinds.h.
 enum class InnerKind { kPinhole, kOrthographic, kMrcal };
 
@@ -28,10 +32,10 @@ class InnerCamera {
   // Returns false, changing nothing, when the vector has the wrong size or invalid values.
   virtual bool set_params(const Eigen::VectorXd& params) = 0;
 
-  // Pixel of a point p in frame C. J_p: d pixel / d p. J_params: d pixel / d params, a 2 x
-  // num_params() column-major array. Returns false where the camera cannot see p.
+  // Pixel of a point p in frame C. J_p: d pixel / d p. J_params: d pixel / d params (resized to
+  // 2 x num_params()). Returns false where the camera cannot see p.
   virtual bool project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
-                       Eigen::Matrix<double, 2, 3>* J_p, double* J_params) const = 0;
+                       Eigen::Matrix<double, 2, 3>* J_p, ParamsJacobian* J_params) const = 0;
 
   // The ray of a pixel in frame C: a point on it (the centre, for central cameras) and a unit
   // direction with positive z.

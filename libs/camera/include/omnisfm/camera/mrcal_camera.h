@@ -28,7 +28,7 @@ class MrcalCamera final : public InnerCamera {
   bool set_params(const Eigen::VectorXd& params) override;
 
   bool project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel, Eigen::Matrix<double, 2, 3>* J_p,
-               double* J_params) const override;
+               ParamsJacobian* J_params) const override;
   bool unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,
                  Eigen::Vector3d* direction) const override;
 
