@@ -1,0 +1,88 @@
+// The filter's published pose covariance against its errors along a long drive (not a benchmark:
+// one run, a line per block): sim::long_drive with the simulated odometry and gyro, fed to
+// OnlineFilter as run_fused_sfm does. Per block of frames: the orientation's and position's errors
+// and published sigmas, the mean NEES and its rotation and translation parts (3 each when
+// honest), the wheels' scale; at the end the drive's error after a rigid alignment.
+//   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
+//              [ESTIMATE_WHEEL_SCALE=1]
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "omnisfm/eval/simulated_sensors.h"
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/sfm/blas_threads.h"
+#include "omnisfm/sfm/motion_prediction.h"
+#include "omnisfm/sfm/online_filter.h"
+#include "omnisfm/sim/dead_reckoning.h"
+#include "omnisfm/sim/endless_drive.h"
+
+int main(int argc, char** argv) {
+  using namespace omnisfm;
+  sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
+  const int frames = argc > 1 ? std::atoi(argv[1]) : 20000;
+  const std::uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
+  const int block = argc > 3 ? std::max(1, std::atoi(argv[3])) : 2000;
+  sim::DeadReckoningOptions options;
+  options.seed = seed;
+  if (argc > 4) options.odometry_scale_error = std::atof(argv[4]);
+  sfm::FilterSettings settings;
+  if (argc > 5) settings.estimate_wheel_scale = std::atoi(argv[5]) != 0;
+
+  const sim::Dataset drive = sim::long_drive(frames, 0.2, seed);
+  const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
+  const sfm::MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
+  std::vector<std::vector<sfm::TrackPixel>> by_frame(frames);
+  for (const auto& o : drive.observations) by_frame[o.frame].push_back({o.track, o.pixel});
+
+  sfm::OnlineFilter filter(drive.camera, settings);
+  const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
+  std::vector<Eigen::Isometry3d> estimate;
+  double nees = 0, nees_rotation = 0, nees_translation = 0;
+  int counted = 0;
+  std::printf("# frame rotation_error_deg rotation_sigma_deg position_error_m position_sigma_m "
+              "nees nees_rotation nees_translation wheel_scale wheel_scale_sigma\n");
+  for (int f = 0; f < frames; ++f) {
+    if (f == 0)
+      filter.process_frame(f, by_frame[f]);
+    else
+      filter.process_frame(f, by_frame[f],
+                           sfm::predict_camera_motion(sensors, drive.timestamps[f - 1],
+                                                      drive.timestamps[f], settings,
+                                                      filter.sensor_states()));
+    const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
+    const Eigen::Isometry3d est = filter.cam_from_world();
+    estimate.push_back(drive.world_from_cam[0] * est.inverse());
+    // The error as the covariance states it: rotation a left perturbation, then translation.
+    Eigen::Matrix<double, 6, 1> e;
+    const Eigen::AngleAxisd rotation(truth.linear() * est.linear().transpose());
+    e << rotation.angle() * rotation.axis(), truth.translation() - est.translation();
+    const Eigen::Matrix<double, 6, 6> P = filter.pose_covariance();
+    if (f > 0) {
+      nees += e.dot(P.ldlt().solve(e));
+      nees_rotation += e.head<3>().dot(P.topLeftCorner<3, 3>().ldlt().solve(e.head<3>()));
+      nees_translation += e.tail<3>().dot(P.bottomRightCorner<3, 3>().ldlt().solve(e.tail<3>()));
+      ++counted;
+    }
+    if ((f + 1) % block == 0 && counted > 0) {
+      constexpr double kDeg = 180 / M_PI;
+      std::printf("%d %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.4f %.4f\n", f + 1,
+                  e.head<3>().norm() * kDeg, std::sqrt(P.topLeftCorner<3, 3>().trace()) * kDeg,
+                  e.tail<3>().norm(), std::sqrt(P.bottomRightCorner<3, 3>().trace()),
+                  nees / counted, nees_rotation / counted, nees_translation / counted,
+                  filter.wheel_scale(), std::sqrt(filter.wheel_scale_variance()));
+      nees = nees_rotation = nees_translation = 0;
+      counted = 0;
+    }
+  }
+  const std::vector<Eigen::Isometry3d> truth(drive.world_from_cam.begin(),
+                                             drive.world_from_cam.begin() + frames);
+  const eval::TrajectoryErrors rigid = eval::trajectory_errors(estimate, truth, false);
+  std::printf("# seed %d, %.0f m: %.2f %% of the distance after a rigid alignment, mean rotation "
+              "error %.2f deg\n",
+              static_cast<int>(seed), rigid.distance_travelled_m,
+              rigid.translation_error_percent, rigid.mean_rotation_error_deg);
+}
