@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "omnisfm/eval/filter_consistency.h"
 #include "omnisfm/eval/simulated_sensors.h"
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/blas_threads.h"
@@ -56,10 +57,7 @@ int main(int argc, char** argv) {
     const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
     const Eigen::Isometry3d est = filter.cam_from_world();
     estimate.push_back(drive.world_from_cam[0] * est.inverse());
-    // The error as the covariance states it: rotation a left perturbation, then translation.
-    Eigen::Matrix<double, 6, 1> e;
-    const Eigen::AngleAxisd rotation(truth.linear() * est.linear().transpose());
-    e << rotation.angle() * rotation.axis(), truth.translation() - est.translation();
+    const Eigen::Matrix<double, 6, 1> e = eval::filter_pose_error(truth, est);
     const Eigen::Matrix<double, 6, 6> P = filter.pose_covariance();
     if (f > 0) {
       nees += e.dot(P.ldlt().solve(e));

@@ -31,6 +31,7 @@
 #include <memory>
 #include <string>
 
+#include "omnisfm/eval/filter_consistency.h"
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/io/vnlog.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
@@ -140,10 +141,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 // The filter's pose error as its covariance states it: rotation as a left perturbation, then
 // translation, of cam_from_world.
 double filter_nees(const sfm::OnlineFilter& filter, const Eigen::Isometry3d& true_cam_from_world) {
-  const Eigen::Isometry3d estimate = filter.cam_from_world();
-  Eigen::Matrix<double, 6, 1> e;
-  const Eigen::AngleAxisd dtheta(true_cam_from_world.linear() * estimate.linear().transpose());
-  e << dtheta.angle() * dtheta.axis(), true_cam_from_world.translation() - estimate.translation();
+  const Eigen::Matrix<double, 6, 1> e =
+      eval::filter_pose_error(true_cam_from_world, filter.cam_from_world());
   return e.dot(filter.pose_covariance().ldlt().solve(e));
 }
 

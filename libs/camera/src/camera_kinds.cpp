@@ -56,8 +56,11 @@ const std::vector<MirrorKind>& mirror_kinds() {
   return kinds;
 }
 
-bool inner_kind_named(const std::string& name, InnerKind* kind) {
-  for (InnerKind k : inner_kinds())
+namespace {
+
+template <typename Kind>
+bool kind_named(const std::string& name, const std::vector<Kind>& kinds, Kind* kind) {
+  for (Kind k : kinds)
     if (name == name_of(k)) {
       *kind = k;
       return true;
@@ -65,13 +68,14 @@ bool inner_kind_named(const std::string& name, InnerKind* kind) {
   return false;
 }
 
+}  // namespace
+
+bool inner_kind_named(const std::string& name, InnerKind* kind) {
+  return kind_named(name, inner_kinds(), kind);
+}
+
 bool mirror_kind_named(const std::string& name, MirrorKind* kind) {
-  for (MirrorKind k : mirror_kinds())
-    if (name == name_of(k)) {
-      *kind = k;
-      return true;
-    }
-  return false;
+  return kind_named(name, mirror_kinds(), kind);
 }
 
 std::unique_ptr<InnerCamera> make_inner(InnerKind kind, const Eigen::VectorXd& p,

@@ -8,6 +8,16 @@
 
 namespace omnisfm::eval {
 
+Eigen::Matrix<double, 6, 1> filter_pose_error(const Eigen::Isometry3d& true_cam_from_world,
+                                              const Eigen::Isometry3d& estimated_cam_from_world) {
+  const Eigen::AngleAxisd rotation(true_cam_from_world.linear() *
+                                   estimated_cam_from_world.linear().transpose());
+  Eigen::Matrix<double, 6, 1> e;
+  e << rotation.angle() * rotation.axis(),
+      true_cam_from_world.translation() - estimated_cam_from_world.translation();
+  return e;
+}
+
 PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
                                        const sfm::FilterSettings& settings,
                                        bool linearised_at_truth) {
@@ -37,10 +47,7 @@ PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
                            sfm::predict_camera_motion(sensors, d.timestamps[f - 1], d.timestamps[f],
                                                       settings, filter.sensor_states()));
       const Eigen::Isometry3d truth = d.world_from_cam[f].inverse() * d.world_from_cam[0];
-      const Eigen::Isometry3d estimate = filter.cam_from_world();
-      const Eigen::AngleAxisd rotation(truth.linear() * estimate.linear().transpose());
-      Eigen::Matrix<double, 6, 1> e;
-      e << rotation.angle() * rotation.axis(), truth.translation() - estimate.translation();
+      const Eigen::Matrix<double, 6, 1> e = filter_pose_error(truth, filter.cam_from_world());
       const double nees = e.dot(filter.pose_covariance().ldlt().solve(e));
       sum += nees;
       ++c.frames;

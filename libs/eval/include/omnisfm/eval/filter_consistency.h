@@ -9,6 +9,11 @@
 
 namespace omnisfm::eval {
 
+// The filter's pose error as its covariance (OnlineFilter::pose_covariance) states it: the
+// rotation's left perturbation of cam_from_world, then the translation's.
+Eigen::Matrix<double, 6, 1> filter_pose_error(const Eigen::Isometry3d& true_cam_from_world,
+                                              const Eigen::Isometry3d& estimated_cam_from_world);
+
 struct PoseConsistency {
   double mean_nees = 0;
   double inside = 0;  // the fraction of frames inside the 95 % bound
