@@ -861,15 +861,24 @@ TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
   ASSERT_TRUE(std::regex_search(
       run.out, m,
       std::regex(R"(tracks (\d+) \((\d+) started, (\d+) seen in one frame only and left out\), )"
+                 R"(lasting (\d+) frames at the median \(longest (\d+)\), )"
                  R"(observations (\d+), reacquired (\d+) \((\d+) after a gap in their track, )"
                  R"((\d+) in the frame that lost them\))")))
       << run.out;
   const auto n = [&](int i) { return std::stol(m[i].str()); };
   EXPECT_EQ(n(1), static_cast<long>(last_frame.size()));
   EXPECT_EQ(n(2) - n(3), n(1));
-  EXPECT_EQ(n(4), static_cast<long>(tracks.size()));
-  EXPECT_EQ(n(6), gaps);
-  EXPECT_EQ(n(5), n(6) + n(7));
+  EXPECT_EQ(n(6), static_cast<long>(tracks.size()));
+  EXPECT_EQ(n(8), gaps);
+  EXPECT_EQ(n(7), n(8) + n(9));
+  // Each track's span, first frame to last, gaps included: the lower middle one and the longest.
+  std::map<int, int> first_seen;
+  for (const auto& o : tracks) first_seen.emplace(o.track, o.frame);
+  std::vector<long> spans;
+  for (const auto& [track, last] : last_frame) spans.push_back(last - first_seen[track] + 1);
+  std::sort(spans.begin(), spans.end());
+  EXPECT_EQ(n(4), spans[(spans.size() - 1) / 2]);
+  EXPECT_EQ(n(5), spans.back());
   // 112 tracks alive; a few lost at once leave tracks.vnl, which holds no single observations.
   EXPECT_GE(first_frame, 105);
   EXPECT_LE(first_frame, 112);

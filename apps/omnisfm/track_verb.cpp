@@ -10,6 +10,7 @@
 #include "omnisfm/track/frames_file.h"
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
+#include "omnisfm/track/track_lengths.h"
 #include "verb_inputs.h"
 #include "terminal_progress.h"
 #include "verbs.h"
@@ -152,13 +153,14 @@ void add_track_verb(CLI::App& app) {
     const auto& s = result.statistics;
     std::set<int> ids;
     for (const auto& observation : result.observations) ids.insert(observation.track);
+    const track::TrackLengths lengths = track::track_lengths(result.observations);
     std::printf(
         "frames %zu, tracks %zu (%d started, %d seen in one frame only and left out), "
-        "observations %zu, reacquired %d (%d after a gap in their track, %d in the frame that "
+        "lasting %d frames at the median (longest %d), observations %zu, reacquired %d (%d after a gap in their track, %d in the frame that "
         "lost them); ended: %d failed the forward-backward check, %d the appearance check, %d "
         "changed shape too much, %d left the mirror, %d duplicates; %.1f ms per frame\n",
         result.frames.size(), ids.size(), s.started, result.single_frame_tracks,
-        result.observations.size(), s.reacquired, s.reacquired - s.reacquired_at_once,
+        lengths.median_frames, lengths.longest_frames, result.observations.size(), s.reacquired, s.reacquired - s.reacquired_at_once,
         s.reacquired_at_once, s.forward_backward + s.lost, s.appearance, s.reshaped,
         s.left_region, s.duplicate, 1000 * result.tracking_seconds / result.frames.size());
     finish_stdout();

@@ -18,6 +18,7 @@
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
+#include "omnisfm/track/track_lengths.h"
 
 namespace omnisfm::track {
 namespace {
@@ -31,6 +32,7 @@ struct Expected {
   double median_px, p95_px;    // at most
   double mistracked_fraction;  // of the tracks, at most
   int wrong_reacquisitions;    // at most
+  int median_frames;           // a track's span at the median, at least
 };
 
 void PrintTo(const Expected& e, std::ostream* out) { *out << e.scenario << " " << e.imaging; }
@@ -75,11 +77,13 @@ TEST_P(RenderedAccuracy, TracksFollowTheirPoints) {
   RecordProperty("p95_px", std::to_string(a.p95_px));
   RecordProperty("mistracked",
                  std::to_string(a.mistracked_tracks) + "/" + std::to_string(a.tracks));
+  const TrackLengths lengths = track_lengths(tracked.observations);
+  EXPECT_GE(lengths.median_frames, e.median_frames);
   std::printf(
-      "%s %s: %d tracks, median %.3f px, 95th percentile %.3f px, max %.3f px, %d mistracked, "
-      "%d reacquisitions (%d wrong)\n",
-      e.scenario, e.imaging, a.tracks, a.median_px, a.p95_px, a.max_px, a.mistracked_tracks, a.reacquisitions,
-      a.wrong_reacquisitions);
+      "%s %s: %d tracks lasting %d frames at the median, median %.3f px, 95th percentile %.3f "
+      "px, max %.3f px, %d mistracked, %d reacquisitions (%d wrong)\n",
+      e.scenario, e.imaging, a.tracks, lengths.median_frames, a.median_px, a.p95_px, a.max_px,
+      a.mistracked_tracks, a.reacquisitions, a.wrong_reacquisitions);
 }
 
 std::string scenario_name(const ::testing::TestParamInfo<Expected>& param) {
@@ -94,14 +98,15 @@ std::string scenario_name(const ::testing::TestParamInfo<Expected>& param) {
 // (1.2 and 1.4 px, the same track twice); rover 0.055 / 0.210 px, 5 of 641. The bounds hold
 // these, not the goal (1 % of reacquisitions wrong). Before reacquisition refused twins
 // (TrackerSettings::twin_ncc), 11 of the lab's 24 reacquisitions came back on a neighbouring
-// brick.
+// brick. Tracks last (frames at the median): lab 6 clean and 4 realistic, crane 21 and 3, rover 7
+// and 6; the bounds hold these too, not the goal (25 on the rover).
 INSTANTIATE_TEST_SUITE_P(Scenarios, RenderedAccuracy,
-                         ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 1},
-                                           Expected{"crane", "clean", 60, 0.1, 0.3, 0.01, 1},
-                                           Expected{"rover", "clean", 60, 0.1, 0.35, 0.02, 1},
-                                           Expected{"lab", "realistic", 41, 0.15, 0.5, 0.015, 2},
-                                           Expected{"crane", "realistic", 60, 0.1, 0.35, 0.02, 2},
-                                           Expected{"rover", "realistic", 60, 0.1, 0.35, 0.01, 1}),
+                         ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 1, 5},
+                                           Expected{"crane", "clean", 60, 0.1, 0.3, 0.01, 1, 18},
+                                           Expected{"rover", "clean", 60, 0.1, 0.35, 0.02, 1, 6},
+                                           Expected{"lab", "realistic", 41, 0.15, 0.5, 0.015, 2, 3},
+                                           Expected{"crane", "realistic", 60, 0.1, 0.35, 0.02, 2, 3},
+                                           Expected{"rover", "realistic", 60, 0.1, 0.35, 0.01, 1, 5}),
                          scenario_name);
 
 }  // namespace
