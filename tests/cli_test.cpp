@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -669,6 +671,53 @@ TEST_F(CliTest, CalibrateRecoversTheLabMirrorFromSurveyedTargets) {
     for (const char* png : {"residuals.png", "histogram.png", "uncertainty.png"})
       EXPECT_TRUE(fs::exists(report / png)) << png;
   }
+}
+
+// A user's path: the rig calibrated from surveyed targets, then a sequence solved with the
+// camera refined under that calibration's covariance ([sfm] refine_camera).
+TEST_F(CliTest, SfmRefinesACalibratedCameraUnderItsCovariance) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --survey-error 0.001 --out lab").status, 0);
+  ASSERT_EQ(omnisfm("calibrate --camera " + quoted(shipped_camera("equiangular.ini")) +
+                    " --targets lab/targets.vnl --observations lab/observations.vnl"
+                    " --out calibrated.ini")
+                .status,
+            0);
+  ASSERT_EQ(omnisfm("simulate --scenario rover --out rover").status, 0);
+  write("refine.ini", "[sfm]\nrefine_camera = 1\n");
+  const Outcome run = omnisfm(
+      "sfm --camera calibrated.ini --tracks rover/tracks.vnl --out result --config refine.ini");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("\ncamera: refined under the calibration's covariance: mirror_rx "),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(read_all(dir_ / "result/report.txt").find("\ncamera: refined"), std::string::npos);
+  const CatadioptricCamera calibrated =
+      omnisfm::io::read_camera_file((dir_ / "calibrated.ini").string());
+  const CatadioptricCamera refined =
+      omnisfm::io::read_camera_file((dir_ / "result/camera_refined.ini").string());
+  const auto prior = omnisfm::io::read_camera_covariance((dir_ / "calibrated.ini").string());
+  const auto after =
+      omnisfm::io::read_camera_covariance((dir_ / "result/camera_refined.ini").string());
+  ASSERT_TRUE(prior && after);
+  EXPECT_EQ(after->parameters, prior->parameters);
+  // Only the mirror's pose moves, by a few of the calibration's sigmas at most, and it is then
+  // known better.
+  EXPECT_EQ(refined.params().head(11), calibrated.params().head(11));
+  const Eigen::VectorXd moved = refined.params().tail(5) - calibrated.params().tail(5);
+  EXPECT_GT(moved.norm(), 0);
+  EXPECT_LT(std::sqrt(moved.dot(prior->matrix.ldlt().solve(moved))), 4);
+  for (int i = 0; i < 5; ++i) EXPECT_LT(after->matrix(i, i), prior->matrix(i, i)) << i;
+
+  // A camera file without the calibration's covariance, or none at all: refused, nothing written.
+  const Outcome plain = omnisfm(
+      "sfm --camera rover/camera.ini --tracks rover/tracks.vnl --out none --config refine.ini");
+  EXPECT_EQ(plain.status, 2);
+  EXPECT_EQ(plain.err.rfind("omnisfm: rover/camera.ini: ", 0), 0u) << plain.err;
+  EXPECT_NE(plain.err.find("[omni_camera_covariance]"), std::string::npos) << plain.err;
+  const Outcome none = omnisfm("sfm --tracks rover/tracks.vnl --out none --config refine.ini");
+  EXPECT_EQ(none.status, 2);
+  EXPECT_EQ(none.err.rfind("omnisfm: refine.ini: ", 0), 0u) << none.err;
+  EXPECT_FALSE(fs::exists(dir_ / "none"));
 }
 
 TEST_F(CliTest, CalibrateReportsHeldOutViews) {

@@ -23,6 +23,7 @@
 #include "run_settings.h"
 #include "sfm_outputs.h"
 #include "terminal_progress.h"
+#include "verb_inputs.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -238,6 +239,8 @@ void add_run_verb(CLI::App& app) {
                            "is inside the --out folder, which the run replaces whole: put it "
                            "beside it");
     if (!o->camera.empty()) settings.replay.camera = io::read_camera_file(o->camera);
+    apply_camera_prior(o->config, o->camera,
+                       settings.replay.camera ? &*settings.replay.camera : nullptr, &settings.sfm);
     // The points' uncertainty as the cameras see them (the measurements' ranges).
     if (!o->slam_rawlog.empty()) {
       if (settings.sfm.run_batch && !settings.sfm.batch.covariances)
@@ -298,6 +301,7 @@ void add_run_verb(CLI::App& app) {
            << sensors_line(in);
     if (batch_ran)
       report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.sfm.batch)
+             << sfm::camera_line(*in.camera, result.batch, settings.sfm.batch)
              << (in.sensors.empty() ? "" : noise_check_line(result.batch))
              << motion_estimates_line(in.sensors, result);
 
@@ -320,6 +324,7 @@ void add_run_verb(CLI::App& app) {
     const auto write_outputs = [&] {
       io::write_folder_atomically(o->out, [&](const std::string& dir) {
         write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
+        write_refined_camera(dir, *in.camera, result.batch, settings.sfm.batch);
         mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
         if (geodetic)
           write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times,

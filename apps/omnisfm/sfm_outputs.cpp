@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "omnisfm/io/camera_covariance.h"
+#include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/outliers_file.h"
 #include "omnisfm/io/points_file.h"
@@ -84,6 +86,24 @@ std::string compare_written_online_with_truth(const std::string& dir,
   if (!write_trajectory_plots(dir, comparison.truth, comparison.plotted))
     std::cerr << "omnisfm: gnuplot failed: plots missing\n";
   return comparison.report;
+}
+
+void write_refined_camera(const std::string& dir, const camera::CatadioptricCamera& camera,
+                          const sfm::BatchResult& batch, const sfm::BatchSettings& settings) {
+  if (batch.camera_params.size() != camera.num_params()) return;
+  camera::CatadioptricCamera refined = camera;
+  if (!refined.set_params(batch.camera_params))
+    throw std::runtime_error("the batch's refined camera is not a valid camera");
+  const std::string path = dir + "/camera_refined.ini";
+  if (batch.camera_covariance.size() == 0) {
+    io::write_camera_file(path, refined);
+    return;
+  }
+  io::ParameterCovariance covariance;
+  const std::vector<std::string> names = camera.param_names();
+  for (int p : settings.camera_prior.parameters) covariance.parameters.push_back(names[p]);
+  covariance.matrix = batch.camera_covariance;
+  io::write_calibrated_camera_file(path, refined, covariance);
 }
 
 void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,

@@ -16,6 +16,11 @@ namespace omnisfm::app {
 void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,
                        const std::vector<double>& frame_times, const std::string& report);
 
+// With the camera refined by the batch, DIR/camera_refined.ini: `camera` at the batch's
+// parameters, with the batch's covariance of the refined ones when it has one. Nothing otherwise.
+void write_refined_camera(const std::string& dir, const camera::CatadioptricCamera& camera,
+                          const sfm::BatchResult& batch, const sfm::BatchSettings& settings);
+
 // world_from_cam of cam_from_world poses.
 std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& cam_from_world);
 

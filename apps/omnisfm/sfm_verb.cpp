@@ -136,8 +136,9 @@ void add_sfm_verb(CLI::App& app) {
                    "A TUM trajectory of the truth: adds the paper's error figures to the report");
   verb->callback([o] {
     const camera::CatadioptricCamera camera = load_camera(o->camera);
-    const sfm::SfmSettings settings =
+    sfm::SfmSettings settings =
         o->config.empty() ? sfm::SfmSettings() : sfm::read_sfm_settings(o->config);
+    apply_camera_prior(o->config, o->camera, o->camera.empty() ? nullptr : &camera, &settings);
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
     if (!settings.run_batch) {
@@ -171,7 +172,8 @@ void add_sfm_verb(CLI::App& app) {
            << "filter: " << result.online_seconds << " s ("
            << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n";
     if (settings.run_batch)
-      report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.batch);
+      report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.batch)
+             << sfm::camera_line(camera, result.batch, settings.batch);
     TruthComparison comparison;
     if (!truth.empty()) {
       comparison = compare_with_truth(result, settings.run_batch, truth, o->ground_truth);
@@ -180,6 +182,7 @@ void add_sfm_verb(CLI::App& app) {
 
     io::write_folder_atomically(o->out, [&](const std::string& dir) {
       write_sfm_outputs(dir, result, settings.run_batch, times, report.str());
+      write_refined_camera(dir, camera, result.batch, settings.batch);
       write_sfm_plots(dir, camera, tracks, result, settings.run_batch, comparison);
     });
     std::cout << report.str();

@@ -6,15 +6,33 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/io/shared_data.h"
+#include "omnisfm/sfm/settings_file.h"
 
 namespace omnisfm::app {
 
 camera::CatadioptricCamera load_camera(const std::string& path) {
   return io::read_camera_file(path.empty() ? io::default_camera_file() : path);
+}
+
+void apply_camera_prior(const std::string& config_file, const std::string& camera_file,
+                        const camera::CatadioptricCamera* camera, sfm::SfmSettings* settings) {
+  if (!settings->refine_camera) return;
+  if (camera_file.empty() || !camera)
+    throw io::InputError(config_file, 0,
+                         "[sfm] refine_camera needs a calibrated camera file (--camera) holding "
+                         "its [omni_camera_covariance]");
+  const auto covariance = io::read_camera_covariance(camera_file);
+  if (!covariance)
+    throw io::InputError(camera_file, 0,
+                         "[sfm] refine_camera refines the camera under its calibration's "
+                         "covariance, and this file holds no [omni_camera_covariance] (omnisfm "
+                         "calibrate writes it)");
+  settings->batch.camera_prior = sfm::camera_prior_from(*camera, *covariance);
 }
 
 io::VnlogTable read_table_or_stdin(const std::string& path) {

@@ -8,11 +8,19 @@
 
 #include "omnisfm/camera/catadioptric_camera.h"
 #include "omnisfm/io/vnlog.h"
+#include "omnisfm/sfm/pipeline.h"
 
 namespace omnisfm::app {
 
 // The camera file `path`, or the default camera when `path` is empty.
 camera::CatadioptricCamera load_camera(const std::string& path);
+
+// With [sfm] refine_camera (from `config_file`), the batch's prior on `camera`, read from
+// `camera_file`, from the calibration's covariance there. Throws io::InputError naming the camera
+// file when it holds no [omni_camera_covariance], or the config file when no camera file was
+// given (`camera` null).
+void apply_camera_prior(const std::string& config_file, const std::string& camera_file,
+                        const camera::CatadioptricCamera* camera, sfm::SfmSettings* settings);
 
 // The vnlog table in `path`, or standard input when `path` is empty or "-".
 io::VnlogTable read_table_or_stdin(const std::string& path);

@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <set>
 #include <sstream>
 #include <thread>
 
 #include "batch_terms.h"
+#include "camera_refinement.h"
 #include "marginal_variance.h"
 #include "projection_cost.h"
 
@@ -256,10 +258,13 @@ KnownDistanceFactor known_distance_factor(const std::vector<PoseVector>& poses,
 // iterations were refused, and the estimate stayed at the filter's scale.
 // One reprojection residual per observation, on its frame's pose, its track's point and the
 // inverse scale.
+// With `refined` (the camera block's camera), the residuals also take the camera block.
 std::vector<ceres::ResidualBlockId> add_projections(
     const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& used,
     const BatchSettings& settings, bool with_extra_terms, std::vector<PoseVector>* poses,
-    std::map<int, Eigen::Vector3d>* points, double* inverse_scale, ceres::Problem* problem) {
+    std::map<int, Eigen::Vector3d>* points, double* inverse_scale,
+    const std::shared_ptr<const camera::CatadioptricCamera>& refined, double* camera_block,
+    ceres::Problem* problem) {
   const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
   std::vector<ceres::ResidualBlockId> projections;
   for (const auto& o : used) {
@@ -268,11 +273,30 @@ std::vector<ceres::ResidualBlockId> add_projections(
     // Against the sensors' whitened terms the pixels weigh as their noise says; alone, a weight
     // would change only the cost's units.
     if (with_extra_terms) loss = new ceres::ScaledLoss(loss, pixel_weight, ceres::TAKE_OWNERSHIP);
-    projections.push_back(problem->AddResidualBlock(
-        new ScaledProjectionCost(&camera, o.pixel), loss, (*poses)[o.frame].data(),
-        points->at(o.track).data(), inverse_scale));
+    if (refined)
+      projections.push_back(problem->AddResidualBlock(
+          new RefinedProjectionCost(refined, o.pixel), loss, (*poses)[o.frame].data(),
+          points->at(o.track).data(), inverse_scale, camera_block));
+    else
+      projections.push_back(problem->AddResidualBlock(
+          new ScaledProjectionCost(&camera, o.pixel), loss, (*poses)[o.frame].data(),
+          points->at(o.track).data(), inverse_scale));
   }
   return projections;
+}
+
+// The camera block (BatchSettings::camera_prior), the parameters not refined held. Returns how
+// many of its values are held.
+int add_camera_block(const camera::CatadioptricCamera& camera, const BatchSettings& settings,
+                     double* camera_block, ceres::Problem* problem) {
+  const std::vector<int>& refined = settings.camera_prior.parameters;
+  const int size = camera.num_params();
+  std::vector<int> held;
+  for (int i = 0; i < size; ++i)
+    if (std::find(refined.begin(), refined.end(), i) == refined.end()) held.push_back(i);
+  problem->AddParameterBlock(camera_block, size,
+                             held.empty() ? nullptr : new ceres::SubsetManifold(size, held));
+  return static_cast<int>(held.size());
 }
 
 // The batch's problem in Ceres: the linear solver by how densely frames share points, the
@@ -315,9 +339,10 @@ ceres::Solver::Options batch_solver_options(ceres::Problem* problem,
 }
 
 // The degrees of freedom of the batch's chi-square: residuals less free parameters (NumParameters
-// counts a held first pose, and the inverse scale, held outside solve_with_scale).
-double degrees_of_freedom(const ceres::Problem& problem, bool gauge_fixed) {
-  const double held = (gauge_fixed ? 0 : 6) + 1;
+// counts a held first pose, the inverse scale, held outside solve_with_scale, and the camera
+// block's held values).
+double degrees_of_freedom(const ceres::Problem& problem, bool gauge_fixed, int held_camera) {
+  const double held = (gauge_fixed ? 0 : 6) + 1 + held_camera;
   return std::max(1.0, 1.0 * problem.NumResiduals() - problem.NumParameters() + held);
 }
 
@@ -338,8 +363,8 @@ void take_estimates(const ceres::Problem& problem, const std::vector<PoseVector>
 void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>& poses,
                          const std::map<int, Eigen::Vector3d>& points,
                          const std::vector<core::TrackObservation>& used_observations,
-                         const BatchSettings& settings, ExtraTerms* extra, int threads,
-                         BatchResult* result) {
+                         const BatchSettings& settings, ExtraTerms* extra,
+                         double* camera_block, int threads, BatchResult* result) {
   ceres::Covariance::Options covariance_options;
   // Sparse QR: the gauge is fixed by the first pose (and the scale, when held, by a coordinate
   // of a far one), so the problem is of full rank.
@@ -374,6 +399,8 @@ void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>&
         extra_blocks.emplace_back(block, size);
         blocks.emplace_back(block, block);
       }
+  if (camera_block && problem->IsParameterBlockConstant(camera_block)) camera_block = nullptr;
+  if (camera_block) blocks.emplace_back(camera_block, camera_block);
   if (covariance.Compute(blocks, problem)) {
     // Alone, scaled by the residual variance: the pixel noise is estimated, not assumed. With
     // the sensors' terms every residual is whitened by its stated noise model, which is taken
@@ -402,6 +429,17 @@ void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>&
       Eigen::Matrix<double, 3, 6, Eigen::RowMajor> c;
       covariance.GetCovarianceBlock(points.at(track).data(), poses[frame].data(), c.data());
       result->point_pose_covariances[{track, frame}] = variance * c;
+    }
+    if (camera_block) {
+      const int size = problem->ParameterBlockSize(camera_block);
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(size, size);
+      covariance.GetCovarianceBlock(camera_block, camera_block, c.data());
+      const std::vector<int>& refined = settings.camera_prior.parameters;
+      const int k = static_cast<int>(refined.size());
+      result->camera_covariance.resize(k, k);
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j)
+          result->camera_covariance(i, j) = variance * c(refined[i], refined[j]);
     }
     for (const auto& [block, size] : extra_blocks) {
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(size, size);
@@ -463,20 +501,29 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   double inverse_scale = 1;
   ceres::Problem problem;
   const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
+  const bool refine_camera = !settings.camera_prior.parameters.empty();
+  Eigen::VectorXd camera_block = optimised.params();
+  const auto refined = refine_camera ? std::make_shared<const camera::CatadioptricCamera>(optimised)
+                                     : nullptr;
   const std::vector<ceres::ResidualBlockId> projections =
       add_projections(optimised, used_observations, settings, extra != nullptr, &poses, &points,
-                      &inverse_scale, &problem);
+                      &inverse_scale, refined, camera_block.data(), &problem);
   const double used = static_cast<double>(used_observations.size());
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
     return result;
   }
   problem.SetParameterBlockConstant(&inverse_scale);
+  const int held_camera =
+      refine_camera ? add_camera_block(optimised, settings, camera_block.data(), &problem) : 0;
+  // The camera is held while the scale is decided: the mirror's size along its axis trades
+  // against the scene's scale, and freed it would leave the scale to the prior alone.
+  if (refine_camera) problem.SetParameterBlockConstant(camera_block.data());
   const bool gauge_fixed = extra && extra->add(&problem, &poses);
   if (!gauge_fixed && problem.HasParameterBlock(poses[0].data()))
     problem.SetParameterBlockConstant(poses[0].data());
 
-  const double dof = degrees_of_freedom(problem, gauge_fixed);
+  const double dof = degrees_of_freedom(problem, gauge_fixed, held_camera);
   ceres::Solver::Options options = batch_solver_options(
       &problem, &points, used_observations, static_cast<int>(poses.size()), settings, threads, dof);
   // With extra residuals, the pixel figures are the reprojections' share of the cost alone.
@@ -545,6 +592,22 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
       count();
     }
   }
+  // Where the images do not fix the scale it is held at the start's, and the mirror's size would
+  // take up the difference: the camera is then held as calibrated.
+  if (refine_camera && result.scale_source != BatchScale::kHeldAtStart) {
+    // The calibration's prior against the pixels: whitened with them by the sensors' terms, else
+    // in pixels at the noise the solve so far has found in them (not the stated one: the prior
+    // would weigh as much more as the stated noise is larger).
+    const double pixel_sigma = extra ? 1 : std::sqrt(2 * summary.final_cost / variance_dof);
+    problem.AddResidualBlock(new CameraPriorCost(optimised.params(), settings.camera_prior.parameters,
+                                                 settings.camera_prior.covariance, pixel_sigma),
+                             nullptr, camera_block.data());
+    problem.SetParameterBlockVariable(camera_block.data());
+    // Ceres drops held blocks from the ordering it is given: the camera's goes back in.
+    options.linear_solver_ordering = points_eliminated_first(problem, &points);
+    ceres::Solve(options, &problem, &summary);
+    count();
+  }
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.message;
   result.iterations = iterations;
@@ -558,10 +621,11 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
   result.variance_factor = 2 * summary.final_cost / variance_dof;
   result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   take_estimates(problem, poses, points, &result);
+  if (refine_camera) result.camera_params = camera_block;
 
   if (settings.covariances && summary.IsSolutionUsable())
-    compute_covariances(&problem, poses, points, used_observations, settings, extra, threads,
-                        &result);
+    compute_covariances(&problem, poses, points, used_observations, settings, extra,
+                        refine_camera ? camera_block.data() : nullptr, threads, &result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }

@@ -235,9 +235,7 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
 
   MotionTerms terms(sensors, times,
                     bias_from_filter(motions, result.online_cam_from_world, sensors.body_from_cam));
-  SfmSettings fused_settings = settings;
-  fused_settings.batch.pixel_sigma = settings.filter.pixel_sigma;
-  adjust_on_inliers(camera, tracks, fused_settings, &terms, &result);
+  adjust_on_inliers(camera, tracks, settings, &terms, &result);
   result.odometry_scale = terms.scale();
   result.gyro_bias = terms.bias();
   result.odometry_scale_sigma = terms.scale_sigma();

@@ -126,14 +126,20 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (inliers.empty())
     throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
                              std::to_string(rejected.size()) + " as outliers");
-  result->batch = batch_adjust(camera, inliers, result->online_cam_from_world,
-                               result->online_points, settings.batch, extra);
+  // The pixels' noise weighs them against the sensors' terms and the camera's prior.
+  BatchSettings batch = settings.batch;
+  batch.pixel_sigma = settings.filter.pixel_sigma;
+  result->batch =
+      batch_adjust(camera, inliers, result->online_cam_from_world, result->online_points, batch,
+                   extra);
   const double threshold = settings.batch_residual_limit_px();
   if (threshold <= 0 || result->batch.cam_from_world.size() < result->online_cam_from_world.size())
     return;  // off, or the batch failed
 
-  // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail.
-  const camera::CatadioptricCamera optimised = batch_camera(camera);
+  // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail,
+  // with the camera as the batch left it.
+  camera::CatadioptricCamera optimised = batch_camera(camera);
+  if (result->batch.camera_params.size() > 0) optimised.set_params(result->batch.camera_params);
   std::map<int, int> failing;
   for (const auto& o : inliers) {
     const auto point = result->batch.points.find(o.track);
@@ -160,8 +166,8 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
       kept.push_back(o);
   std::map<int, Eigen::Vector3d> start_points = result->batch.points;
   for (const auto& [track, point] : explained) start_points[track] = point;
-  result->batch = batch_adjust(camera, kept, result->batch.cam_from_world, start_points,
-                               settings.batch, extra);
+  result->batch =
+      batch_adjust(camera, kept, result->batch.cam_from_world, start_points, batch, extra);
 }
 
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,

@@ -12,14 +12,15 @@
 namespace omnisfm::sfm {
 
 // pixel - observed for the camera-frame point X = (R(aa) p + t) / u, with the Jacobians asked
-// for (row-major; null when not). dX/daa = -[R p]x J_left(aa) / u (aa + d turns R by J_left(aa) d
+// for (row-major; null when not; J_params with respect to the camera's params()). dX/daa = -[R p]x J_left(aa) / u (aa + d turns R by J_left(aa) d
 // on the left), dX/dt = I / u, dX/dp = R / u, dX/du = -X / u.
 inline bool evaluate_projection(const camera::CatadioptricCamera& camera,
                                 const Eigen::Vector2d& observed, const double* pose,
                                 const double* point, double u, double* residuals,
-                                double* J_pose_out, double* J_point_out, double* J_u_out) {
+                                double* J_pose_out, double* J_point_out, double* J_u_out,
+                                camera::ParamsJacobian* J_params = nullptr) {
   Eigen::Vector2d pixel;
-  if (!J_pose_out && !J_point_out && !J_u_out) {
+  if (!J_pose_out && !J_point_out && !J_u_out && !J_params) {
     double rotated[3];
     ceres::AngleAxisRotatePoint(pose, point, rotated);
     const Eigen::Vector3d X(rotated[0] + pose[3], rotated[1] + pose[4], rotated[2] + pose[5]);
@@ -31,7 +32,7 @@ inline bool evaluate_projection(const camera::CatadioptricCamera& camera,
     const Eigen::Vector3d Rp = R * p;
     const Eigen::Vector3d X = (Rp + t) / u;
     Eigen::Matrix<double, 2, 3> J_X;
-    if (!camera.project(X, &pixel, &J_X)) return false;
+    if (!camera.project(X, &pixel, &J_X, J_params)) return false;
     if (u != 1) J_X /= u;
     if (J_pose_out) {
       Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_pose(J_pose_out);

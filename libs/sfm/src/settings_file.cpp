@@ -1,6 +1,8 @@
 #include "omnisfm/sfm/settings_file.h"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "omnisfm/io/ini_file.h"
 
@@ -41,6 +43,9 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   settings.batch.max_iterations =
       s.get_positive_int("max_iterations", settings.batch.max_iterations);
   settings.batch.scale_start = s.get_flag("batch_scale_start", settings.batch.scale_start);
+  settings.refine_camera = s.get_flag("refine_camera", settings.refine_camera);
+  if (settings.refine_camera && !settings.run_batch)
+    s.fail("refine_camera", "the batch refines the camera, and batch = false leaves none");
   // Empty, the default, when not known: 0 would say the first and last cameras coincide.
   if (!s.get_string("known_distance_m", "").empty()) {
     const double d = s.get_double("known_distance_m");
@@ -52,6 +57,20 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   }
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [sfm]");
   return settings;
+}
+
+BatchSettings::CameraPrior camera_prior_from(const camera::CatadioptricCamera& camera,
+                                             const io::ParameterCovariance& covariance) {
+  const std::vector<std::string> names = camera.param_names();
+  BatchSettings::CameraPrior prior;
+  for (const std::string& name : covariance.parameters) {
+    const auto at = std::find(names.begin(), names.end(), name);
+    if (at == names.end())
+      throw std::invalid_argument("the covariance names " + name + ", which the camera does not have");
+    prior.parameters.push_back(static_cast<int>(at - names.begin()));
+  }
+  prior.covariance = covariance.matrix;
+  return prior;
 }
 
 }  // namespace omnisfm::sfm

@@ -1,7 +1,9 @@
 #include "omnisfm/sfm/sfm_report.h"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <sstream>
 
 namespace omnisfm::sfm {
@@ -74,6 +76,32 @@ std::string batch_line(const BatchResult& batch) {
        << batch.iterations << " iterations, " << batch.solve_seconds << " s; RMS "
        << batch.initial_rms_px << " -> " << batch.final_rms_px << " px per coordinate ("
        << batch.message << ")\n";
+  return line.str();
+}
+
+std::string camera_line(const camera::CatadioptricCamera& camera, const BatchResult& batch,
+                        const BatchSettings& settings) {
+  const BatchSettings::CameraPrior& prior = settings.camera_prior;
+  if (prior.parameters.empty() || batch.camera_params.size() != camera.num_params()) return "";
+  if (batch.scale_source == BatchScale::kHeldAtStart)
+    return "camera: held as calibrated: the images do not fix the scale, which the mirror's size "
+           "would take up\n";
+  const std::vector<std::string> names = camera.param_names();
+  const Eigen::VectorXd calibrated = camera.params();
+  const int k = static_cast<int>(prior.parameters.size());
+  Eigen::VectorXd moved(k);
+  std::ostringstream line;
+  line << "camera: refined under the calibration's covariance:";
+  for (int i = 0; i < k; ++i) {
+    const int p = prior.parameters[i];
+    moved(i) = batch.camera_params(p) - calibrated(p);
+    line << (i ? ", " : " ") << names[p] << " " << std::showpos << std::setprecision(3)
+         << moved(i) << std::noshowpos << " (" << std::fixed << std::setprecision(2)
+         << moved(i) / std::sqrt(prior.covariance(i, i)) << " sigma)" << std::defaultfloat;
+  }
+  line << "; " << std::fixed << std::setprecision(2)
+       << std::sqrt(moved.dot(prior.covariance.ldlt().solve(moved)))
+       << " sigmas from the calibration in all\n";
   return line.str();
 }
 

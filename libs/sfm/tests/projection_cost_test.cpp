@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <random>
 
+#include "../src/camera_refinement.h"
 #include "../src/projection_cost.h"
 #include "jacobian_check.h"
 #include "omnisfm/sim/scenario.h"
@@ -73,6 +75,44 @@ TEST(ScaledProjectionCost, JacobiansMatchNumericDerivatives) {
     EXPECT_NEAR(r_scaled[0], r_plain[0], 1e-9);
     EXPECT_NEAR(r_scaled[1], r_plain[1], 1e-9);
   }
+}
+
+TEST(RefinedProjectionCost, JacobiansMatchNumericDerivativesCameraIncluded) {
+  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  const auto shared = std::make_shared<const camera::CatadioptricCamera>(camera);
+  const Eigen::VectorXd params = camera.params();
+  const std::vector<double> camera_block(params.data(), params.data() + params.size());
+  for (const Observation& o : observations(camera, 20)) {
+    RefinedProjectionCost cost(shared, o.pixel);
+    expect_jacobians_match(cost, {o.pose, o.point, {1.0}, camera_block}, kDerivativeTolerance);
+    // At the camera's own parameters, the residual is the fixed camera's.
+    ScaledProjectionCost fixed(&camera, o.pixel);
+    double r_refined[2], r_fixed[2];
+    const double u = 1;
+    const double* refined_blocks[] = {o.pose.data(), o.point.data(), &u, camera_block.data()};
+    const double* fixed_blocks[] = {o.pose.data(), o.point.data(), &u};
+    ASSERT_TRUE(cost.Evaluate(refined_blocks, r_refined, nullptr));
+    ASSERT_TRUE(fixed.Evaluate(fixed_blocks, r_fixed, nullptr));
+    EXPECT_EQ(r_refined[0], r_fixed[0]);
+    EXPECT_EQ(r_refined[1], r_fixed[1]);
+  }
+}
+
+TEST(CameraPriorCost, WhitensTheListedParametersByTheirCovariance) {
+  // Parameters 1 and 3 of four, sigmas 2 and 3, correlation 0.5, in units of weight 0.1.
+  const Eigen::Vector4d calibrated(10, 20, 30, 40);
+  Eigen::Matrix2d covariance;
+  covariance << 4, 3, 3, 9;
+  CameraPriorCost cost(calibrated, {1, 3}, covariance, 0.1);
+  const std::vector<double> moved = {11, 22, 33, 37};
+  const double* blocks[] = {moved.data()};
+  double r[2];
+  ASSERT_TRUE(cost.Evaluate(blocks, r, nullptr));
+  // |r|^2 is 0.01 times the Mahalanobis distance of (2, -3) under the covariance.
+  const Eigen::Vector2d step(2, -3);
+  EXPECT_NEAR(r[0] * r[0] + r[1] * r[1], 0.01 * step.dot(covariance.inverse() * step), 1e-12);
+  EXPECT_NEAR(r[0], 0.1 * 2 / 2, 1e-12);  // the first listed: its own sigma
+  expect_jacobians_match(cost, {moved}, 1e-9);
 }
 
 }  // namespace

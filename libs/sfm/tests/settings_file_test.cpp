@@ -10,6 +10,7 @@
 
 #include "omnisfm/io/ini_file.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/sim/scenario.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -33,7 +34,8 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
   const SfmSettings s = settings_of(
       "[sfm]\npixel_sigma = 0.5\nupdate_iterations = 3\nsmoothed_start_frames = 0\n"
       "batch = 1\nbatch_outlier_threshold_px = 3\nhuber_px = 1.5\ncovariances = 0\n"
-      "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n");
+      "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n"
+      "refine_camera = 1\n");
   EXPECT_EQ(s.filter.pixel_sigma, 0.5);
   EXPECT_EQ(s.filter.update_iterations, 3);
   EXPECT_EQ(s.filter.smoothed_start_frames, 0);
@@ -44,6 +46,7 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
   EXPECT_EQ(s.batch.max_iterations, 50);
   EXPECT_FALSE(s.batch.scale_start);
   EXPECT_EQ(s.batch.known_distance_m, 4.08);
+  EXPECT_TRUE(s.refine_camera);
   // Absent keys keep the defaults; an empty known distance is not known.
   const SfmSettings defaults = settings_of("[sfm]\n");
   EXPECT_TRUE(defaults.batch.scale_start);
@@ -92,6 +95,25 @@ TEST(SfmSettings, MeaninglessNoiseAndDistancesAreRefusedAtTheirLine) {
   }
   EXPECT_NE(error_of("[sfm]\nknown_distance_m = 0\n").find("empty when not known"),
             std::string::npos);
+  // The camera is refined in the batch: without one there is nothing to refine it in.
+  const std::string no_batch = error_of("[sfm]\nbatch = 0\nrefine_camera = 1\n");
+  EXPECT_EQ(no_batch.rfind("test.ini:3:", 0), 0u) << no_batch;
+  EXPECT_NE(no_batch.find("batch = false"), std::string::npos) << no_batch;
+}
+
+TEST(SfmSettings, CameraPriorFromTheCalibrationsCovariance) {
+  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  io::ParameterCovariance covariance;
+  covariance.parameters = {"mirror_tz", "fx"};
+  covariance.matrix = Eigen::Matrix2d(Eigen::Vector2d(1e-8, 0.25).asDiagonal());
+  const BatchSettings::CameraPrior prior = camera_prior_from(camera, covariance);
+  const std::vector<std::string> names = camera.param_names();
+  ASSERT_EQ(prior.parameters.size(), 2u);
+  EXPECT_EQ(names[prior.parameters[0]], "mirror_tz");
+  EXPECT_EQ(names[prior.parameters[1]], "fx");
+  EXPECT_EQ(prior.covariance, covariance.matrix);
+  covariance.parameters[1] = "focal";
+  EXPECT_THROW(camera_prior_from(camera, covariance), std::invalid_argument);
 }
 
 // share/omnisfm/config/omnisfm.ini shows users every key at its default.
@@ -106,7 +128,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
         "inverse_depth_sigma", "outlier_test", "outlier_chi2", "outlier_threshold_px",
         "innovation_gate_chi2", "update_iterations", "smoothed_start_frames", "batch",
         "batch_outliers", "batch_outlier_threshold_px", "huber_px", "covariances",
-        "max_iterations", "batch_scale_start", "known_distance_m"})
+        "max_iterations", "batch_scale_start", "known_distance_m", "refine_camera"})
     EXPECT_TRUE(section.has(key)) << key;
   const SfmSettings read = read_sfm_settings(section);
   const SfmSettings defaults;
@@ -128,6 +150,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(read.batch.huber_px, defaults.batch.huber_px);
   EXPECT_EQ(read.batch.covariances, defaults.batch.covariances);
   EXPECT_EQ(read.batch.max_iterations, defaults.batch.max_iterations);
+  EXPECT_EQ(read.refine_camera, defaults.refine_camera);
   EXPECT_EQ(read.batch.scale_start, defaults.batch.scale_start);
   EXPECT_EQ(read.batch.known_distance_m, defaults.batch.known_distance_m);
 }

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+
+#include "omnisfm/sim/scenario.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -62,6 +65,28 @@ TEST(SfmReport, BatchLineGivesTheSolveAndItsResiduals) {
                                "coordinate (Function tolerance reached.)\n");
   batch.converged = false;
   EXPECT_TRUE(has(batch_line(batch), "batch: did not converge in 7"));
+}
+
+TEST(SfmReport, CameraLineGivesEachRefinedParametersMoveInSigmas) {
+  const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
+  const std::vector<std::string> names = camera.param_names();
+  const int tz = static_cast<int>(std::find(names.begin(), names.end(), "mirror_tz") -
+                                  names.begin());
+  const int fx = static_cast<int>(std::find(names.begin(), names.end(), "fx") - names.begin());
+  BatchSettings settings;
+  BatchResult batch;
+  EXPECT_EQ(camera_line(camera, batch, settings), "");  // no prior: nothing to say
+  settings.camera_prior.parameters = {tz, fx};
+  settings.camera_prior.covariance = Eigen::Vector2d(1e-8, 0.25).asDiagonal();
+  batch.scale_source = BatchScale::kFromImages;
+  batch.camera_params = camera.params();
+  batch.camera_params(tz) += 2e-4;  // 2 sigmas
+  batch.camera_params(fx) -= 0.75;  // -1.5 sigmas
+  EXPECT_EQ(camera_line(camera, batch, settings),
+            "camera: refined under the calibration's covariance: mirror_tz +0.0002 (2.00 sigma), "
+            "fx -0.75 (-1.50 sigma); 2.50 sigmas from the calibration in all\n");
+  batch.scale_source = BatchScale::kHeldAtStart;
+  EXPECT_EQ(camera_line(camera, batch, settings).rfind("camera: held as calibrated", 0), 0u);
 }
 
 }  // namespace

@@ -40,6 +40,7 @@ struct BatchSettings {
   bool scale_start = true;
   // The tracks' noise, pixels per coordinate: the reprojections' weight against the motion
   // sensors' terms, which are whitened by their own noise. Without them it changes nothing.
+  // run_sfm and run_fused_sfm set it to the filter's.
   double pixel_sigma = 1;
   // The true distance between the first and last camera positions, metres, when known (measured
   // with a tape, say); 0 when not. With it the scale is held there rather than taken from the
@@ -50,6 +51,20 @@ struct BatchSettings {
   double max_free_scale_sigma = kMaxFreeScaleSigma;
   // Threads for the solver and the covariances; 0 for one per core (one for a small problem).
   int threads = 0;
+  // A calibration's prior on the camera. With parameters listed (indices into
+  // CatadioptricCamera::params(), as a camera file's [omni_camera_covariance] names them), the
+  // batch refines them, held to the calibrated values by their covariance (in the parameters'
+  // own units), and the camera's other parameters stay as given. The camera is held while the
+  // scale is decided, then refined in a last solve, the prior weighed against the pixels at
+  // their noise (with the motion sensors' terms pixel_sigma, alone the noise the residuals show
+  // by then); where the scale is held at the start's (BatchScale::kHeldAtStart) the camera stays
+  // as calibrated, as the mirror's size would take up the scale's error. None listed: the camera
+  // is held as given.
+  struct CameraPrior {
+    std::vector<int> parameters;
+    Eigen::MatrixXd covariance;
+  };
+  CameraPrior camera_prior;
 };
 
 // Where the batch's scale comes from.
@@ -102,6 +117,11 @@ struct BatchResult {
   // frame is not the fixed first, the covariance of the point (rows) with the frame's pose
   // parameters (columns, as pose_covariances').
   std::map<std::pair<int, int>, Eigen::Matrix<double, 3, 6>> point_pose_covariances;
+  // With BatchSettings::camera_prior: the camera's params() as refined (all of them; as
+  // calibrated where the scale was held at the start's), and the covariance of the refined ones,
+  // in camera_prior's order (with the covariances, where refined).
+  Eigen::VectorXd camera_params;
+  Eigen::MatrixXd camera_covariance;
 };
 
 // observations: every observation to use (outliers already removed); cam_from_world: a start for

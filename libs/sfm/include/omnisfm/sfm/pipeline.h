@@ -16,6 +16,10 @@ struct SfmSettings {
   FilterSettings filter;
   BatchSettings batch;
   bool run_batch = true;
+  // Whether the batch refines the camera under its calibration's covariance: the programs then
+  // fill batch.camera_prior from the camera file's [omni_camera_covariance]
+  // (sfm::camera_prior_from, settings_file.h).
+  bool refine_camera = false;
   // After the batch, a track with a residual beyond this is rejected too, a track the filter
   // rejected that fits the batch's poses within it is taken back, and the batch re-run: a track
   // that slid to a nearby feature can fool the filter's test but not the whole sequence, and a

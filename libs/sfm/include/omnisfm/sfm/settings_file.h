@@ -6,9 +6,12 @@
 //   batch  (0 or 1)  batch_outliers (0 or 1)  batch_outlier_threshold_px  huber_px
 //   covariances (0 or 1)  max_iterations
 //   batch_scale_start (0 or 1)  known_distance_m (metres > 0, or empty: not known)
+//   refine_camera (0 or 1)
 
 #include <string>
 
+#include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/ini_file.h"
 #include "omnisfm/sfm/pipeline.h"
 
@@ -19,5 +22,11 @@ namespace omnisfm::sfm {
 SfmSettings read_sfm_settings(const std::string& path);
 // The same from a section already read (its name is not checked).
 SfmSettings read_sfm_settings(const io::IniSection& section);
+
+// The batch's prior on `camera` from its calibration's covariance (io::read_camera_covariance):
+// the named parameters' indices in camera.params(). Throws std::invalid_argument for a name the
+// camera does not have.
+BatchSettings::CameraPrior camera_prior_from(const camera::CatadioptricCamera& camera,
+                                             const io::ParameterCovariance& covariance);
 
 }  // namespace omnisfm::sfm
