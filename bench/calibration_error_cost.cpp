@@ -79,21 +79,24 @@ int main(int argc, char** argv) {
       const auto held = errors(solved(calibrated, d, {}), d);
       const sfm::SfmResult refinement = solved(calibrated, d, prior);
       const auto refined = errors(refinement, d);
-      // NaN where the batch held the scale and with it the camera (no covariance).
-      const bool was_refined = refinement.batch.camera_covariance.size() > 0;
+      // Where the batch held the scale, and the camera with it: NaN, and the calibrated camera.
+      const bool was_refined = refinement.batch.camera_refined;
       const double nees =
           was_refined ? std::pow(eval::sigmas_from_truth(refinement.batch.camera_params, d.camera,
                                                          prior, refinement.batch.camera_covariance),
                                  2)
                       : NAN;
+      const double sigmas_calibrated =
+          eval::sigmas_from_truth(calibrated.params(), d.camera, prior, prior.covariance);
+      const double sigmas_refined =
+          was_refined ? eval::sigmas_from_truth(refinement.batch.camera_params, d.camera, prior,
+                                                prior.covariance)
+                      : sigmas_calibrated;
       std::printf("%s %d %.4f %.4f %.4f %.4f %.4f %.4f %.2f %.2f %.2f\n", scenario, seed,
                   exact.translation_error_percent, exact.mean_rotation_error_deg,
                   held.translation_error_percent, held.mean_rotation_error_deg,
                   refined.translation_error_percent, refined.mean_rotation_error_deg,
-                  eval::sigmas_from_truth(calibrated.params(), d.camera, prior, prior.covariance),
-                  eval::sigmas_from_truth(refinement.batch.camera_params, d.camera, prior,
-                                          prior.covariance),
-                  nees);
+                  sigmas_calibrated, sigmas_refined, nees);
       std::fflush(stdout);
       calibrated_percent.push_back(held.translation_error_percent /
                                    exact.translation_error_percent);

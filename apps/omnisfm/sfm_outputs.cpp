@@ -90,7 +90,7 @@ std::string compare_written_online_with_truth(const std::string& dir,
 
 void write_refined_camera(const std::string& dir, const camera::CatadioptricCamera& camera,
                           const sfm::BatchResult& batch, const sfm::BatchSettings& settings) {
-  if (batch.camera_params.size() != camera.num_params()) return;
+  if (!batch.camera_refined) return;
   camera::CatadioptricCamera refined = camera;
   if (!refined.set_params(batch.camera_params))
     throw std::runtime_error("the batch's refined camera is not a valid camera");

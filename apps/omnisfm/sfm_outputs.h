@@ -16,8 +16,9 @@ namespace omnisfm::app {
 void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,
                        const std::vector<double>& frame_times, const std::string& report);
 
-// With the camera refined by the batch, DIR/camera_refined.ini: `camera` at the batch's
-// parameters, with the batch's covariance of the refined ones when it has one. Nothing otherwise.
+// With the camera refined by the batch (BatchResult::camera_refined), DIR/camera_refined.ini:
+// `camera` at the batch's parameters, with the batch's covariance of the refined ones when it
+// has one. Nothing otherwise.
 void write_refined_camera(const std::string& dir, const camera::CatadioptricCamera& camera,
                           const sfm::BatchResult& batch, const sfm::BatchSettings& settings);
 

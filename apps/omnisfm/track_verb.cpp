@@ -2,7 +2,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <set>
 #include <string>
 
 #include "omnisfm/io/input_error.h"
@@ -151,18 +150,18 @@ void add_track_verb(CLI::App& app) {
     }
     // Counts of what tracks.vnl holds, and how the tracker's own counts come to them.
     const auto& s = result.statistics;
-    std::set<int> ids;
-    for (const auto& observation : result.observations) ids.insert(observation.track);
     const track::TrackLengths lengths = track::track_lengths(result.observations);
     std::printf(
-        "frames %zu, tracks %zu (%d started, %d seen in one frame only and left out), "
-        "lasting %d frames at the median (longest %d), observations %zu, reacquired %d (%d after a gap in their track, %d in the frame that "
-        "lost them); ended: %d failed the forward-backward check, %d the appearance check, %d "
-        "changed shape too much, %d left the mirror, %d duplicates; %.1f ms per frame\n",
-        result.frames.size(), ids.size(), s.started, result.single_frame_tracks,
-        lengths.median_frames, lengths.longest_frames, result.observations.size(), s.reacquired, s.reacquired - s.reacquired_at_once,
-        s.reacquired_at_once, s.forward_backward + s.lost, s.appearance, s.reshaped,
-        s.left_region, s.duplicate, 1000 * result.tracking_seconds / result.frames.size());
+        "frames %zu, tracks %d (%d started, %d seen in one frame only and left out), lasting %d "
+        "frames at the median (longest %d), observations %zu, reacquired %d (%d after a gap in "
+        "their track, %d in the frame that lost them); ended: %d failed the forward-backward "
+        "check, %d the appearance check, %d changed shape too much, %d left the mirror, %d "
+        "duplicates; %.1f ms per frame\n",
+        result.frames.size(), lengths.tracks, s.started, result.single_frame_tracks,
+        lengths.median_frames, lengths.longest_frames, result.observations.size(), s.reacquired,
+        s.reacquired - s.reacquired_at_once, s.reacquired_at_once, s.forward_backward + s.lost,
+        s.appearance, s.reshaped, s.left_region, s.duplicate,
+        1000 * result.tracking_seconds / result.frames.size());
     finish_stdout();
   });
 }

@@ -32,7 +32,11 @@ void apply_camera_prior(const std::string& config_file, const std::string& camer
                          "[sfm] refine_camera refines the camera under its calibration's "
                          "covariance, and this file holds no [omni_camera_covariance] (omnisfm "
                          "calibrate writes it)");
-  settings->batch.camera_prior = sfm::camera_prior_from(*camera, *covariance);
+  try {
+    settings->batch.camera_prior = sfm::camera_prior_from(*camera, *covariance);
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(camera_file, 0, std::string("[omni_camera_covariance]: ") + e.what());
+  }
 }
 
 io::VnlogTable read_table_or_stdin(const std::string& path) {

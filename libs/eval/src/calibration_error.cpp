@@ -1,9 +1,11 @@
 #include "omnisfm/eval/calibration_error.h"
 
 #include <Eigen/Cholesky>
-#include <cmath>
 #include <random>
 #include <stdexcept>
+#include <string>
+
+#include "omnisfm/core/mahalanobis.h"
 
 namespace omnisfm::eval {
 
@@ -27,11 +29,15 @@ camera::CatadioptricCamera calibrated_with_error(const camera::CatadioptricCamer
 double sigmas_from_truth(const Eigen::VectorXd& params, const camera::CatadioptricCamera& truth,
                          const sfm::BatchSettings::CameraPrior& prior,
                          const Eigen::MatrixXd& covariance) {
+  if (params.size() != truth.num_params())
+    throw std::invalid_argument("sigmas_from_truth: " + std::to_string(params.size()) +
+                                " parameters for a camera of " +
+                                std::to_string(truth.num_params()));
   const Eigen::VectorXd true_params = truth.params();
   Eigen::VectorXd error(prior.parameters.size());
   for (Eigen::Index i = 0; i < error.size(); ++i)
     error(i) = params(prior.parameters[i]) - true_params(prior.parameters[i]);
-  return std::sqrt(error.dot(covariance.ldlt().solve(error)));
+  return core::mahalanobis(error, covariance);
 }
 
 }  // namespace omnisfm::eval

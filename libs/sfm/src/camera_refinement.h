@@ -13,6 +13,7 @@
 #include "projection_cost.h"
 
 namespace omnisfm::sfm {
+namespace detail {
 
 // `base` with its params() set to `params` (num_params() values), or null where the camera
 // refuses them. Each thread keeps one such camera and sets it again only when the values change:
@@ -36,6 +37,8 @@ inline const camera::CatadioptricCamera* camera_at(
   return cached.valid ? &*cached.camera : nullptr;
 }
 
+}  // namespace detail
+
 // ScaledProjectionCost's residual with the camera's params() as a fourth parameter block.
 class RefinedProjectionCost : public ceres::CostFunction {
  public:
@@ -49,7 +52,7 @@ class RefinedProjectionCost : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     if (!(parameters[2][0] > 0)) return false;  // the scene at or past infinity
-    const camera::CatadioptricCamera* camera = camera_at(camera_, parameters[3]);
+    const camera::CatadioptricCamera* camera = detail::camera_at(camera_, parameters[3]);
     if (!camera) return false;
     const bool params_jacobian = jacobians && jacobians[3];
     camera::ParamsJacobian J_params;
@@ -70,8 +73,9 @@ class RefinedProjectionCost : public ceres::CostFunction {
 };
 
 // A calibration's Gaussian prior on some of the camera's params(): `weight` L^-1 (params[i] -
-// calibrated[i]) over the listed i, with L L^T their covariance. `weight` puts it in the units
-// of the residuals it sits among (the pixel noise where those are in pixels).
+// calibrated[i]) over the listed i, with L L^T their covariance (positive definite:
+// camera_prior_problem). `weight` puts it in the units of the residuals it sits among (the pixel
+// noise where those are in pixels).
 class CameraPriorCost : public ceres::CostFunction {
  public:
   CameraPriorCost(const Eigen::VectorXd& calibrated, const std::vector<int>& parameters,

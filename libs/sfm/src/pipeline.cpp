@@ -139,7 +139,8 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail,
   // with the camera as the batch left it.
   camera::CatadioptricCamera optimised = batch_camera(camera);
-  if (result->batch.camera_params.size() > 0) optimised.set_params(result->batch.camera_params);
+  if (result->batch.camera_refined && !optimised.set_params(result->batch.camera_params))
+    throw std::runtime_error("the batch's refined camera is not a valid camera");
   std::map<int, int> failing;
   for (const auto& o : inliers) {
     const auto point = result->batch.points.find(o.track);
@@ -170,9 +171,17 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
       batch_adjust(camera, kept, result->batch.cam_from_world, start_points, batch, extra);
 }
 
+void check_settings(const SfmSettings& settings) {
+  if (settings.refine_camera && settings.batch.camera_prior.parameters.empty())
+    throw std::invalid_argument(
+        "refine_camera: no batch.camera_prior to refine the camera under (camera_prior_from "
+        "makes it from the camera file's [omni_camera_covariance])");
+}
+
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,
                   const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
                   const Progress& progress) {
+  check_settings(settings);
   SfmResult result;
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
   result.num_frames = static_cast<int>(by_frame.size());

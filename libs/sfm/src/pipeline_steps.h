@@ -18,6 +18,10 @@ void run_filter(const camera::CatadioptricCamera& camera,
                 const PredictedMotion& predicted_motion,
                 const Progress& progress, SfmResult* result);
 
+// Throws std::invalid_argument, before any work, for settings that cannot be run: refine_camera
+// without the camera's prior to refine it under.
+void check_settings(const SfmSettings& settings);
+
 // Throws std::runtime_error when the filter's camera barely translates against the scene's depth.
 void refuse_degenerate_motion(const SfmResult& result);
 

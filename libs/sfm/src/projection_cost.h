@@ -12,8 +12,9 @@
 namespace omnisfm::sfm {
 
 // pixel - observed for the camera-frame point X = (R(aa) p + t) / u, with the Jacobians asked
-// for (row-major; null when not; J_params with respect to the camera's params()). dX/daa = -[R p]x J_left(aa) / u (aa + d turns R by J_left(aa) d
-// on the left), dX/dt = I / u, dX/dp = R / u, dX/du = -X / u.
+// for (row-major; null when not; J_params with respect to the camera's params()).
+// dX/daa = -[R p]x J_left(aa) / u (aa + d turns R by J_left(aa) d on the left), dX/dt = I / u,
+// dX/dp = R / u, dX/du = -X / u.
 inline bool evaluate_projection(const camera::CatadioptricCamera& camera,
                                 const Eigen::Vector2d& observed, const double* pose,
                                 const double* point, double u, double* residuals,

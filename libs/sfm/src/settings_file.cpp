@@ -66,10 +66,13 @@ BatchSettings::CameraPrior camera_prior_from(const camera::CatadioptricCamera& c
   for (const std::string& name : covariance.parameters) {
     const auto at = std::find(names.begin(), names.end(), name);
     if (at == names.end())
-      throw std::invalid_argument("the covariance names " + name + ", which the camera does not have");
+      throw std::invalid_argument("the covariance names " + name +
+                                  ", which the camera does not have");
     prior.parameters.push_back(static_cast<int>(at - names.begin()));
   }
   prior.covariance = covariance.matrix;
+  if (const std::string wrong = camera_prior_problem(camera, prior); !wrong.empty())
+    throw std::invalid_argument(wrong);
   return prior;
 }
 

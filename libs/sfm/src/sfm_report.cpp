@@ -1,6 +1,6 @@
 #include "omnisfm/sfm/sfm_report.h"
 
-#include <Eigen/Cholesky>
+#include "omnisfm/core/mahalanobis.h"
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -41,8 +41,13 @@ std::string scale_line(const SfmResult& result, const BatchSettings& settings) {
   line << "scale: ";
   switch (batch.scale_source) {
     case BatchScale::kFromImages:
-      line << "from the images, +- " << percent(batch.scale_sigma_relative)
-           << " (1 sigma; kept free: within a factor 2 at 3 sigma)";
+      line << "from the images, +- " << percent(batch.scale_sigma_relative);
+      if (std::isfinite(batch.scale_sigma_relative_camera_held))
+        line << " (1 sigma, with the camera refined; kept free as the images fix it to +- "
+             << percent(batch.scale_sigma_relative_camera_held)
+             << " with the camera as calibrated, within a factor 2 at 3 sigma)";
+      else
+        line << " (1 sigma; kept free: within a factor 2 at 3 sigma)";
       break;
     case BatchScale::kHeldAtStart:
       line << "held at the filter's: " << images_fix_it(batch, "fix it only to")
@@ -82,10 +87,15 @@ std::string batch_line(const BatchResult& batch) {
 std::string camera_line(const camera::CatadioptricCamera& camera, const BatchResult& batch,
                         const BatchSettings& settings) {
   const BatchSettings::CameraPrior& prior = settings.camera_prior;
-  if (prior.parameters.empty() || batch.camera_params.size() != camera.num_params()) return "";
-  if (batch.scale_source == BatchScale::kHeldAtStart)
-    return "camera: held as calibrated: the images do not fix the scale, which the mirror's size "
-           "would take up\n";
+  if (prior.parameters.empty()) return "";
+  if (!batch.camera_refined) {
+    if (batch.scale_source == BatchScale::kHeldAtStart)
+      return "camera: held as calibrated: the images do not fix the scale, which the mirror's "
+             "size would take up\n";
+    if (batch.scale_source == BatchScale::kNoTranslation)
+      return "camera: held as calibrated: no camera moves from the first\n";
+    return "camera: held as calibrated: the refining solve failed\n";
+  }
   const std::vector<std::string> names = camera.param_names();
   const Eigen::VectorXd calibrated = camera.params();
   const int k = static_cast<int>(prior.parameters.size());
@@ -100,8 +110,7 @@ std::string camera_line(const camera::CatadioptricCamera& camera, const BatchRes
          << moved(i) / std::sqrt(prior.covariance(i, i)) << " sigma)" << std::defaultfloat;
   }
   line << "; " << std::fixed << std::setprecision(2)
-       << std::sqrt(moved.dot(prior.covariance.ldlt().solve(moved)))
-       << " sigmas from the calibration in all\n";
+       << core::mahalanobis(moved, prior.covariance) << " sigmas from the calibration in all\n";
   return line.str();
 }
 

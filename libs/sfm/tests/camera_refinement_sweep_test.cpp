@@ -21,7 +21,7 @@ namespace {
 // Measured: refined on 8 of the 10 seeds (2 and 9 hold the scale, and the camera with it); over
 // those the NEES (5 parameters: 5 when honest) 2.9-11.6, mean 7.2, and the batch's translation
 // error 1.00-1.10x the exact camera's but seed 3's 1.37x (0.98-2.45x unrefined, median 1.36).
-TEST(CameraRefinementSweep, RefinedCamerasNearTheTruthWithHonestCovariances) {
+TEST(CameraRefinementSweep, RefinedCamerasNearTheTruthAndTheirCovariancesNearlyHonest) {
   std::vector<double> nees, ratios;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
     sim::SimulationOptions options;
@@ -31,8 +31,9 @@ TEST(CameraRefinementSweep, RefinedCamerasNearTheTruthWithHonestCovariances) {
     const BatchSettings::CameraPrior prior = lab_target_calibration_prior(d.camera);
     SfmSettings settings;
     settings.batch.camera_prior = prior;
-    const SfmResult refined =
-        run_sfm(eval::calibrated_with_error(d.camera, prior, 1000 + seed), d.observations, settings);
+    const camera::CatadioptricCamera calibrated =
+        eval::calibrated_with_error(d.camera, prior, 1000 + seed);
+    const SfmResult refined = run_sfm(calibrated, d.observations, settings);
     if (refined.batch.scale_source == BatchScale::kHeldAtStart) continue;
     ASSERT_EQ(refined.batch.camera_covariance.rows(), 5) << seed;
     nees.push_back(std::pow(eval::sigmas_from_truth(refined.batch.camera_params, d.camera, prior,
@@ -48,9 +49,10 @@ TEST(CameraRefinementSweep, RefinedCamerasNearTheTruthWithHonestCovariances) {
   ASSERT_GE(nees.size(), 6u);
   double mean = 0;
   for (double n : nees) mean += n / nees.size();
-  // The mean of 8 chi-square(5) draws is 5 +- 1.1: overconfident by at most twice the variance.
+  // The mean of 8 chi-square(5) draws is 5 +- 1.1. Measured 7.2: about 1.4 times overconfident
+  // in variance; the bound allows 1.8.
   EXPECT_GT(mean, 2.5);
-  EXPECT_LT(mean, 10);
+  EXPECT_LT(mean, 9);
   std::sort(ratios.begin(), ratios.end());
   EXPECT_LT(ratios[(ratios.size() - 1) / 2], 1.1);
   EXPECT_LT(ratios.back(), 1.5);

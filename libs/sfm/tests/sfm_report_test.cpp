@@ -24,6 +24,13 @@ TEST(SfmReport, ScaleLineSaysHeldWhereverTheBatchHeldIt) {
   const std::string free = scale_line(result, settings);
   EXPECT_EQ(free.rfind("scale: from the images, +- 3.1 %", 0), 0u) << free;
   EXPECT_FALSE(has(free, "held")) << free;
+  result.batch.scale_sigma_relative_camera_held = 0.084;
+  result.batch.scale_sigma_relative = 0.28;
+  EXPECT_EQ(scale_line(result, settings),
+            "scale: from the images, +- 28 % (1 sigma, with the camera refined; kept free as the "
+            "images fix it to +- 8.4 % with the camera as calibrated, within a factor 2 at 3 "
+            "sigma)\n");
+  result.batch.scale_sigma_relative_camera_held = NAN;
   result.batch.scale_source = BatchScale::kHeldAtStart;
   result.batch.scale_sigma_relative = 0.8;
   const std::string at_start = scale_line(result, settings);
@@ -79,14 +86,24 @@ TEST(SfmReport, CameraLineGivesEachRefinedParametersMoveInSigmas) {
   settings.camera_prior.parameters = {tz, fx};
   settings.camera_prior.covariance = Eigen::Vector2d(1e-8, 0.25).asDiagonal();
   batch.scale_source = BatchScale::kFromImages;
+  batch.camera_refined = true;
   batch.camera_params = camera.params();
   batch.camera_params(tz) += 2e-4;  // 2 sigmas
   batch.camera_params(fx) -= 0.75;  // -1.5 sigmas
   EXPECT_EQ(camera_line(camera, batch, settings),
             "camera: refined under the calibration's covariance: mirror_tz +0.0002 (2.00 sigma), "
             "fx -0.75 (-1.50 sigma); 2.50 sigmas from the calibration in all\n");
+  // Not refined, the line says why.
+  batch.camera_refined = false;
+  EXPECT_EQ(camera_line(camera, batch, settings),
+            "camera: held as calibrated: the refining solve failed\n");
   batch.scale_source = BatchScale::kHeldAtStart;
-  EXPECT_EQ(camera_line(camera, batch, settings).rfind("camera: held as calibrated", 0), 0u);
+  EXPECT_EQ(camera_line(camera, batch, settings),
+            "camera: held as calibrated: the images do not fix the scale, which the mirror's size "
+            "would take up\n");
+  batch.scale_source = BatchScale::kNoTranslation;
+  EXPECT_EQ(camera_line(camera, batch, settings),
+            "camera: held as calibrated: no camera moves from the first\n");
 }
 
 }  // namespace

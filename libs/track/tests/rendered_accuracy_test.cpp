@@ -105,7 +105,7 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, RenderedAccuracy,
                                            Expected{"crane", "clean", 60, 0.1, 0.3, 0.01, 1, 18},
                                            Expected{"rover", "clean", 60, 0.1, 0.35, 0.02, 1, 6},
                                            Expected{"lab", "realistic", 41, 0.15, 0.5, 0.015, 2, 3},
-                                           Expected{"crane", "realistic", 60, 0.1, 0.35, 0.02, 2, 3},
+                                           Expected{"crane", "realistic", 60, 0.1, 0.35, 0.02, 2, 2},
                                            Expected{"rover", "realistic", 60, 0.1, 0.35, 0.01, 1, 5}),
                          scenario_name);
 

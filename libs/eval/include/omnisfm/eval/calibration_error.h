@@ -18,7 +18,8 @@ camera::CatadioptricCamera calibrated_with_error(const camera::CatadioptricCamer
                                                  std::uint64_t seed);
 
 // The Mahalanobis distance of `params` (as CatadioptricCamera::params()) from the truth's over
-// the prior's parameters, under `covariance` (of those parameters, in the prior's order).
+// the prior's parameters, under `covariance` (of those parameters, in the prior's order); NaN
+// when it is not positive definite. Throws std::invalid_argument for params of another size.
 double sigmas_from_truth(const Eigen::VectorXd& params, const camera::CatadioptricCamera& truth,
                          const sfm::BatchSettings::CameraPrior& prior,
                          const Eigen::MatrixXd& covariance);

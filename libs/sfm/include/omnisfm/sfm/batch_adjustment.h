@@ -99,6 +99,10 @@ struct BatchResult {
   // given), not the uncertainty of the result's scale.
   BatchScale scale_source = BatchScale::kNoTranslation;
   double scale_sigma_relative = NAN;
+  // With the camera refined and the scale from the images: scale_sigma_relative is the scale's
+  // with the camera refined with it, and this the one with the camera as calibrated, which
+  // decided that the images fix the scale. NaN otherwise.
+  double scale_sigma_relative_camera_held = NAN;
   std::vector<Eigen::Isometry3d> cam_from_world;  // per frame
   // The same as the batch's parameters, the coordinates of pose_covariances: cam_from_world's
   // rotation as an angle-axis vector (its angle may pass pi a little), then its translation.
@@ -117,9 +121,11 @@ struct BatchResult {
   // frame is not the fixed first, the covariance of the point (rows) with the frame's pose
   // parameters (columns, as pose_covariances').
   std::map<std::pair<int, int>, Eigen::Matrix<double, 3, 6>> point_pose_covariances;
-  // With BatchSettings::camera_prior: the camera's params() as refined (all of them; as
-  // calibrated where the scale was held at the start's), and the covariance of the refined ones,
-  // in camera_prior's order (with the covariances, where refined).
+  // With BatchSettings::camera_prior, whether the camera was refined: not where the scale was
+  // held at the start's or nothing moved, nor when the refining solve failed (the result is then
+  // the one before it). Refined, the camera's params() (all of them) and, with the covariances,
+  // the covariance of the refined ones in camera_prior's order.
+  bool camera_refined = false;
   Eigen::VectorXd camera_params;
   Eigen::MatrixXd camera_covariance;
 };
@@ -132,6 +138,11 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);
+
+// What is wrong with `prior` for `camera` (a parameter out of range or listed twice, a
+// covariance of the wrong size, not symmetric, not finite or not positive definite), or empty.
+std::string camera_prior_problem(const camera::CatadioptricCamera& camera,
+                                 const BatchSettings::CameraPrior& prior);
 
 // The pose of the batch's parameters (BatchResult::pose_parameters): cam_from_world.
 Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters);

@@ -25,7 +25,7 @@ SfmSettings read_sfm_settings(const io::IniSection& section);
 
 // The batch's prior on `camera` from its calibration's covariance (io::read_camera_covariance):
 // the named parameters' indices in camera.params(). Throws std::invalid_argument for a name the
-// camera does not have.
+// camera does not have, or a covariance the batch cannot use (camera_prior_problem).
 BatchSettings::CameraPrior camera_prior_from(const camera::CatadioptricCamera& camera,
                                              const io::ParameterCovariance& covariance);
 

@@ -17,13 +17,14 @@ std::string outliers_phrase(const SfmResult& result);
 std::string batch_line(const BatchResult& batch);
 
 // The batch's scale, beginning "scale:" and ending in a newline: where it comes from, its
-// relative standard deviation, and "held" (why, and where) when the batch held it.
+// relative standard deviation (with the camera refined, that and the one with the camera as
+// calibrated, which decided), and "held" (why, and where) when the batch held it.
 std::string scale_line(const SfmResult& result, const BatchSettings& settings);
 
 // With the camera refined (BatchSettings::camera_prior), the line beginning "camera:" and ending
 // in a newline: each refined parameter's move from the calibrated `camera`, in its units and in
-// the calibration's sigmas, and the move's distance in those sigmas (Mahalanobis); where the
-// scale was held at the start's, that the camera was held as calibrated. Empty without a prior.
+// the calibration's sigmas, and the move's distance in those sigmas (Mahalanobis); not refined,
+// that the camera was held as calibrated, and why. Empty without a prior.
 std::string camera_line(const camera::CatadioptricCamera& camera, const BatchResult& batch,
                         const BatchSettings& settings);
 
