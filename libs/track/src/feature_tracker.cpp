@@ -316,19 +316,97 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
   return false;
 }
 
+namespace {
+
+// Within this, two alignments found the same place.
+constexpr double kSamePositionPx = 1.0;
+// A start where the reference correlates this little is not near the feature: not worth an
+// alignment.
+constexpr double kMinStartNcc = 0.25;
+// How far about the place found twins are looked for: three search radii (a prediction may be
+// off by more than the disc: the feature turned up elsewhere while hidden, and a twin into it),
+// and at least four patch widths (texture that repeats that closely is ambiguous whatever the
+// gap).
+constexpr double kRepeatReach = 3;
+constexpr double kRepeatMinReachPatches = 4;
+
+}  // namespace
+
+std::vector<FeatureTracker::Place> FeatureTracker::reacquisition_starts(
+    const Track& t, const Eigen::Vector2d& predicted, double radius,
+    const std::vector<cv::Point2f>& corners, const std::vector<bool>& corner_used,
+    const std::vector<bool>& young_ended) const {
+  std::vector<Place> starts(1);
+  starts[0].warp.b = predicted;
+  int nearest_corner = -1;
+  double corner_distance = INFINITY;
+  for (size_t c = 0; c < corners.size(); ++c) {
+    const double distance = (vector(corners[c]) - predicted).norm();
+    if (!corner_used[c] && distance <= radius && distance < corner_distance) {
+      nearest_corner = static_cast<int>(c);
+      corner_distance = distance;
+    }
+  }
+  if (nearest_corner >= 0) {
+    starts.emplace_back();
+    starts.back().warp.b = vector(corners[nearest_corner]);
+  }
+  int nearest_young = -1;
+  double young_distance = radius;
+  for (size_t i = 0; i < live_.size(); ++i) {
+    const double distance = (live_[i].position - predicted).norm();
+    if (!young_ended[i] && live_[i].first_frame > t.last_frame && distance <= young_distance) {
+      nearest_young = static_cast<int>(i);
+      young_distance = distance;
+    }
+  }
+  if (nearest_young >= 0) {
+    starts.emplace_back();
+    starts.back().warp.b = live_[nearest_young].position;
+    starts.back().young = nearest_young;
+  }
+  return starts;
+}
+
+std::vector<FeatureTracker::Place> FeatureTracker::places_found(
+    const Track& t, const std::vector<Place>& starts, const Eigen::Vector2d& predicted,
+    double radius) const {
+  std::vector<Place> found;
+  for (const Place& start : starts) {
+    AffineWarp warp = t.warp;
+    warp.b = start.warp.b;
+    if (t.reference.ncc(aligned_image_, warp) < kMinStartNcc) continue;
+    const AlignmentResult aligned =
+        t.reference.align(aligned_image_, &warp, kMaxAlignmentIterations, kAlignmentTolerancePx);
+    if (!aligned.converged || aligned.ncc < settings_.sudden_loss_ncc ||
+        (warp.b - predicted).norm() > radius || !in_region(warp.b))
+      continue;
+    const auto same = std::find_if(found.begin(), found.end(), [&](const Place& f) {
+      return (f.warp.b - warp.b).norm() < kSamePositionPx;
+    });
+    if (same == found.end())
+      found.push_back({warp, start.young, aligned.ncc});
+    else if (start.young >= 0)
+      same->young = start.young;
+  }
+  return found;
+}
+
+bool FeatureTracker::recognised_at(const Track& t, const Place& place, double radius) const {
+  // The descriptor, taken where the track started, must agree; then no twin may lie around (the
+  // costlier test, last).
+  const Eigen::Matrix2d& A = place.warp.A;
+  const double turned = std::atan2(A(1, 0) - A(0, 1), A(0, 0) + A(1, 1));
+  const Descriptor now = describe(image_, point(place.warp.b), turned);
+  return now.valid && t.descriptor.valid &&
+         hamming_distance(now, t.descriptor) <= settings_.max_descriptor_distance &&
+         !repeated_nearby(t, place.warp,
+                          std::max(kRepeatReach * radius,
+                                   kRepeatMinReachPatches * (2 * t.reference.half_size() + 1)));
+}
+
 void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
                                std::vector<cv::Point2f>* reacquired) {
-  constexpr double kSamePositionPx = 1.0;
-  constexpr size_t kCornersTried = 1;
-  // A start where the reference correlates this little is not near the feature: not worth an
-  // alignment.
-  constexpr double kMinStartNcc = 0.25;
-  // How far about the place found twins are looked for: three search radii (a prediction may be
-  // off by more than the disc: the feature turned up elsewhere while hidden, and a twin into
-  // it), and at least four patch widths (texture that repeats that closely is ambiguous
-  // whatever the gap).
-  constexpr double kRepeatReach = 3;
-  constexpr double kRepeatMinReachPatches = 4;
   std::vector<bool> corner_used(corners->size(), false), young_ended(live_.size(), false);
   std::deque<Track> still_lost;
   std::vector<Track> back;
@@ -336,73 +414,14 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
     const Eigen::Vector2d predicted = t.predicted(frame_);
     const double radius = settings_.reacquire_radius_px +
                           (frame_ - t.last_frame) * settings_.reacquire_radius_growth_px;
-    // Where to start looking: the prediction, the nearest new corner, and the nearest track
-    // started since the loss (the feature coming out from behind an occluder may have been taken
-    // for a new one before it could be recognised).
-    std::vector<std::pair<Eigen::Vector2d, int>> starts{{predicted, -1}};  // (where, young track)
-    std::vector<std::pair<double, size_t>> nearest;
-    for (size_t c = 0; c < corners->size(); ++c) {
-      const double distance = (vector((*corners)[c]) - predicted).norm();
-      if (!corner_used[c] && distance <= radius) nearest.emplace_back(distance, c);
-    }
-    std::sort(nearest.begin(), nearest.end());
-    for (size_t k = 0; k < std::min(kCornersTried, nearest.size()); ++k)
-      starts.emplace_back(vector((*corners)[nearest[k].second]), -1);
-    int nearest_young = -1;
-    double young_distance = radius;
-    for (size_t i = 0; i < live_.size(); ++i) {
-      const double distance = (live_[i].position - predicted).norm();
-      if (!young_ended[i] && live_[i].first_frame > t.last_frame && distance <= young_distance) {
-        nearest_young = static_cast<int>(i);
-        young_distance = distance;
-      }
-    }
-    if (nearest_young >= 0) starts.emplace_back(live_[nearest_young].position, nearest_young);
-
-    // Every place the track's reference aligns well near the prediction; more than one is
-    // repeated texture, and refused.
-    struct Found {
-      AffineWarp warp;
-      int young;  // the young track there, or -1
-      double ncc;
-    };
-    std::vector<Found> found;
-    for (const auto& [start, young] : starts) {
-      AffineWarp warp = t.warp;
-      warp.b = start;
-      if (t.reference.ncc(aligned_image_, warp) < kMinStartNcc) continue;
-      const AlignmentResult aligned =
-          t.reference.align(aligned_image_, &warp, kMaxAlignmentIterations, kAlignmentTolerancePx);
-      if (!aligned.converged || aligned.ncc < settings_.sudden_loss_ncc ||
-          (warp.b - predicted).norm() > radius || !in_region(warp.b))
-        continue;
-      const auto same = std::find_if(found.begin(), found.end(), [&](const Found& f) {
-        return (f.warp.b - warp.b).norm() < kSamePositionPx;
-      });
-      if (same == found.end())
-        found.push_back({warp, young, aligned.ncc});
-      else if (young >= 0)
-        same->young = young;
-    }
-    bool recognised = found.size() == 1;
-    if (recognised) {
-      // The descriptor, taken where the track started, must agree too; then no twin may lie
-      // around (the costlier test, last).
-      const Eigen::Matrix2d& A = found[0].warp.A;
-      const double turned = std::atan2(A(1, 0) - A(0, 1), A(0, 0) + A(1, 1));
-      const Descriptor now = describe(image_, point(found[0].warp.b), turned);
-      recognised = now.valid && t.descriptor.valid &&
-                   hamming_distance(now, t.descriptor) <= settings_.max_descriptor_distance &&
-                   !repeated_nearby(t, found[0].warp,
-                                    std::max(kRepeatReach * radius,
-                                             kRepeatMinReachPatches *
-                                                 (2 * t.reference.half_size() + 1)));
-    }
-    if (!recognised) {
+    const std::vector<Place> found = places_found(
+        t, reacquisition_starts(t, predicted, radius, *corners, corner_used, young_ended),
+        predicted, radius);
+    if (found.size() != 1 || !recognised_at(t, found[0], radius)) {
       still_lost.push_back(std::move(t));
       continue;
     }
-    const Found& here = found[0];
+    const Place& here = found[0];
     if (here.young >= 0) young_ended[here.young] = true;
     for (size_t c = 0; c < corners->size(); ++c)
       if ((vector((*corners)[c]) - here.warp.b).norm() < settings_.min_distance_px)

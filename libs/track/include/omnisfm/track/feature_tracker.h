@@ -82,6 +82,25 @@ class FeatureTracker {
   // Lost tracks recognised near their predicted position continue; the corners near where
   // they are found are removed, and their positions added to `reacquired`.
   void reacquire(std::vector<cv::Point2f>* corners, std::vector<cv::Point2f>* reacquired);
+  // Where a lost track may be, and the young track there, if any.
+  struct Place {
+    AffineWarp warp;
+    int young = -1;  // index into live_, or -1
+    double ncc = 0;
+  };
+  // Where to start looking for lost track t within `radius` of `predicted`: the prediction, the
+  // nearest unused corner, and the nearest track started since the loss and not yet ended (the
+  // feature coming out from behind an occluder may have been taken for a new one).
+  std::vector<Place> reacquisition_starts(const Track& t, const Eigen::Vector2d& predicted,
+                                          double radius, const std::vector<cv::Point2f>& corners,
+                                          const std::vector<bool>& corner_used,
+                                          const std::vector<bool>& young_ended) const;
+  // Every distinct place near the prediction where t's reference aligns as well as it did
+  // before the loss; more than one is repeated texture.
+  std::vector<Place> places_found(const Track& t, const std::vector<Place>& starts,
+                                  const Eigen::Vector2d& predicted, double radius) const;
+  // Whether t is the feature at `place`: its descriptor agrees and no twin lies around.
+  bool recognised_at(const Track& t, const Place& place, double radius) const;
   // Whether t's reference, found at `found`, also aligns at a twin within `radius` of it:
   // TrackerSettings::twin_ncc.
   bool repeated_nearby(const Track& t, const AffineWarp& found, double radius) const;
