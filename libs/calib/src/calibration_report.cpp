@@ -129,13 +129,10 @@ std::string uncertainty_script(const CalibrationOutcome& outcome) {
   return gp.str();
 }
 
-}  // namespace
-
-std::string report_text(const CalibrationOutcome& outcome) {
+// The camera file, the inputs, the status, the solver's stages and what was estimated or held.
+void write_header_and_stages(const CalibrationOutcome& outcome, std::ostream& out) {
   const StagedReport& staged = *outcome.report;
   const CalibrationReport& r = staged.final;
-  const std::vector<CalibrationView>& views = *outcome.views;
-  std::ostringstream out;
   out << "omnisfm calibration report\n\n";
   out << "camera file: "
       << (outcome.camera_file.empty() ? std::string("not written (see status)")
@@ -161,6 +158,12 @@ std::string report_text(const CalibrationOutcome& outcome) {
     for (const HeldParameter& held : staged.held) out << "  " << held.name << ": " << held.reason << "\n";
   }
 
+}
+
+// The residuals over all views, per view, and the outliers.
+void write_residuals(const CalibrationOutcome& outcome, std::ostream& out) {
+  const CalibrationReport& r = outcome.report->final;
+  const std::vector<CalibrationView>& views = *outcome.views;
   // The worst inlier, for pointing at it.
   const ObservationResidual* worst = nullptr;
   for (const ObservationResidual& o : r.residuals) {
@@ -210,6 +213,12 @@ std::string report_text(const CalibrationOutcome& outcome) {
     }
   }
 
+}
+
+// Each parameter with its sigma, fixed, or estimated without a covariance.
+void write_parameters(const CalibrationOutcome& outcome, std::ostream& out) {
+  const StagedReport& staged = *outcome.report;
+  const CalibrationReport& r = staged.final;
   out << "\nparameters (1-sigma from the covariance, the poses marginalised";
   if (!outcome.camera_file.empty()) out << "; also in the camera file's [omni_camera_covariance]";
   out << "):\n";
@@ -228,6 +237,10 @@ std::string report_text(const CalibrationOutcome& outcome) {
     }
   }
 
+}
+
+// The held-out views, when there are some.
+void write_held_out(const CalibrationOutcome& outcome, std::ostream& out) {
   if (outcome.held_out) {
     const HeldOutResult& held = *outcome.held_out;
     out << "\nheld-out views (left out of the calibration; their poses solved with the camera "
@@ -241,6 +254,10 @@ std::string report_text(const CalibrationOutcome& outcome) {
     out << "\n";
   }
 
+}
+
+// The cross-validation's folds and pooled figure, when asked for.
+void write_cross_validation(const CalibrationOutcome& outcome, std::ostream& out) {
   if (outcome.cross_validation) {
     const CrossValidation& cv = *outcome.cross_validation;
     out << "\ncross-validation, " << cv.folds.size()
@@ -263,6 +280,10 @@ std::string report_text(const CalibrationOutcome& outcome) {
     out << "\n";
   }
 
+}
+
+// The projection uncertainty over the image, when mapped.
+void write_uncertainty(const CalibrationOutcome& outcome, std::ostream& out) {
   const auto summarize = [&out](const UncertaintyMap& map, const std::string& what) {
     std::vector<double> sigmas;
     for (double s : map.sigma_px) {
@@ -287,9 +308,22 @@ std::string report_text(const CalibrationOutcome& outcome) {
                 "motion)");
     }
   }
+}
+
+// The files the report folder holds.
+void write_files(const CalibrationOutcome& outcome, std::ostream& out) {
   out << "\nfiles: report.txt, residuals.vnl, residuals.png, histogram.png"
       << (outcome.uncertainty ? ", uncertainty.vnl, uncertainty.png" : "")
       << " (PNGs drawn by the .gp gnuplot scripts beside them)\n";
+}
+
+}  // namespace
+
+std::string report_text(const CalibrationOutcome& outcome) {
+  std::ostringstream out;
+  for (const auto& write : {write_header_and_stages, write_residuals, write_parameters,
+                            write_held_out, write_cross_validation, write_uncertainty, write_files})
+    write(outcome, out);
   return out.str();
 }
 
