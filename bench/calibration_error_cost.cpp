@@ -5,8 +5,10 @@
 // camera, the calibrated one, and the calibrated one refined under that covariance
 // (BatchSettings::camera_prior), per seed; the camera's distance from the truth in the
 // covariance's sigmas before and after, and the refined parameters' NEES under the batch's own
-// covariance; then per scenario the median and worst ratios to the exact camera's errors.
-//   calibration_error_cost CALIBRATED_CAMERA.ini [SEEDS=10] [SIGMA_FACTOR=1]
+// covariance; then per scenario the median and worst ratios to the exact camera's errors (the
+// refined ones over the seeds where the camera was refined) and the refined parameters' mean
+// NEES.
+//   calibration_error_cost CALIBRATED_CAMERA.ini [SEEDS=10] [SIGMA_FACTOR=1] [FIRST_SEED=1]
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +16,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "omnisfm/core/percentile.h"
 #include "omnisfm/eval/calibration_error.h"
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/io/camera_covariance.h"
@@ -39,19 +42,19 @@ eval::TrajectoryErrors errors(const sfm::SfmResult& r, const sim::Dataset& d) {
   return eval::trajectory_errors(world_from_cam, d.world_from_cam, true);
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[(v.size() - 1) / 2];
-}
+double median(const std::vector<double>& v) { return v.empty() ? NAN : core::percentile(v, 0.5); }
 
-double worst(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+double worst(const std::vector<double>& v) {
+  return v.empty() ? NAN : *std::max_element(v.begin(), v.end());
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
-                 "usage: calibration_error_cost CALIBRATED_CAMERA.ini [SEEDS] [SIGMA_FACTOR]\n");
+                 "usage: calibration_error_cost CALIBRATED_CAMERA.ini [SEEDS] [SIGMA_FACTOR] "
+                 "[FIRST_SEED]\n");
     return 2;
   }
   sfm::use_one_blas_thread();
@@ -62,11 +65,13 @@ int main(int argc, char** argv) {
   }
   const int seeds = argc > 2 ? std::atoi(argv[2]) : 10;
   const double factor = argc > 3 ? std::atof(argv[3]) : 1;
+  const int first_seed = argc > 4 ? std::atoi(argv[4]) : 1;
   std::printf("# scenario seed exact_percent exact_deg calibrated_percent calibrated_deg "
               "refined_percent refined_deg sigmas_calibrated sigmas_refined nees_refined\n");
   for (const char* scenario : {"lab", "crane", "rover"}) {
-    std::vector<double> calibrated_percent, calibrated_deg, refined_percent, refined_deg;
-    for (int seed = 1; seed <= seeds; ++seed) {
+    std::vector<double> calibrated_percent, calibrated_deg, refined_percent, refined_deg,
+        refined_nees;
+    for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
       sim::SimulationOptions options;
       options.scenario = scenario;
       options.seed = static_cast<std::uint64_t>(seed);
@@ -101,15 +106,20 @@ int main(int argc, char** argv) {
       calibrated_percent.push_back(held.translation_error_percent /
                                    exact.translation_error_percent);
       calibrated_deg.push_back(held.mean_rotation_error_deg / exact.mean_rotation_error_deg);
+      if (!was_refined) continue;  // the calibrated camera's again
       refined_percent.push_back(refined.translation_error_percent /
                                 exact.translation_error_percent);
       refined_deg.push_back(refined.mean_rotation_error_deg / exact.mean_rotation_error_deg);
+      refined_nees.push_back(nees);
     }
+    double mean_nees = 0;
+    for (double n : refined_nees) mean_nees += n / static_cast<double>(refined_nees.size());
     std::printf("# %s / exact camera's: calibrated translation median %.2f worst %.2f, rotation "
-                "median %.2f worst %.2f; refined translation median %.2f worst %.2f, rotation "
-                "median %.2f worst %.2f\n",
+                "median %.2f worst %.2f; refined on %zu seeds: translation median %.2f worst "
+                "%.2f, rotation median %.2f worst %.2f, mean NEES %.2f\n",
                 scenario, median(calibrated_percent), worst(calibrated_percent),
-                median(calibrated_deg), worst(calibrated_deg), median(refined_percent),
-                worst(refined_percent), median(refined_deg), worst(refined_deg));
+                median(calibrated_deg), worst(calibrated_deg), refined_percent.size(),
+                median(refined_percent), worst(refined_percent), median(refined_deg),
+                worst(refined_deg), refined_nees.empty() ? NAN : mean_nees);
   }
 }

@@ -4,7 +4,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <Eigen/Cholesky>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +20,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "omnisfm/core/mahalanobis.h"
 #include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/number_text.h"
@@ -315,8 +315,9 @@ TEST_F(CliTest, DemoRunsThePaperExperimentsEndToEnd) {
     EXPECT_DOUBLE_EQ(paper_value, paper) << run.out;
     EXPECT_LT(batch, paper) << scenario << "\n" << run.out;
     EXPECT_LT(batch, std::max(3 * simulated, 0.03)) << scenario << "\n" << run.out;
-    // The tracking table: tracks lasting a few frames at the median, at most as many as the
-    // sequence has, and the median error against the truth under 0.15 px.
+    // The tracking table: tracks lasting at least 4 frames at the median (measured 6, 4 and 7;
+    // the file leaves out single sightings, so 2 is the floor), and the median error against
+    // the truth under 0.15 px.
     const size_t tracking = run.out.find("\n" + scenario + " ", run.out.find("\ntracking "));
     ASSERT_NE(tracking, std::string::npos) << run.out;
     std::istringstream row(run.out.substr(tracking + 1));
@@ -326,8 +327,7 @@ TEST_F(CliTest, DemoRunsThePaperExperimentsEndToEnd) {
     row >> name >> frames >> tracks >> length >> frames_unit >> median;
     EXPECT_GE(tracks, 112) << run.out;
     EXPECT_EQ(frames_unit, "fr") << run.out;
-    EXPECT_GE(length, 2) << run.out;
-    EXPECT_LE(length, frames) << run.out;
+    EXPECT_GE(length, 4) << run.out;
     EXPECT_LT(median, 0.15) << scenario << "\n" << run.out;
   }
   EXPECT_EQ(read_all(dir_ / "result/summary.txt"), run.out.substr(0, run.out.find("Wrote")));
@@ -705,18 +705,29 @@ TEST_F(CliTest, SfmRefinesACalibratedCameraUnderItsCovariance) {
       omnisfm::io::read_camera_covariance((dir_ / "result/camera_refined.ini").string());
   ASSERT_TRUE(prior && after);
   EXPECT_EQ(after->parameters, prior->parameters);
-  // Only the mirror's pose moves (the covariance's five parameters, the last of the camera's),
-  // by a few of the calibration's sigmas at most, toward the truth: the rover's rig is the lab's.
-  const int n = calibrated.num_params();
-  EXPECT_EQ(refined.params().head(n - 5), calibrated.params().head(n - 5));
-  const Eigen::VectorXd moved = refined.params().tail(5) - calibrated.params().tail(5);
+  // Only the covariance's parameters (the mirror's pose) move, by a few of the calibration's
+  // sigmas at most, toward the truth: the rover's rig is the lab's.
+  const std::vector<std::string> names = calibrated.param_names();
+  const auto listed = [&](const CatadioptricCamera& c) {
+    Eigen::VectorXd values(prior->parameters.size());
+    for (size_t i = 0; i < prior->parameters.size(); ++i)
+      values(static_cast<Eigen::Index>(i)) =
+          c.params()(std::find(names.begin(), names.end(), prior->parameters[i]) - names.begin());
+    return values;
+  };
+  for (size_t i = 0; i < names.size(); ++i) {
+    const auto& listed_names = prior->parameters;
+    if (std::find(listed_names.begin(), listed_names.end(), names[i]) != listed_names.end())
+      continue;
+    EXPECT_EQ(refined.params()(i), calibrated.params()(i)) << names[i];
+  }
+  const Eigen::VectorXd moved = listed(refined) - listed(calibrated);
   EXPECT_GT(moved.norm(), 0);
-  EXPECT_LT(std::sqrt(moved.dot(prior->matrix.ldlt().solve(moved))), 4);
+  EXPECT_LT(omnisfm::core::mahalanobis(moved, prior->matrix), 4);
   const CatadioptricCamera truth =
       omnisfm::io::read_camera_file((dir_ / "rover/camera.ini").string());
   const auto sigmas_from_truth = [&](const CatadioptricCamera& c) {
-    const Eigen::VectorXd error = c.params().tail(5) - truth.params().tail(5);
-    return std::sqrt(error.dot(prior->matrix.ldlt().solve(error)));
+    return omnisfm::core::mahalanobis(listed(c) - listed(truth), prior->matrix);
   };
   // Measured: 0.68 sigmas from the truth as calibrated, 0.49 refined.
   EXPECT_LT(sigmas_from_truth(refined), sigmas_from_truth(calibrated));
@@ -944,13 +955,14 @@ TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
   EXPECT_EQ(n(6), static_cast<long>(tracks.size()));
   EXPECT_EQ(n(8), gaps);
   EXPECT_EQ(n(7), n(8) + n(9));
-  // Each track's span, first frame to last, gaps included: the lower middle one and the longest.
+  // Each track's span, first frame to last, gaps included: the median (the upper middle one)
+  // and the longest.
   std::map<int, int> first_seen;
   for (const auto& o : tracks) first_seen.emplace(o.track, o.frame);
   std::vector<long> spans;
   for (const auto& [track, last] : last_frame) spans.push_back(last - first_seen[track] + 1);
   std::sort(spans.begin(), spans.end());
-  EXPECT_EQ(n(4), spans[(spans.size() - 1) / 2]);
+  EXPECT_EQ(n(4), spans[spans.size() / 2]);
   EXPECT_EQ(n(5), spans.back());
   // 112 tracks alive; a few lost at once leave tracks.vnl, which holds no single observations.
   EXPECT_GE(first_frame, 105);

@@ -27,7 +27,7 @@ struct SimulateOptions {
   bool rawlog = false;
   bool gps = false;
   // Whether --frames and --imaging were given.
-  CLI::Option* frames = nullptr;
+  CLI::Option* frames_option = nullptr;
   CLI::Option* imaging_option = nullptr;
 };
 
@@ -35,7 +35,7 @@ struct SimulateOptions {
 void refuse_meaningless_combinations(const SimulateOptions& o) {
   if (o.imaging_option->count() > 0 && !o.render)
     throw CLI::ValidationError("--imaging", "images are made only with --render");
-  if (o.frames->count() > 0 && o.simulation.scenario != "drive")
+  if (o.frames_option->count() > 0 && o.simulation.scenario != "drive")
     throw CLI::ValidationError("--frames", "only the drive has a length of your choosing");
   if (o.render && o.simulation.scenario == "drive")
     throw CLI::ValidationError("--render", "the drive has no scene to render: its points are "
@@ -101,7 +101,7 @@ void add_simulate_verb(CLI::App& app) {
                    "S, 3 cm and 0.5 s per frame, about 30 live ground tracks, no outliers")
       ->required()
       ->check(CLI::IsMember({"lab", "crane", "rover", "drive"}));
-  o->frames =
+  o->frames_option =
       verb->add_option("--frames", o->simulation.frames, "With --scenario drive: how many frames")
           ->capture_default_str()
           ->check(whole_number_between(2, 100000000));

@@ -8,29 +8,13 @@
 #include <stdexcept>
 #include <thread>
 
+#include "omnisfm/camera/shared_camera.h"
 #include "pose_jacobian.h"
 
 namespace omnisfm::calib {
 namespace {
 
-// The camera the residuals project with, moved to the solver's parameter values once per
-// evaluation point rather than once per residual.
-class SharedCamera : public ceres::EvaluationCallback {
- public:
-  SharedCamera(const camera::CatadioptricCamera& camera, double* params)
-      : camera_(camera), params_(params), n_(camera.num_params()) {}
-  void PrepareForEvaluation(bool, bool new_point) override {
-    if (new_point) valid_ = camera_.set_params(Eigen::Map<const Eigen::VectorXd>(params_, n_));
-  }
-  const camera::CatadioptricCamera& camera() const { return camera_; }
-  bool valid() const { return valid_; }
-
- private:
-  camera::CatadioptricCamera camera_;
-  double* params_;
-  int n_;
-  bool valid_ = true;
-};
+using camera::SharedCamera;
 
 class ProjectionResidual : public ceres::CostFunction {
  public:
@@ -225,7 +209,6 @@ void report_covariance(const camera::CatadioptricCamera& camera,
                        const std::vector<Eigen::Matrix<double, 6, 1>>& poses,
                        const std::vector<Observation>& observations,
                        const std::vector<int>& free_params, CalibrationReport* report) {
-  const int n = camera.num_params();
   const int m = static_cast<int>(free_params.size());
   if (m == 0) return;
   const int num_unknowns = m + 6 * static_cast<int>(views.size());

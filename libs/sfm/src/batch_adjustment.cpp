@@ -258,12 +258,12 @@ KnownDistanceFactor known_distance_factor(const std::vector<PoseVector>& poses,
 // iterations were refused, and the estimate stayed at the filter's scale.
 // One reprojection residual per observation, on its frame's pose, its track's point and the
 // inverse scale.
-// With `refined` (the camera block's camera), the residuals also take the camera block.
+// With `shared` (the camera block's camera), the residuals also take the camera block.
 std::vector<ceres::ResidualBlockId> add_projections(
     const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& used,
     const BatchSettings& settings, bool with_extra_terms, std::vector<PoseVector>* poses,
     std::map<int, Eigen::Vector3d>* points, double* inverse_scale,
-    const std::shared_ptr<const camera::CatadioptricCamera>& refined, double* camera_block,
+    const camera::SharedCamera* shared, double* camera_block,
     ceres::Problem* problem) {
   const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
   std::vector<ceres::ResidualBlockId> projections;
@@ -273,9 +273,9 @@ std::vector<ceres::ResidualBlockId> add_projections(
     // Against the sensors' whitened terms the pixels weigh as their noise says; alone, a weight
     // would change only the cost's units.
     if (with_extra_terms) loss = new ceres::ScaledLoss(loss, pixel_weight, ceres::TAKE_OWNERSHIP);
-    if (refined)
+    if (shared)
       projections.push_back(problem->AddResidualBlock(
-          new RefinedProjectionCost(refined, o.pixel), loss, (*poses)[o.frame].data(),
+          new RefinedProjectionCost(shared, o.pixel), loss, (*poses)[o.frame].data(),
           points->at(o.track).data(), inverse_scale, camera_block));
     else
       projections.push_back(problem->AddResidualBlock(
@@ -302,15 +302,15 @@ void add_camera_block(const camera::CatadioptricCamera& camera, const BatchSetti
 // result is not usable: the poses, points and camera are then put back and the camera held again.
 bool refine_camera_last(ceres::Problem* problem, ceres::Solver::Options options,
                         const camera::CatadioptricCamera& calibrated,
-                        const BatchSettings& settings, double pixel_sigma, double* camera_block,
+                        const BatchSettings::CameraPrior& prior, double pixel_sigma,
+                        double* camera_block,
                         std::vector<PoseVector>* poses, std::map<int, Eigen::Vector3d>* points,
                         ceres::Solver::Summary* summary) {
   const std::vector<PoseVector> saved_poses = *poses;
   const std::map<int, Eigen::Vector3d> saved_points = *points;
-  problem->AddResidualBlock(new CameraPriorCost(calibrated.params(),
-                                                settings.camera_prior.parameters,
-                                                settings.camera_prior.covariance, pixel_sigma),
-                            nullptr, camera_block);
+  problem->AddResidualBlock(
+      new CameraPriorCost(calibrated.params(), prior.parameters, prior.covariance, pixel_sigma),
+      nullptr, camera_block);
   problem->SetParameterBlockVariable(camera_block);
   // Ceres drops held blocks from the ordering it is given: the camera's goes back in.
   options.linear_solver_ordering = points_eliminated_first(*problem, points);
@@ -530,15 +530,20 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     if (ok[i]) used_observations.push_back(observations[i]);
   // The scene's inverse scale: a parameter only while solve_with_scale runs, 1 and held otherwise.
   double inverse_scale = 1;
-  ceres::Problem problem;
-  const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
   const bool refine_camera = !settings.camera_prior.parameters.empty();
   Eigen::VectorXd camera_block = optimised.params();
-  const auto refined = refine_camera ? std::make_shared<const camera::CatadioptricCamera>(optimised)
-                                     : nullptr;
+  // With the camera a block, the residuals project with it at that block's values.
+  std::unique_ptr<camera::SharedCamera> shared;
+  ceres::Problem::Options problem_options;
+  if (refine_camera) {
+    shared = std::make_unique<camera::SharedCamera>(optimised, camera_block.data());
+    problem_options.evaluation_callback = shared.get();
+  }
+  ceres::Problem problem(problem_options);
+  const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
   const std::vector<ceres::ResidualBlockId> projections =
       add_projections(optimised, used_observations, settings, extra != nullptr, &poses, &points,
-                      &inverse_scale, refined, camera_block.data(), &problem);
+                      &inverse_scale, shared.get(), camera_block.data(), &problem);
   const double used = static_cast<double>(used_observations.size());
   if (used == 0 || poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
@@ -637,8 +642,9 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
     // 0.19585 px).
     const double pixel_sigma = extra ? 1 : std::sqrt(2 * summary.final_cost / variance_dof);
     ceres::Solver::Summary refining;
-    result.camera_refined = refine_camera_last(&problem, options, optimised, settings, pixel_sigma,
-                                               camera_block.data(), &poses, &points, &refining);
+    result.camera_refined =
+        refine_camera_last(&problem, options, optimised, settings.camera_prior, pixel_sigma,
+                           camera_block.data(), &poses, &points, &refining);
     count(refining);
     if (result.camera_refined) summary = refining;
     // The images' scale was decided with the camera as calibrated; what the data fix once the

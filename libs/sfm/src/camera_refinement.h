@@ -5,70 +5,43 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Cholesky>
-#include <memory>
-#include <optional>
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/camera/shared_camera.h"
 #include "projection_cost.h"
 
 namespace omnisfm::sfm {
-namespace detail {
 
-// `base` with its params() set to `params` (num_params() values), or null where the camera
-// refuses them. Each thread keeps one such camera and sets it again only when the values change:
-// within one evaluation of the problem every residual asks for the same ones.
-inline const camera::CatadioptricCamera* camera_at(
-    const std::shared_ptr<const camera::CatadioptricCamera>& base, const double* params) {
-  struct Cached {
-    std::shared_ptr<const camera::CatadioptricCamera> base;
-    Eigen::VectorXd params;
-    std::optional<camera::CatadioptricCamera> camera;
-    bool valid = false;
-  };
-  thread_local Cached cached;
-  const Eigen::Map<const Eigen::VectorXd> wanted(params, base->num_params());
-  if (cached.base != base || cached.params.size() != wanted.size() || cached.params != wanted) {
-    cached.base = base;
-    cached.params = wanted;
-    cached.camera.emplace(*base);
-    cached.valid = cached.camera->set_params(cached.params);
-  }
-  return cached.valid ? &*cached.camera : nullptr;
-}
-
-}  // namespace detail
-
-// ScaledProjectionCost's residual with the camera's params() as a fourth parameter block.
+// ScaledProjectionCost's residual with the camera's params() as a fourth parameter block, the
+// camera at that block's values kept by the problem's camera::SharedCamera.
 class RefinedProjectionCost : public ceres::CostFunction {
  public:
-  RefinedProjectionCost(std::shared_ptr<const camera::CatadioptricCamera> camera,
-                        const Eigen::Vector2d& pixel)
-      : camera_(std::move(camera)), pixel_(pixel) {
+  RefinedProjectionCost(const camera::SharedCamera* camera, const Eigen::Vector2d& pixel)
+      : camera_(camera), pixel_(pixel) {
     set_num_residuals(2);
-    *mutable_parameter_block_sizes() = {6, 3, 1, camera_->num_params()};
+    *mutable_parameter_block_sizes() = {6, 3, 1, camera->camera().num_params()};
   }
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    if (!(parameters[2][0] > 0)) return false;  // the scene at or past infinity
-    const camera::CatadioptricCamera* camera = detail::camera_at(camera_, parameters[3]);
-    if (!camera) return false;
+    if (!(parameters[2][0] > 0) || !camera_->valid()) return false;  // past infinity; refused
+    const camera::CatadioptricCamera& camera = camera_->camera();
     const bool params_jacobian = jacobians && jacobians[3];
-    camera::ParamsJacobian J_params;
-    if (!evaluate_projection(*camera, pixel_, parameters[0], parameters[1], parameters[2][0],
+    thread_local camera::ParamsJacobian J_params;
+    if (!evaluate_projection(camera, pixel_, parameters[0], parameters[1], parameters[2][0],
                              residuals, jacobians ? jacobians[0] : nullptr,
                              jacobians ? jacobians[1] : nullptr, jacobians ? jacobians[2] : nullptr,
                              params_jacobian ? &J_params : nullptr))
       return false;
     if (params_jacobian)
       Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>>(
-          jacobians[3], 2, camera_->num_params()) = J_params;
+          jacobians[3], 2, camera.num_params()) = J_params;
     return true;
   }
 
  private:
-  std::shared_ptr<const camera::CatadioptricCamera> camera_;
+  const camera::SharedCamera* camera_;
   Eigen::Vector2d pixel_;
 };
 

@@ -213,7 +213,7 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
                         const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
                         const SfmSettings& settings, const Progress& progress) {
   if (sensors.empty()) return run_sfm(camera, tracks, settings, progress);
-  check_settings(settings);
+  check_settings(camera, settings);
   SfmResult result;
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
   result.num_frames = static_cast<int>(by_frame.size());

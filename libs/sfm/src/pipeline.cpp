@@ -126,7 +126,8 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (inliers.empty())
     throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
                              std::to_string(rejected.size()) + " as outliers");
-  // The pixels' noise weighs them against the sensors' terms and the camera's prior.
+  // The pixels' noise weighs them against the sensors' terms (alone it is not read: the
+  // camera's prior is weighed at the noise the batch measures).
   BatchSettings batch = settings.batch;
   batch.pixel_sigma = settings.filter.pixel_sigma;
   result->batch =
@@ -171,17 +172,20 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
       batch_adjust(camera, kept, result->batch.cam_from_world, start_points, batch, extra);
 }
 
-void check_settings(const SfmSettings& settings) {
+void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings) {
   if (settings.refine_camera && settings.batch.camera_prior.parameters.empty())
     throw std::invalid_argument(
         "refine_camera: no batch.camera_prior to refine the camera under (camera_prior_from "
         "makes it from the camera file's [omni_camera_covariance])");
+  if (const std::string wrong = camera_prior_problem(camera, settings.batch.camera_prior);
+      !wrong.empty())
+    throw std::invalid_argument("batch.camera_prior: " + wrong);
 }
 
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,
                   const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
                   const Progress& progress) {
-  check_settings(settings);
+  check_settings(camera, settings);
   SfmResult result;
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
   result.num_frames = static_cast<int>(by_frame.size());

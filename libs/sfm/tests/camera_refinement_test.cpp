@@ -114,14 +114,22 @@ TEST(CameraRefinement, AnUnusablePriorIsRefused) {
   const sim::Dataset d = simulated("rover", 1);
   prior = lab_target_calibration_prior(d.camera);
   prior.covariance(0, 1) = 1;  // not symmetric
-  const SfmResult result = solved(d.camera, d, prior);
-  EXPECT_FALSE(result.batch.converged);
-  EXPECT_EQ(result.batch.message.rfind("camera_prior: ", 0), 0u) << result.batch.message;
-  EXPECT_TRUE(result.batch.cam_from_world.empty());
-  // And refine_camera without a prior at all, before the filter runs.
-  SfmSettings settings;
-  settings.refine_camera = true;
-  EXPECT_THROW(run_sfm(d.camera, d.observations, settings), std::invalid_argument);
+  // The pipeline refuses it before the filter runs, and the batch on its own says why.
+  EXPECT_THROW(solved(d.camera, d, prior), std::invalid_argument);
+  BatchSettings settings;
+  settings.camera_prior = prior;
+  std::map<int, Eigen::Vector3d> points;
+  for (size_t track = 0; track < d.track_points.size(); ++track)
+    points[static_cast<int>(track)] = d.track_points[track];
+  const BatchResult batch = batch_adjust(d.camera, d.observations, inverted(d.world_from_cam),
+                                         points, settings);
+  EXPECT_FALSE(batch.converged);
+  EXPECT_EQ(batch.message.rfind("camera_prior: ", 0), 0u) << batch.message;
+  EXPECT_TRUE(batch.cam_from_world.empty());
+  // And refine_camera without a prior at all.
+  SfmSettings refine;
+  refine.refine_camera = true;
+  EXPECT_THROW(run_sfm(d.camera, d.observations, refine), std::invalid_argument);
 }
 
 // The lab's images do not fix its scale, which the batch holds at the filter's: the mirror's

@@ -3,12 +3,11 @@
 // reported it from the simulated lab's surveyed targets (seed 1, survey error 1 mm: sigmas 0.57
 // and 0.57 mrad, 0.055, 0.054 and 0.044 mm), which eval::calibrated_with_error draws errors from.
 
-#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
-#include "omnisfm/sfm/batch_adjustment.h"
+#include "omnisfm/sfm/settings_file.h"
 
 namespace omnisfm::sfm {
 
@@ -33,13 +32,7 @@ inline Eigen::MatrixXd lab_target_calibration_covariance() {
 // The batch's prior for `camera` from that calibration.
 inline BatchSettings::CameraPrior lab_target_calibration_prior(
     const camera::CatadioptricCamera& camera) {
-  const std::vector<std::string> names = camera.param_names();
-  BatchSettings::CameraPrior prior;
-  for (const std::string& name : kMirrorPoseNames)
-    prior.parameters.push_back(
-        static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin()));
-  prior.covariance = lab_target_calibration_covariance();
-  return prior;
+  return camera_prior_from(camera, {kMirrorPoseNames, lab_target_calibration_covariance()});
 }
 
 }  // namespace omnisfm::sfm

@@ -4,6 +4,8 @@
 #include <map>
 #include <utility>
 
+#include "omnisfm/core/percentile.h"
+
 namespace omnisfm::track {
 
 TrackLengths track_lengths(const std::vector<core::TrackObservation>& observations) {
@@ -14,17 +16,15 @@ TrackLengths track_lengths(const std::vector<core::TrackObservation>& observatio
     it->second.first = std::min(it->second.first, o.frame);
     it->second.second = std::max(it->second.second, o.frame);
   }
-  std::vector<int> frames;
+  std::vector<double> frames;
   frames.reserve(span.size());
   for (const auto& [track, first_last] : span)
     frames.push_back(first_last.second - first_last.first + 1);
   TrackLengths lengths;
   lengths.tracks = static_cast<int>(frames.size());
   if (frames.empty()) return lengths;
-  const auto middle = frames.begin() + (frames.size() - 1) / 2;
-  std::nth_element(frames.begin(), middle, frames.end());
-  lengths.median_frames = *middle;
-  lengths.longest_frames = *std::max_element(frames.begin(), frames.end());
+  lengths.median_frames = static_cast<int>(core::percentile(frames, 0.5));
+  lengths.longest_frames = static_cast<int>(*std::max_element(frames.begin(), frames.end()));
   return lengths;
 }
 

@@ -99,13 +99,15 @@ std::string scenario_name(const ::testing::TestParamInfo<Expected>& param) {
 // these, not the goal (1 % of reacquisitions wrong). Before reacquisition refused twins
 // (TrackerSettings::twin_ncc), 11 of the lab's 24 reacquisitions came back on a neighbouring
 // brick. Tracks last (frames at the median): lab 6 clean and 4 realistic, crane 21 and 3, rover 7
-// and 6; the bounds hold these too, not the goal (25 on the rover).
+// and 6; the bounds hold these too, not the goal (25 on the rover). tracks.vnl leaves out
+// single sightings, so no bound below 3 could fail; the tracker is deterministic, so the crane's
+// realistic bound sits at its measured 3.
 INSTANTIATE_TEST_SUITE_P(Scenarios, RenderedAccuracy,
                          ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 1, 5},
                                            Expected{"crane", "clean", 60, 0.1, 0.3, 0.01, 1, 18},
                                            Expected{"rover", "clean", 60, 0.1, 0.35, 0.02, 1, 6},
                                            Expected{"lab", "realistic", 41, 0.15, 0.5, 0.015, 2, 3},
-                                           Expected{"crane", "realistic", 60, 0.1, 0.35, 0.02, 2, 2},
+                                           Expected{"crane", "realistic", 60, 0.1, 0.35, 0.02, 2, 3},
                                            Expected{"rover", "realistic", 60, 0.1, 0.35, 0.01, 1, 5}),
                          scenario_name);
 

@@ -18,7 +18,8 @@ struct SfmSettings {
   bool run_batch = true;
   // Whether the batch refines the camera under its calibration's covariance: the programs then
   // fill batch.camera_prior from the camera file's [omni_camera_covariance]
-  // (sfm::camera_prior_from, settings_file.h); run_sfm refuses it without.
+  // (sfm::camera_prior_from, settings_file.h). The batch refines the camera whenever that prior
+  // lists parameters; run_sfm refuses this flag without one.
   bool refine_camera = false;
   // After the batch, a track with a residual beyond this is rejected too, a track the filter
   // rejected that fits the batch's poses within it is taken back, and the batch re-run: a track

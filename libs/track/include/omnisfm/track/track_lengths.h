@@ -11,7 +11,7 @@ namespace omnisfm::track {
 
 struct TrackLengths {
   int tracks = 0;
-  int median_frames = 0;  // the lower middle one for an even count; 0 for no tracks
+  int median_frames = 0;  // core::percentile's median (the upper middle one for an even count)
   int longest_frames = 0;
 };
 
