@@ -30,7 +30,7 @@ namespace {
 using namespace omnisfm;
 
 sfm::SfmResult solved(const camera::CatadioptricCamera& camera, const sim::Dataset& d,
-                      const sfm::BatchSettings::CameraPrior& prior) {
+                      const sfm::CameraPrior& prior) {
   sfm::SfmSettings settings;
   settings.batch.camera_prior = prior;
   return sfm::run_sfm(camera, d.observations, settings);
@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
       options.scenario = scenario;
       options.seed = static_cast<std::uint64_t>(seed);
       const sim::Dataset d = sim::simulate(options);
-      sfm::BatchSettings::CameraPrior prior = sfm::camera_prior_from(d.camera, *covariance);
+      sfm::CameraPrior prior = sfm::camera_prior_from(d.camera, *covariance);
       prior.covariance *= factor * factor;
       const camera::CatadioptricCamera calibrated =
           eval::calibrated_with_error(d.camera, prior, 1000 + seed);

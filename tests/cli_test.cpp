@@ -743,6 +743,29 @@ TEST_F(CliTest, SfmRefinesACalibratedCameraUnderItsCovariance) {
       << replay.out;
   EXPECT_TRUE(fs::exists(dir_ / "replay/camera_refined.ini"));
 
+  // The filter carrying the calibration's uncertainty ([sfm] consider_camera): in sfm, and in
+  // run's streaming replay.
+  write("consider.ini", "[sfm]\nconsider_camera = 1\nbatch = 0\n");
+  const std::string considered_line =
+      "\nfilter's camera: as calibrated, the calibration's covariance of mirror_rx, mirror_ry, "
+      "mirror_tx, mirror_ty, mirror_tz carried in the filter's covariance";
+  const Outcome considered = omnisfm(
+      "sfm --camera calibrated.ini --tracks rover/tracks.vnl --out considered --config "
+      "consider.ini");
+  ASSERT_EQ(considered.status, 0) << considered.err;
+  EXPECT_NE(considered.out.find(considered_line), std::string::npos) << considered.out;
+  EXPECT_EQ(omnisfm::io::read_tum_trajectory((dir_ / "considered/online.tum").string()).size(),
+            150u);
+  const Outcome streamed = omnisfm(
+      "run rover-log/dataset.rawlog --camera calibrated.ini --config consider.ini --out streamed");
+  ASSERT_EQ(streamed.status, 0) << streamed.err;
+  EXPECT_NE(streamed.out.find(considered_line), std::string::npos) << streamed.out;
+  const Outcome unconsidered = omnisfm(
+      "sfm --camera rover/camera.ini --tracks rover/tracks.vnl --out none --config consider.ini");
+  EXPECT_EQ(unconsidered.status, 2);
+  EXPECT_EQ(unconsidered.err.rfind("omnisfm: rover/camera.ini: [sfm] consider_camera ", 0), 0u)
+      << unconsidered.err;
+
   // A camera file without the calibration's covariance, or none at all: refused, nothing written.
   const Outcome plain = omnisfm(
       "sfm --camera rover/camera.ini --tracks rover/tracks.vnl --out none --config refine.ini");

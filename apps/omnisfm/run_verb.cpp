@@ -151,6 +151,8 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
                            "gyro)\n"
          << "online only ([sfm] batch = false): the rawlog read and results written object by "
             "object (no scene.3Dscene, geodetic.vnl or residual plots)\n";
+  if (settings.replay.camera)
+    report << sfm::considered_camera_line(*settings.replay.camera, settings.sfm.filter);
   if (summary.gyro > 0) {
     const Eigen::Vector3d& b = *bias;
     const Eigen::Vector3d& sigma = *bias_sigma;
@@ -298,7 +300,7 @@ void add_run_verb(CLI::App& app) {
            << in.vision << "\n"
            << "frames " << result.num_frames << ", observations " << in.tracks.size()
            << ", " << sfm::outliers_phrase(result) << "\n"
-           << sensors_line(in);
+           << sensors_line(in) << sfm::considered_camera_line(*in.camera, settings.sfm.filter);
     if (batch_ran)
       report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.sfm.batch)
              << sfm::camera_line(*in.camera, result.batch, settings.sfm.batch)

@@ -105,6 +105,7 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
   report << "frames " << next << ", observations " << observations << ", outlier tracks "
          << out.outliers() << "\n"
          << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
+         << sfm::considered_camera_line(camera, settings.filter)
          << "online only ([sfm] batch = false): tracks read and results written frame by frame\n";
   out.take_what_is_held(filter);
   out.finish(report.str());
@@ -170,7 +171,8 @@ void add_sfm_verb(CLI::App& app) {
     report << "frames " << result.num_frames << ", observations " << tracks.size()
            << ", " << sfm::outliers_phrase(result) << "\n"
            << "filter: " << result.online_seconds << " s ("
-           << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n";
+           << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n"
+           << sfm::considered_camera_line(camera, settings.filter);
     if (settings.run_batch)
       report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.batch)
              << sfm::camera_line(camera, result.batch, settings.batch);

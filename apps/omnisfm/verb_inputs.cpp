@@ -21,22 +21,27 @@ camera::CatadioptricCamera load_camera(const std::string& path) {
 
 void apply_camera_prior(const std::string& config_file, const std::string& camera_file,
                         const camera::CatadioptricCamera* camera, sfm::SfmSettings* settings) {
-  if (!settings->refine_camera) return;
+  if (!settings->refine_camera && !settings->consider_camera) return;
+  const std::string flag = settings->refine_camera ? "refine_camera" : "consider_camera";
+  const std::string use = settings->refine_camera ? "refines the camera under"
+                                                  : "carries in the filter's covariance";
   if (camera_file.empty() || !camera)
     throw io::InputError(config_file, 0,
-                         "[sfm] refine_camera needs a calibrated camera file (--camera) holding "
+                         "[sfm] " + flag + " needs a calibrated camera file (--camera) holding "
                          "its [omni_camera_covariance]");
   const auto covariance = io::read_camera_covariance(camera_file);
   if (!covariance)
     throw io::InputError(camera_file, 0,
-                         "[sfm] refine_camera refines the camera under its calibration's "
-                         "covariance, and this file holds no [omni_camera_covariance] (omnisfm "
-                         "calibrate writes it)");
+                         "[sfm] " + flag + " " + use + " its calibration's covariance, and this "
+                         "file holds no [omni_camera_covariance] (omnisfm calibrate writes it)");
+  sfm::CameraPrior prior;
   try {
-    settings->batch.camera_prior = sfm::camera_prior_from(*camera, *covariance);
+    prior = sfm::camera_prior_from(*camera, *covariance);
   } catch (const std::invalid_argument& e) {
     throw io::InputError(camera_file, 0, std::string("[omni_camera_covariance]: ") + e.what());
   }
+  if (settings->refine_camera) settings->batch.camera_prior = prior;
+  if (settings->consider_camera) settings->filter.camera_uncertainty = prior;
 }
 
 io::VnlogTable read_table_or_stdin(const std::string& path) {

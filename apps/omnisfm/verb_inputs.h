@@ -15,8 +15,9 @@ namespace omnisfm::app {
 // The camera file `path`, or the default camera when `path` is empty.
 camera::CatadioptricCamera load_camera(const std::string& path);
 
-// With [sfm] refine_camera (from `config_file`), the batch's prior on `camera`, read from
-// `camera_file`, from the calibration's covariance there. Throws io::InputError naming the camera
+// With [sfm] refine_camera (from `config_file`), the batch's prior on `camera`, and with
+// consider_camera the filter's camera_uncertainty, from the calibration's covariance in
+// `camera_file`. Throws io::InputError naming the camera
 // file when it holds no [omni_camera_covariance], or the config file when no camera file was
 // given (`camera` null).
 void apply_camera_prior(const std::string& config_file, const std::string& camera_file,

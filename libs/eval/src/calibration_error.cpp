@@ -10,7 +10,7 @@
 namespace omnisfm::eval {
 
 camera::CatadioptricCamera calibrated_with_error(const camera::CatadioptricCamera& truth,
-                                                 const sfm::BatchSettings::CameraPrior& prior,
+                                                 const sfm::CameraPrior& prior,
                                                  std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal;
@@ -27,7 +27,7 @@ camera::CatadioptricCamera calibrated_with_error(const camera::CatadioptricCamer
 }
 
 double sigmas_from_truth(const Eigen::VectorXd& params, const camera::CatadioptricCamera& truth,
-                         const sfm::BatchSettings::CameraPrior& prior,
+                         const sfm::CameraPrior& prior,
                          const Eigen::MatrixXd& covariance) {
   if (params.size() != truth.num_params())
     throw std::invalid_argument("sigmas_from_truth: " + std::to_string(params.size()) +

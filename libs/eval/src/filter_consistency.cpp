@@ -1,5 +1,6 @@
 #include "omnisfm/eval/filter_consistency.h"
 
+#include "omnisfm/eval/calibration_error.h"
 #include "omnisfm/eval/simulated_sensors.h"
 #include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/pipeline.h"
@@ -20,7 +21,9 @@ Eigen::Matrix<double, 6, 1> filter_pose_error(const Eigen::Isometry3d& true_cam_
 
 PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
                                        const sfm::FilterSettings& settings,
-                                       bool linearised_at_truth) {
+                                       bool linearised_at_truth,
+                                       const sfm::CameraPrior* calibration_error,
+                                       double error_sigmas) {
   double sum = 0;
   long inside = 0;
   PoseConsistency c;
@@ -34,7 +37,13 @@ PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
     options.odometry_scale_error = wheel_scale_error;
     const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(d, options);
     const sfm::MotionSensors sensors = motion_sensors(&dead_reckoning, options, nullptr);
-    sfm::OnlineFilter filter(d.camera, settings);
+    camera::CatadioptricCamera camera = d.camera;
+    if (calibration_error) {
+      sfm::CameraPrior scaled = *calibration_error;
+      scaled.covariance *= error_sigmas * error_sigmas;
+      camera = calibrated_with_error(d.camera, scaled, 1000 + static_cast<std::uint64_t>(seed));
+    }
+    sfm::OnlineFilter filter(camera, settings);
     if (linearised_at_truth) {
       const Eigen::Isometry3d first = d.world_from_cam[0];
       filter.linearise_at({[&d, first](int frame) { return d.world_from_cam[frame].inverse() * first; },

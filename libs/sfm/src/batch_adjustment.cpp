@@ -302,7 +302,7 @@ void add_camera_block(const camera::CatadioptricCamera& camera, const BatchSetti
 // result is not usable: the poses, points and camera are then put back and the camera held again.
 bool refine_camera_last(ceres::Problem* problem, ceres::Solver::Options options,
                         const camera::CatadioptricCamera& calibrated,
-                        const BatchSettings::CameraPrior& prior, double pixel_sigma,
+                        const CameraPrior& prior, double pixel_sigma,
                         double* camera_block,
                         std::vector<PoseVector>* poses, std::map<int, Eigen::Vector3d>* points,
                         ceres::Solver::Summary* summary) {
@@ -675,28 +675,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                         result.camera_refined ? camera_block.data() : nullptr, threads, &result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
-}
-
-std::string camera_prior_problem(const camera::CatadioptricCamera& camera,
-                                 const BatchSettings::CameraPrior& prior) {
-  const auto k = static_cast<Eigen::Index>(prior.parameters.size());
-  if (k == 0) return "";
-  std::set<int> seen;
-  for (int p : prior.parameters) {
-    if (p < 0 || p >= camera.num_params())
-      return "parameter " + std::to_string(p) + " is not one of the camera's " +
-             std::to_string(camera.num_params());
-    if (!seen.insert(p).second) return "parameter " + std::to_string(p) + " is listed twice";
-  }
-  if (prior.covariance.rows() != k || prior.covariance.cols() != k)
-    return "the covariance is " + std::to_string(prior.covariance.rows()) + " x " +
-           std::to_string(prior.covariance.cols()) + " for " + std::to_string(k) + " parameters";
-  if (!prior.covariance.allFinite() || !prior.covariance.isApprox(prior.covariance.transpose()))
-    return "the covariance is not a finite symmetric matrix";
-  if (Eigen::LLT<Eigen::MatrixXd>(prior.covariance).info() != Eigen::Success)
-    return "the covariance is not positive definite (a parameter known exactly, or two that are "
-           "the same): leave such parameters out";
-  return "";
 }
 
 Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters) {

@@ -67,24 +67,47 @@ Eigen::Isometry3d FilterMean::cam_from_world() const {
   return T;
 }
 
+FilterState::FilterState(const Eigen::MatrixXd& camera_covariance)
+    : P(Eigen::MatrixXd::Zero(kCameraColumn + camera_covariance.rows(),
+                              kCameraColumn + camera_covariance.rows())),
+      camera_covariance_(camera_covariance) {
+  reset_camera_covariance();
+}
+
+void FilterState::reset_camera_covariance() {
+  const int k = num_camera_params();
+  P.block(kCameraColumn, kCameraColumn, k, k) = camera_covariance_;
+}
+
 int FilterState::slot_of(int track) const {
   const auto slot = track_slot_.find(track);
   return slot == track_slot_.end() ? -1 : slot->second;
 }
 
 int FilterState::add(int track, const PointAnchor& anchor, const PointParams& params,
-                     const Eigen::Matrix<double, kPointSize, 6>& G, const PointParams& own_sigma) {
+                     const Eigen::Matrix<double, kPointSize, 6>& G, const PointParams& own_sigma,
+                     const Eigen::MatrixXd& G_camera) {
   constexpr int k = kPointSize;
   const int slot = num_slots();
   anchors_.push_back(anchor);
   slot_track_.push_back(track);
   track_slot_[track] = slot;
   const int n = static_cast<int>(P.rows());
+  const int c = num_camera_params();
   P.conservativeResize(n + k, n + k);
-  const Eigen::MatrixXd cross = G * P.topLeftCorner(6, n);  // k x n
+  // With J = [G, G_camera] on the pose's and the camera's columns: the cross-covariance J P[those
+  // rows, :], and J P[those, those] J^T.
+  Eigen::MatrixXd cross = G * P.topLeftCorner(6, n);  // k x n
+  if (c > 0) cross.noalias() += G_camera * P.block(kCameraColumn, 0, c, n);
   P.bottomLeftCorner(k, n) = cross;
   P.topRightCorner(n, k) = cross.transpose();
   P.bottomRightCorner<k, k>() = G * P.topLeftCorner<6, 6>() * G.transpose();
+  if (c > 0) {
+    // + G P_pc Gc^T + Gc P_cp G^T + Gc P_cc Gc^T, the first and last from the cross-covariance.
+    const Eigen::MatrixXd pose_camera = G * P.block(0, kCameraColumn, 6, c) * G_camera.transpose();
+    P.bottomRightCorner<k, k>() +=
+        cross.middleCols(kCameraColumn, c) * G_camera.transpose() + pose_camera.transpose();
+  }
   P.bottomRightCorner<k, k>().diagonal() += own_sigma.cwiseAbs2();
   mean.points.conservativeResize(k * slot + k);
   mean.points.segment<k>(k * slot) = params;
@@ -118,9 +141,10 @@ bool FilterState::take_back_prior(int column, double prior_mean, double prior_va
   // x' = x + P e (x_c - prior_mean) / (prior_variance - v).
   const double weight = 1 / (prior_variance - P(column, column));
   const Eigen::VectorXd Pe = P.col(column);
-  const double value = mean.points[column - kFirstPointColumn];
+  const double value = mean.points[column - first_point_column()];
   mean = mean.plus(Pe * (weight * (value - prior_mean)), min_inverse_depth);
   P.noalias() += weight * Pe * Pe.transpose();
+  reset_camera_covariance();
   return true;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 
 #include "filter_linear_algebra.h"
 #include "so3.h"
@@ -23,7 +24,32 @@ constexpr int kEstablishedUpdates = 2;
 }  // namespace
 
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
-    : camera_(camera), settings_(settings), smoothing_start_(settings.smoothed_start_frames > 0) {}
+    : camera_(camera),
+      settings_(settings),
+      state_(settings.camera_uncertainty.covariance),
+      smoothing_start_(settings.smoothed_start_frames > 0) {
+  if (const std::string wrong = camera_prior_problem(camera, settings.camera_uncertainty);
+      !wrong.empty())
+    throw std::invalid_argument("FilterSettings::camera_uncertainty: " + wrong);
+  const Eigen::VectorXd params = camera.params();
+  const CameraPrior& considered = settings.camera_uncertainty;
+  for (size_t k = 0; k < considered.parameters.size(); ++k) {
+    // A thousandth of the parameter's sigma: far below what changes the unprojection's
+    // linearity, far above its iterations' tolerance.
+    const auto i = static_cast<Eigen::Index>(k);
+    const double step = 1e-3 * std::sqrt(considered.covariance(i, i));
+    Eigen::VectorXd minus = params, plus = params;
+    minus(considered.parameters[k]) -= step;
+    plus(considered.parameters[k]) += step;
+    camera::CatadioptricCamera below = camera, above = camera;
+    if (!below.set_params(minus) || !above.set_params(plus))
+      throw std::invalid_argument(
+          "FilterSettings::camera_uncertainty: the camera is at the edge of its parameter " +
+          camera.param_names()[static_cast<size_t>(considered.parameters[k])]);
+    camera_steps_.emplace_back(std::move(below), std::move(above));
+    camera_step_sizes_.push_back(step);
+  }
+}
 
 Eigen::Isometry3d OnlineFilter::cam_from_world() const { return state_.mean.cam_from_world(); }
 
@@ -50,7 +76,7 @@ void OnlineFilter::end_point(int slot) {
   const Eigen::Vector3d point = state_.world_point(slot);
   // Not while the smoothed start is pending: it solves the window again, priors and all.
   if (settings_.take_back_depth_priors && scale_started_ && !smoothing_start_) {
-    const int depth_column = FilterState::point_column(slot) + 2;
+    const int depth_column = state_.point_column(slot) + 2;
     const double prior_variance = std::pow(settings_.inverse_depth_sigma, 2);
     if (state_.P(depth_column, depth_column) < 0.5 * prior_variance)
       state_.take_back_prior(depth_column, 1 / settings_.initial_depth, prior_variance,
@@ -123,7 +149,28 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   const double across = radians_per_pixel * settings_.pixel_sigma;
   PointParams own_sigma = PointParams::Zero();
   own_sigma.head<3>() << across, across, settings_.inverse_depth_sigma;
-  state_.add(track, anchor, params, G, own_sigma);
+  state_.add(track, anchor, params, G, own_sigma, ray_camera_jacobian(anchor, pixel, R_at));
+}
+
+Eigen::MatrixXd OnlineFilter::ray_camera_jacobian(const PointAnchor& anchor,
+                                                  const Eigen::Vector2d& pixel,
+                                                  const Eigen::Matrix3d& R) const {
+  // As ray_pose_jacobian: the angles move with the direction across the first ray, the origin's
+  // offset with the origin, both turned into the world frame.
+  const int c = state_.num_camera_params();
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(FilterState::kPointSize, c);
+  for (int k = 0; k < c; ++k) {
+    Eigen::Vector3d o_minus, d_minus, o_plus, d_plus;
+    if (!camera_steps_[k].first.unproject(pixel, &o_minus, &d_minus) ||
+        !camera_steps_[k].second.unproject(pixel, &o_plus, &d_plus))
+      continue;  // at the rim: the pixel's own noise dominates there
+    const double h2 = 2 * camera_step_sizes_[k];
+    const Eigen::Vector3d d_direction = R.transpose() * (d_plus - d_minus) / h2;
+    J(0, k) = anchor.basis.col(1).dot(d_direction);
+    J(1, k) = anchor.basis.col(2).dot(d_direction);
+    J.block<3, 1>(3, k) = R.transpose() * (o_plus - o_minus) / h2;
+  }
+  return J;
 }
 
 bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R,
@@ -133,10 +180,18 @@ bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R
   PointJacobian J_world_params;
   const Eigen::Vector3d RX = R * anchor.world_point(params, jacobians ? &J_world_params : nullptr);
   Eigen::Matrix<double, 2, 3> J_X;
-  if (!camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr)) return false;
+  const std::vector<int>& considered = settings_.camera_uncertainty.parameters;
+  thread_local camera::ParamsJacobian J_params;
+  const bool camera_jacobian = jacobians && !considered.empty();
+  if (!camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr,
+                       camera_jacobian ? &J_params : nullptr))
+    return false;
   if (jacobians) {
     out->pose << -J_X * so3::skew(RX), J_X;
     out->point = J_X * R * J_world_params;
+    out->camera.resize(2, static_cast<Eigen::Index>(considered.size()));
+    for (size_t k = 0; k < considered.size(); ++k)
+      out->camera.col(static_cast<Eigen::Index>(k)) = J_params.col(considered[k]);
   }
   return true;
 }
@@ -161,7 +216,7 @@ OnlineFilter::Iterate OnlineFilter::first_iterate(const std::vector<Measurement>
   const int n = static_cast<int>(state_.P.rows());
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
   Iterate at;
-  at.allocate(m);
+  at.allocate(m, state_.num_camera_params());
   at.offset = Eigen::VectorXd::Zero(n);
   at.g = Eigen::VectorXd::Zero(n);
   at.cost = 0;
@@ -180,12 +235,14 @@ OnlineFilter::Iterate OnlineFilter::first_iterate(const std::vector<Measurement>
     for (int k : new_points) {
       at.H_pose.middleRows<2>(2 * k).setZero();
       at.H_point[k].setZero();
+      at.H_camera.middleRows<2>(2 * k).setZero();
     }
   return at;
 }
 
-void OnlineFilter::Iterate::allocate(int m) {
+void OnlineFilter::Iterate::allocate(int m, int camera_params) {
   H_pose.resize(2 * m, 6);
+  H_camera.resize(2 * m, camera_params);
   H_point.resize(m);
   pixels.resize(2 * m);
   residual.resize(2 * m);
@@ -201,14 +258,16 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
   // Where each measured point's parameters start in the state.
   std::vector<int> point_columns(m);
-  for (int k = 0; k < m; ++k) point_columns[k] = FilterState::point_column(meas[k].slot);
+  for (int k = 0; k < m; ++k) point_columns[k] = state_.point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
   const int linearisations = at_given_points() ? 1 : std::max(1, settings_.update_iterations);
   bool warm_step = false;
   Iterate at = first_iterate(meas, point_columns, predicted, linearisations, &warm_step);
   Iterate next;
-  next.allocate(m);
+  const int camera_params = state_.num_camera_params();
+  constexpr int kCamera = FilterState::kCameraColumn;
+  next.allocate(m, camera_params);
   c->residuals.resize(m);
 
   // P H^T and S's factor are built in the candidate: every step is taken (the warm start's is
@@ -237,8 +296,11 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
     // reads S's lower triangle only.
     multiply(P.leftCols<6>(), false, at.H_pose, true, PHt);
     add_point_columns(P, point_columns, at.H_point, &PHt);
+    if (camera_params > 0)
+      PHt.noalias() += P.middleCols(kCamera, camera_params) * at.H_camera.transpose();
     multiply(at.H_pose, false, PHt.topRows<6>(), false, S);
     add_point_rows_lower(PHt, point_columns, at.H_point, &S);
+    if (camera_params > 0) S.noalias() += at.H_camera * PHt.middleRows(kCamera, camera_params);
     if (mu > 0) {
       HPHt = S;  // for the undamped factor the covariance needs
       S *= shrink;
@@ -256,17 +318,20 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
     next.offset.noalias() = PHt * weighted;
     next.g = mu * at.g;
     next.g.head<6>().noalias() += at.H_pose.transpose() * weighted;
+    if (camera_params > 0)
+      next.g.segment(kCamera, camera_params).noalias() += at.H_camera.transpose() * weighted;
     for (int k = 0; k < m; ++k)
       next.g.segment<FilterState::kPointSize>(point_columns[k]).noalias() +=
           at.H_point[k].transpose() * weighted.segment<2>(2 * k);
     next.offset = shrink * (next.offset + mu * at.offset);
+    next.offset.segment(kCamera, camera_params).setZero();  // considered, never moved
     next.g *= shrink;
     // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
     // model's residual r - H d is variance times the weighted innovation.
     const double prior_cost = next.g.dot(next.offset);
     const double model_cost = variance * weighted.squaredNorm() + prior_cost;
     FilterMean moved = state_.mean.plus(next.offset, kMinInverseDepth);
-    next.offset.tail(n - FilterState::kFirstPointColumn) = moved.points - state_.mean.points;
+    next.offset.tail(n - state_.first_point_column()) = moved.points - state_.mean.points;
 
     // Project the new iterate (its pixels are the outlier test's residuals). Settled when its
     // predicted pixels moved by less than 3 % of the pixel noise, or a damped step by less than
@@ -324,6 +389,8 @@ OnlineFilter::IterateCheck OnlineFilter::project_iterate(
       next.H_pose.middleRows<2>(2 * k) =
           stale_prior ? meas[k].at_prior.pose : at.H_pose.middleRows<2>(2 * k);
       next.H_point[k] = stale_prior ? meas[k].at_prior.point : at.H_point[k];
+      next.H_camera.middleRows<2>(2 * k) =
+          stale_prior ? meas[k].at_prior.camera : at.H_camera.middleRows<2>(2 * k).eval();
       next.pixels.segment<2>(2 * k) = at.pixels.segment<2>(2 * k);
       next.residual.segment<2>(2 * k).setConstant(INFINITY);
       next.innovation.segment<2>(2 * k) =
@@ -357,6 +424,7 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
     H_pose.block<2, 3>(2 * k, 0) = lin.pose.leftCols<3>() * chart;
     H_pose.block<2, 3>(2 * k, 3) = lin.pose.rightCols<3>();
     H_point[k] = lin.point;
+    if (H_camera.cols() > 0) H_camera.middleRows<2>(2 * k) = lin.camera;
     H_offset.segment<2>(2 * k) = H_pose.middleRows<2>(2 * k) * offset.head<6>() +
                                  lin.point * offset.segment<FilterState::kPointSize>(point_column);
     innovation.segment<2>(2 * k) = residual.segment<2>(2 * k) + H_offset.segment<2>(2 * k);
@@ -367,17 +435,23 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
 void OnlineFilter::accept(Candidate* c) {
   state_.mean = std::move(c->mean);
   if (c->PHt.size() > 0) downdate_covariance(&state_.P, &c->PHt, c->S_factor);
+  state_.reset_camera_covariance();
 }
 
 double OnlineFilter::prior_chi2(const Measurement& m) const {
-  constexpr int kSize = FilterState::kPointSize;
-  const int c = FilterState::point_column(m.slot);
-  const Eigen::MatrixXd& P = state_.P;
-  Eigen::Matrix<double, 2, 6 + kSize> H;
-  H << m.at_prior.pose, m.at_prior.point;
-  Eigen::Matrix<double, 6 + kSize, 6 + kSize> P_local;
-  P_local << P.topLeftCorner<6, 6>(), P.block<6, kSize>(0, c), P.block<kSize, 6>(c, 0),
-      P.block<kSize, kSize>(c, c);
+  // H's nonzero columns: the pose's, the considered camera parameters', the point's.
+  const int c = state_.num_camera_params();
+  std::vector<int> columns;
+  for (int k = 0; k < 6; ++k) columns.push_back(k);
+  for (int k = 0; k < c; ++k) columns.push_back(FilterState::kCameraColumn + k);
+  for (int k = 0; k < FilterState::kPointSize; ++k)
+    columns.push_back(state_.point_column(m.slot) + k);
+  const auto size = static_cast<Eigen::Index>(columns.size());
+  Eigen::MatrixXd H(2, size);
+  H << m.at_prior.pose, m.at_prior.camera, m.at_prior.point;
+  Eigen::MatrixXd P_local(size, size);
+  for (Eigen::Index a = 0; a < size; ++a)
+    for (Eigen::Index b = 0; b < size; ++b) P_local(a, b) = state_.P(columns[a], columns[b]);
   Eigen::Matrix2d S = H * P_local * H.transpose();
   S.diagonal().array() += settings_.pixel_sigma * settings_.pixel_sigma;
   const Eigen::Vector2d y = m.pixel - m.at_prior.pixel;
@@ -441,6 +515,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
       if (linearise(anchor, T.linear(), T.translation(), given_params, true, &given)) {
         measurement.at_prior.pose = given.pose;
         measurement.at_prior.point = given.point;
+        measurement.at_prior.camera = given.camera;
       }
     }
     measurements.push_back(measurement);

@@ -70,8 +70,9 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   Iterate start = *prior;
   start.offset = along * delta;
   start.offset.head<6>() = delta;
+  start.offset.segment(FilterState::kCameraColumn, state_.num_camera_params()).setZero();
   const FilterMean moved = state_.mean.plus(start.offset, kMinInverseDepth);
-  start.offset.tail(n - FilterState::kFirstPointColumn) = moved.points - state_.mean.points;
+  start.offset.tail(n - state_.first_point_column()) = moved.points - state_.mean.points;
   start.g = Eigen::VectorXd::Zero(n);
   start.g.head<6>() = pose_information * delta;
   start.cost = start.g.head<6>().dot(delta);

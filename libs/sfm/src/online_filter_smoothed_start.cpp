@@ -73,6 +73,9 @@ struct OnlineFilter::StartWindow {
   // a point does not project.
   double evaluate(const OnlineFilter& filter, const StartEstimate& x, Eigen::MatrixXd* A,
                   Eigen::VectorXd* g, Worst* worst) const;
+  // J_x^T W J_c at x over the measurements, J_c their Jacobians in the considered camera
+  // parameters (size() x FilterState::num_camera_params()).
+  Eigen::MatrixXd camera_coupling(const OnlineFilter& filter, const StartEstimate& x) const;
   // x moved by a step in the unknowns' columns.
   StartEstimate moved(const StartEstimate& x, const Eigen::VectorXd& step) const;
 };
@@ -235,6 +238,24 @@ double OnlineFilter::StartWindow::evaluate(const OnlineFilter& filter, const Sta
   return cost;
 }
 
+Eigen::MatrixXd OnlineFilter::StartWindow::camera_coupling(const OnlineFilter& filter,
+                                                          const StartEstimate& x) const {
+  Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(size(), filter.state_.num_camera_params());
+  for (int i = 0; i < num_frames(); ++i)
+    for (const auto& o : frames[i].observations) {
+      if (!index.count(o.track)) continue;
+      Linearisation lin;
+      if (!filter.linearise(anchors.at(o.track), x.R[i], x.t[i],
+                            at_placed_origin(x.points.at(o.track)), true, &lin))
+        continue;
+      coupling.middleRows<3>(point_column(o.track)) +=
+          pixel_weight * lin.point.leftCols<3>().transpose() * lin.camera;
+      if (i > 0)
+        coupling.middleRows<6>(pose_column(i)) += pixel_weight * lin.pose.transpose() * lin.camera;
+    }
+  return coupling;
+}
+
 OnlineFilter::StartEstimate OnlineFilter::StartWindow::moved(const StartEstimate& x,
                                                              const Eigen::VectorXd& step) const {
   StartEstimate next = x;
@@ -313,18 +334,35 @@ void OnlineFilter::restart_from(const StartWindow& w, const StartEstimate& x,
   for (int s = 0; s < live; ++s)
     for (int k = 0; k < 3; ++k) {
       columns.push_back(w.point_column(state_.track_of(s)) + k);
-      state_columns.push_back(FilterState::point_column(s) + k);
+      state_columns.push_back(state_.point_column(s) + k);
     }
   Eigen::MatrixXd selection = Eigen::MatrixXd::Zero(A.rows(), columns.size());
   for (size_t k = 0; k < columns.size(); ++k) selection(columns[k], k) = 1;
   const Eigen::MatrixXd inverse_columns = llt.solve(selection);
   Eigen::MatrixXd& P = state_.P;
-  const int size = FilterState::point_column(live);
+  const int size = state_.point_column(live);
   P.setZero(size, size);
   for (size_t a = 0; a < columns.size(); ++a)
     for (size_t b = 0; b < columns.size(); ++b)
       P(state_columns[a], state_columns[b]) =
           inverse_columns(columns[a], static_cast<Eigen::Index>(b));
+  if (const int c = state_.num_camera_params(); c > 0) {
+    // The window was solved with the camera as given, so its estimate errs with the camera's
+    // error by the sensitivity -A^-1 A_xc: a covariance that adds, and the cross-covariance
+    // with the considered parameters (filter_state.h).
+    const Eigen::MatrixXd sensitivity = -llt.solve(w.camera_coupling(*this, x));
+    Eigen::MatrixXd selected(columns.size(), c);
+    for (size_t a = 0; a < columns.size(); ++a) selected.row(a) = sensitivity.row(columns[a]);
+    const Eigen::MatrixXd cross = selected * settings_.camera_uncertainty.covariance;
+    const Eigen::MatrixXd added = cross * selected.transpose();
+    for (size_t a = 0; a < columns.size(); ++a) {
+      for (size_t b = 0; b < columns.size(); ++b)
+        P(state_columns[a], state_columns[b]) += added(a, b);
+      P.block(state_columns[a], FilterState::kCameraColumn, 1, c) = cross.row(a);
+      P.block(FilterState::kCameraColumn, state_columns[a], c, 1) = cross.row(a).transpose();
+    }
+  }
+  state_.reset_camera_covariance();
   double bias_walk = 0;  // what the solve neglected, the bias's walk over the window
   for (int i = 1; i < num_frames; ++i) bias_walk += w.frames[i].motion.bias_walk_variance;
   for (int j = 0; j < 4; ++j) {

@@ -173,13 +173,19 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
 }
 
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings) {
-  if (settings.refine_camera && settings.batch.camera_prior.parameters.empty())
-    throw std::invalid_argument(
-        "refine_camera: no batch.camera_prior to refine the camera under (camera_prior_from "
-        "makes it from the camera file's [omni_camera_covariance])");
-  if (const std::string wrong = camera_prior_problem(camera, settings.batch.camera_prior);
-      !wrong.empty())
-    throw std::invalid_argument("batch.camera_prior: " + wrong);
+  // A flag asking for a camera prior, the prior it asks for, and their names.
+  const auto check = [&camera](bool flag, const char* flag_name, const CameraPrior& prior,
+                               const char* prior_name) {
+    if (flag && prior.empty())
+      throw std::invalid_argument(std::string(flag_name) + ": no " + prior_name +
+                                  " (camera_prior_from makes it from the camera file's "
+                                  "[omni_camera_covariance])");
+    if (const std::string wrong = camera_prior_problem(camera, prior); !wrong.empty())
+      throw std::invalid_argument(std::string(prior_name) + ": " + wrong);
+  };
+  check(settings.refine_camera, "refine_camera", settings.batch.camera_prior, "batch.camera_prior");
+  check(settings.consider_camera, "consider_camera", settings.filter.camera_uncertainty,
+        "filter.camera_uncertainty");
 }
 
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,

@@ -19,8 +19,8 @@ void run_filter(const camera::CatadioptricCamera& camera,
                 const Progress& progress, SfmResult* result);
 
 // Throws std::invalid_argument, before any work, for settings that cannot be run: refine_camera
-// without the camera's prior to refine it under, or a prior the batch cannot use
-// (camera_prior_problem).
+// without the camera's prior to refine it under, consider_camera without the uncertainty to
+// consider, or either prior unusable (camera_prior_problem).
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings);
 
 // Throws std::runtime_error when the filter's camera barely translates against the scene's depth.

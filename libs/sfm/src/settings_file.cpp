@@ -46,6 +46,7 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   settings.refine_camera = s.get_flag("refine_camera", settings.refine_camera);
   if (settings.refine_camera && !settings.run_batch)
     s.fail("refine_camera", "the batch refines the camera, and batch = false leaves none");
+  settings.consider_camera = s.get_flag("consider_camera", settings.consider_camera);
   // Empty, the default, when not known: 0 would say the first and last cameras coincide.
   if (!s.get_string("known_distance_m", "").empty()) {
     const double d = s.get_double("known_distance_m");
@@ -59,10 +60,10 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   return settings;
 }
 
-BatchSettings::CameraPrior camera_prior_from(const camera::CatadioptricCamera& camera,
+CameraPrior camera_prior_from(const camera::CatadioptricCamera& camera,
                                              const io::ParameterCovariance& covariance) {
   const std::vector<std::string> names = camera.param_names();
-  BatchSettings::CameraPrior prior;
+  CameraPrior prior;
   for (const std::string& name : covariance.parameters) {
     const auto at = std::find(names.begin(), names.end(), name);
     if (at == names.end())

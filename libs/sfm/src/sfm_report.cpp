@@ -84,9 +84,20 @@ std::string batch_line(const BatchResult& batch) {
   return line.str();
 }
 
+std::string considered_camera_line(const camera::CatadioptricCamera& camera,
+                                   const FilterSettings& settings) {
+  const std::vector<int>& considered = settings.camera_uncertainty.parameters;
+  if (considered.empty()) return "";
+  const std::vector<std::string> names = camera.param_names();
+  std::string line = "filter's camera: as calibrated, the calibration's covariance of";
+  for (size_t i = 0; i < considered.size(); ++i)
+    line += (i ? ", " : " ") + names[static_cast<size_t>(considered[i])];
+  return line + " carried in the filter's covariance ([sfm] consider_camera)\n";
+}
+
 std::string camera_line(const camera::CatadioptricCamera& camera, const BatchResult& batch,
                         const BatchSettings& settings) {
-  const BatchSettings::CameraPrior& prior = settings.camera_prior;
+  const CameraPrior& prior = settings.camera_prior;
   if (prior.parameters.empty()) return "";
   if (!batch.camera_refined) {
     if (batch.scale_source == BatchScale::kHeldAtStart)

@@ -33,7 +33,7 @@ TEST(CameraRefinementSweep, RefinedCamerasNearTheTruthWithHonestCovariances) {
     options.scenario = "rover";
     options.seed = seed;
     const sim::Dataset d = sim::simulate(options);
-    const BatchSettings::CameraPrior prior = lab_target_calibration_prior(d.camera);
+    const CameraPrior prior = lab_target_calibration_prior(d.camera);
     SfmSettings settings;
     settings.batch.camera_prior = prior;
     const camera::CatadioptricCamera calibrated =

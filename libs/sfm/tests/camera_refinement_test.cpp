@@ -25,7 +25,7 @@ sim::Dataset simulated(const char* scenario, std::uint64_t seed) {
 }
 
 SfmResult solved(const camera::CatadioptricCamera& camera, const sim::Dataset& d,
-                 const BatchSettings::CameraPrior& prior) {
+                 const CameraPrior& prior) {
   SfmSettings settings;
   settings.batch.camera_prior = prior;
   return run_sfm(camera, d.observations, settings);
@@ -40,7 +40,7 @@ eval::TrajectoryErrors errors(const SfmResult& r, const sim::Dataset& d) {
 // camera's: 0.0130 % and 0.016 deg).
 TEST(CameraRefinement, ARoverSequenceBringsAnImperfectCalibrationBackTowardTheTruth) {
   const sim::Dataset d = simulated("rover", 1);
-  const BatchSettings::CameraPrior prior = lab_target_calibration_prior(d.camera);
+  const CameraPrior prior = lab_target_calibration_prior(d.camera);
   const camera::CatadioptricCamera calibrated = eval::calibrated_with_error(d.camera, prior, 1001);
   const double calibration_sigmas =
       eval::sigmas_from_truth(calibrated.params(), d.camera, prior, prior.covariance);
@@ -82,7 +82,7 @@ TEST(CameraRefinement, ARoverSequenceBringsAnImperfectCalibrationBackTowardTheTr
 // Held at a known distance, the lab's scale is fixed after all, and the camera is refined.
 TEST(CameraRefinement, AKnownDistanceLetsTheCameraBeRefinedWhereTheImagesDoNotFixTheScale) {
   const sim::Dataset d = simulated("lab", 1);
-  const BatchSettings::CameraPrior prior = lab_target_calibration_prior(d.camera);
+  const CameraPrior prior = lab_target_calibration_prior(d.camera);
   const camera::CatadioptricCamera calibrated = eval::calibrated_with_error(d.camera, prior, 1001);
   SfmSettings settings;
   settings.batch.camera_prior = prior;
@@ -98,7 +98,7 @@ TEST(CameraRefinement, AKnownDistanceLetsTheCameraBeRefinedWhereTheImagesDoNotFi
 // A prior the batch cannot use is refused, saying why, before any solve.
 TEST(CameraRefinement, AnUnusablePriorIsRefused) {
   const camera::CatadioptricCamera camera = sim::default_rig(1024, 768);
-  BatchSettings::CameraPrior prior = lab_target_calibration_prior(camera);
+  CameraPrior prior = lab_target_calibration_prior(camera);
   EXPECT_EQ(camera_prior_problem(camera, prior), "");
   prior.covariance(4, 4) = 0;  // mirror_tz known exactly
   EXPECT_NE(camera_prior_problem(camera, prior).find("not positive definite"), std::string::npos);
@@ -130,13 +130,22 @@ TEST(CameraRefinement, AnUnusablePriorIsRefused) {
   SfmSettings refine;
   refine.refine_camera = true;
   EXPECT_THROW(run_sfm(d.camera, d.observations, refine), std::invalid_argument);
+  // The filter's likewise: consider_camera without a camera_uncertainty, or with an unusable one
+  // (refused before any frame is processed, by run_sfm and by the filter itself).
+  SfmSettings consider;
+  consider.consider_camera = true;
+  EXPECT_THROW(run_sfm(d.camera, d.observations, consider), std::invalid_argument);
+  consider.filter.camera_uncertainty = prior;
+  consider.filter.camera_uncertainty.covariance(0, 0) = -1;
+  EXPECT_THROW(run_sfm(d.camera, d.observations, consider), std::invalid_argument);
+  EXPECT_THROW(OnlineFilter(d.camera, consider.filter), std::invalid_argument);
 }
 
 // The lab's images do not fix its scale, which the batch holds at the filter's: the mirror's
 // size would take up that scale's error, and the camera stays as calibrated.
 TEST(CameraRefinement, WhereTheScaleIsHeldTheCameraStaysAsCalibrated) {
   const sim::Dataset d = simulated("lab", 1);
-  const BatchSettings::CameraPrior prior = lab_target_calibration_prior(d.camera);
+  const CameraPrior prior = lab_target_calibration_prior(d.camera);
   const camera::CatadioptricCamera calibrated = eval::calibrated_with_error(d.camera, prior, 1001);
   const SfmResult refined = solved(calibrated, d, prior);
   ASSERT_EQ(refined.batch.scale_source, BatchScale::kHeldAtStart);

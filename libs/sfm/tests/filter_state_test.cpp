@@ -65,12 +65,12 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
         params_of(1, 2, 3, {4, 5, 6}));
     EXPECT_EQ(state.track_of(slot), track);
     // The point's error is G times the pose's plus its own.
-    const int c = FilterState::point_column(slot);
+    const int c = state.point_column(slot);
     EXPECT_LT((state.P.block<kSize, 6>(c, 0) - G * state.P.topLeftCorner<6, 6>()).norm(), 1e-12);
     EXPECT_NEAR(state.P(c + 2, c + 2),
                 (G * state.P.topLeftCorner<6, 6>() * G.transpose())(2, 2) + 9, 1e-12);
   }
-  ASSERT_EQ(state.P.rows(), FilterState::point_column(3));
+  ASSERT_EQ(state.P.rows(), state.point_column(3));
   const Eigen::MatrixXd before = state.P;
   state.remove(state.slot_of(8));
   EXPECT_EQ(state.num_slots(), 2);
@@ -82,8 +82,8 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
   // Old columns of what is left: the pose and sensors, track 7's, track 9's.
   std::vector<int> kept;
   for (int k = 0; k < 10; ++k) kept.push_back(k);
-  for (int k = 0; k < kSize; ++k) kept.push_back(FilterState::point_column(0) + k);
-  for (int k = 0; k < kSize; ++k) kept.push_back(FilterState::point_column(2) + k);
+  for (int k = 0; k < kSize; ++k) kept.push_back(state.point_column(0) + k);
+  for (int k = 0; k < kSize; ++k) kept.push_back(state.point_column(2) + k);
   ASSERT_EQ(state.P.rows(), static_cast<int>(kept.size()));
   for (size_t i = 0; i < kept.size(); ++i)
     for (size_t j = 0; j < kept.size(); ++j)
@@ -95,7 +95,7 @@ TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
   state.add(4, anchor_along(Eigen::Vector3d::Zero(), {0, 1, 0}),
             params_of(0, 0, 0.5, Eigen::Vector3d::Zero()),
             Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
-  Eigen::VectorXd delta = Eigen::VectorXd::Zero(FilterState::point_column(1));
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(state.point_column(1));
   delta.head<3>() << 0, 0, 0.1;
   delta.segment<3>(3) << 1, 2, 3;
   delta.segment<3>(FilterState::kBiasColumn) << 0.01, 0.02, 0.03;
@@ -108,6 +108,54 @@ TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
   EXPECT_EQ(moved.sensors.gyro_bias, Eigen::Vector3d(0.01, 0.02, 0.03));
   EXPECT_DOUBLE_EQ(moved.sensors.wheel_scale, 1.05);
   EXPECT_EQ(moved.params(0), params_of(0.1, -0.1, 1e-3, {0.2, 0.3, 0.4}));
+}
+
+// Considered camera parameters: their columns sit between the sensors' and the points'; a point
+// hung on the pose and on them has the covariance of J = [G, G_camera] applied to theirs, plus
+// its own; their own block returns to the calibration's after anything changed it.
+TEST(FilterState, APointHangsOnTheConsideredCameraParameters) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0, 1);
+  Eigen::MatrixXd camera_covariance(2, 2);
+  camera_covariance << 4e-6, 1e-6, 1e-6, 9e-6;
+  FilterState state(camera_covariance);
+  ASSERT_EQ(state.num_camera_params(), 2);
+  ASSERT_EQ(state.first_point_column(), FilterState::kCameraColumn + 2);
+  ASSERT_EQ(state.P.rows(), 12);
+  EXPECT_EQ(state.P.block(FilterState::kCameraColumn, FilterState::kCameraColumn, 2, 2),
+            camera_covariance);
+  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(12, 12, [&] { return normal(rng); });
+  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(12, 12);
+  const Eigen::MatrixXd before = state.P;
+
+  constexpr int kSize = FilterState::kPointSize;
+  const Eigen::Matrix<double, kSize, 6> G = Eigen::Matrix<double, kSize, 6>::NullaryExpr(
+      [&] { return normal(rng); });
+  const Eigen::MatrixXd G_camera = Eigen::MatrixXd::NullaryExpr(kSize, 2, [&] { return normal(rng); });
+  const PointParams own = params_of(0.1, 0.2, 0.3, {0.4, 0.5, 0.6});
+  state.add(4, anchor_along(Eigen::Vector3d::Zero(), {1, 0, 0}), PointParams::Zero(), G, own,
+            G_camera);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(kSize, 12);
+  J.leftCols<6>() = G;
+  J.middleCols(FilterState::kCameraColumn, 2) = G_camera;
+  const int c = state.point_column(0);
+  ASSERT_EQ(c, 12);
+  const Eigen::MatrixXd point_covariance =
+      J * before * J.transpose() + Eigen::MatrixXd(own.cwiseAbs2().asDiagonal());
+  EXPECT_LT((state.P.block(c, c, kSize, kSize) - point_covariance).norm(),
+            1e-12 * point_covariance.norm());
+  EXPECT_LT((state.P.block(c, 0, kSize, 12) - J * before).norm(), 1e-12 * before.norm());
+  EXPECT_EQ(state.P.block(0, c, 12, kSize), state.P.block(c, 0, kSize, 12).transpose());
+
+  state.P.block(FilterState::kCameraColumn, FilterState::kCameraColumn, 2, 2).setZero();
+  state.reset_camera_covariance();
+  EXPECT_EQ(state.P.block(FilterState::kCameraColumn, FilterState::kCameraColumn, 2, 2),
+            camera_covariance);
+  // The camera's columns stay put as points come and go.
+  state.remove(0);
+  EXPECT_EQ(state.P.rows(), 12);
+  EXPECT_EQ(state.P.block(FilterState::kCameraColumn, 0, 2, FilterState::kCameraColumn),
+            before.block(FilterState::kCameraColumn, 0, 2, FilterState::kCameraColumn));
 }
 
 // A prior applied to a point's inverse depth by a Kalman update, then taken back: the state it
@@ -127,7 +175,7 @@ TEST(FilterState, TakingBackAPriorUndoesItsUpdate) {
   state.mean.sensors.wheel_scale = 1.02;
   const FilterState before = state;
 
-  const int c = FilterState::point_column(1) + 2;
+  const int c = state.point_column(1) + 2;
   const double prior_mean = 0.2, prior_variance = 0.25;
   const Eigen::VectorXd gain = state.P.col(c) / (state.P(c, c) + prior_variance);
   state.mean = state.mean.plus(gain * (prior_mean - state.mean.params(1)[2]), 1e-3);

@@ -30,7 +30,7 @@ inline Eigen::MatrixXd lab_target_calibration_covariance() {
 }
 
 // The batch's prior for `camera` from that calibration.
-inline BatchSettings::CameraPrior lab_target_calibration_prior(
+inline CameraPrior lab_target_calibration_prior(
     const camera::CatadioptricCamera& camera) {
   return camera_prior_from(camera, {kMirrorPoseNames, lab_target_calibration_covariance()});
 }

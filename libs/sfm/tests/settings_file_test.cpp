@@ -35,7 +35,7 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
       "[sfm]\npixel_sigma = 0.5\nupdate_iterations = 3\nsmoothed_start_frames = 0\n"
       "batch = 1\nbatch_outlier_threshold_px = 3\nhuber_px = 1.5\ncovariances = 0\n"
       "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n"
-      "refine_camera = 1\n");
+      "refine_camera = 1\nconsider_camera = 1\n");
   EXPECT_EQ(s.filter.pixel_sigma, 0.5);
   EXPECT_EQ(s.filter.update_iterations, 3);
   EXPECT_EQ(s.filter.smoothed_start_frames, 0);
@@ -47,6 +47,7 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
   EXPECT_FALSE(s.batch.scale_start);
   EXPECT_EQ(s.batch.known_distance_m, 4.08);
   EXPECT_TRUE(s.refine_camera);
+  EXPECT_TRUE(s.consider_camera);
   // Absent keys keep the defaults; an empty known distance is not known.
   const SfmSettings defaults = settings_of("[sfm]\n");
   EXPECT_TRUE(defaults.batch.scale_start);
@@ -106,7 +107,7 @@ TEST(SfmSettings, CameraPriorFromTheCalibrationsCovariance) {
   io::ParameterCovariance covariance;
   covariance.parameters = {"mirror_tz", "fx"};
   covariance.matrix = Eigen::Matrix2d(Eigen::Vector2d(1e-8, 0.25).asDiagonal());
-  const BatchSettings::CameraPrior prior = camera_prior_from(camera, covariance);
+  const CameraPrior prior = camera_prior_from(camera, covariance);
   const std::vector<std::string> names = camera.param_names();
   ASSERT_EQ(prior.parameters.size(), 2u);
   EXPECT_EQ(names[prior.parameters[0]], "mirror_tz");
@@ -128,7 +129,8 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
         "inverse_depth_sigma", "outlier_test", "outlier_chi2", "outlier_threshold_px",
         "innovation_gate_chi2", "update_iterations", "smoothed_start_frames", "batch",
         "batch_outliers", "batch_outlier_threshold_px", "huber_px", "covariances",
-        "max_iterations", "batch_scale_start", "known_distance_m", "refine_camera"})
+        "max_iterations", "batch_scale_start", "known_distance_m", "refine_camera",
+        "consider_camera"})
     EXPECT_TRUE(section.has(key)) << key;
   const SfmSettings read = read_sfm_settings(section);
   const SfmSettings defaults;
@@ -151,6 +153,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(read.batch.covariances, defaults.batch.covariances);
   EXPECT_EQ(read.batch.max_iterations, defaults.batch.max_iterations);
   EXPECT_EQ(read.refine_camera, defaults.refine_camera);
+  EXPECT_EQ(read.consider_camera, defaults.consider_camera);
   EXPECT_EQ(read.batch.scale_start, defaults.batch.scale_start);
   EXPECT_EQ(read.batch.known_distance_m, defaults.batch.known_distance_m);
 }

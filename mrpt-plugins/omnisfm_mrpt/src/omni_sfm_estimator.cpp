@@ -113,8 +113,17 @@ void OmniSfmEstimatorOptions::loadFromConfigFile(const mrpt::config::CConfigFile
   RunOptions run = run_options();
   read_run_options(section_of(source, section), &run);
   sfm::FilterSettings read_filter = filter;
-  if (section != "sfm" && source.sectionExists("sfm"))
-    read_filter = sfm::read_sfm_settings(section_of(source, "sfm")).filter;
+  if (section != "sfm" && source.sectionExists("sfm")) {
+    const io::IniSection sfm_section = section_of(source, "sfm");
+    const sfm::SfmSettings read = sfm::read_sfm_settings(sfm_section);
+    // The camera comes with the options or the observations, neither of which a config file's
+    // key can give a covariance.
+    if (read.consider_camera)
+      sfm_section.fail("consider_camera",
+                       "the estimator takes the camera's covariance from its options "
+                       "(OmniSfmEstimatorOptions::filter.camera_uncertainty), not from a key");
+    read_filter = read.filter;
+  }
   set_run_options(run);
   filter = read_filter;
 }

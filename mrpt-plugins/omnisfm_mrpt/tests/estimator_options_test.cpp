@@ -121,8 +121,19 @@ TEST(EstimatorOptions, AKeyTheLoaderDoesNotKnowIsRefusedNamingTheFile) {
   }
   const std::string bad = written("bad", "[slam]\nodometry_scale = -1\n");
   EXPECT_THROW(o.loadFromConfigFile(mrpt::config::CConfigFile(bad), "slam"), io::InputError);
+  // [sfm] consider_camera names a covariance the config cannot carry: refused, not ignored.
+  const std::string consider = written("consider", "[slam]\n[sfm]\nconsider_camera = 1\n");
+  try {
+    o.loadFromConfigFile(mrpt::config::CConfigFile(consider), "slam");
+    ADD_FAILURE() << "no error";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("consider_camera"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("filter.camera_uncertainty"), std::string::npos)
+        << e.what();
+  }
   std::filesystem::remove(path);
   std::filesystem::remove(bad);
+  std::filesystem::remove(consider);
 }
 
 }  // namespace

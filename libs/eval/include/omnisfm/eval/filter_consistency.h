@@ -5,6 +5,7 @@
 // cam_from_world, in the gauge of the first frame). Honest: a mean of 6 (the pose's degrees of
 // freedom) and 95 % of frames inside chi-square(6)'s 95 % bound, 12.59.
 
+#include "omnisfm/sfm/camera_prior.h"
 #include "omnisfm/sfm/online_filter.h"
 
 namespace omnisfm::eval {
@@ -23,8 +24,14 @@ struct PoseConsistency {
 // Rover seeds 1..seeds, the simulated wheel reading `wheel_scale_error` long (0.015: 1.5 %).
 // linearised_at_truth: the filter takes its Jacobians at the true poses and points
 // (OnlineFilter::linearise_at), which shows what the filter's model alone is worth.
+// calibration_error: the filter's camera is not the rover's but a calibration of it, drawn per
+// seed from this covariance about the truth (calibrated_with_error, seeded 1000 + the seed),
+// its parameters' errors scaled by `error_sigmas`; the filter is told of it only through
+// settings.camera_uncertainty.
 PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
                                        const sfm::FilterSettings& settings = {},
-                                       bool linearised_at_truth = false);
+                                       bool linearised_at_truth = false,
+                                       const sfm::CameraPrior* calibration_error = nullptr,
+                                       double error_sigmas = 1);
 
 }  // namespace omnisfm::eval

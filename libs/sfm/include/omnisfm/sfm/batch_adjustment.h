@@ -14,6 +14,7 @@
 
 #include "omnisfm/camera/catadioptric_camera.h"
 #include "omnisfm/core/track_observation.h"
+#include "omnisfm/sfm/camera_prior.h"
 
 namespace ceres {
 class CostFunction;
@@ -60,10 +61,6 @@ struct BatchSettings {
   // by then); where the scale is held at the start's (BatchScale::kHeldAtStart) the camera stays
   // as calibrated, as the mirror's size would take up the scale's error. None listed: the camera
   // is held as given.
-  struct CameraPrior {
-    std::vector<int> parameters;
-    Eigen::MatrixXd covariance;
-  };
   CameraPrior camera_prior;
 };
 
@@ -138,11 +135,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);
-
-// What is wrong with `prior` for `camera` (a parameter out of range or listed twice, a
-// covariance of the wrong size, not symmetric, not finite or not positive definite), or empty.
-std::string camera_prior_problem(const camera::CatadioptricCamera& camera,
-                                 const BatchSettings::CameraPrior& prior);
 
 // The pose of the batch's parameters (BatchResult::pose_parameters): cam_from_world.
 Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters);

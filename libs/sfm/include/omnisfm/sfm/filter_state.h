@@ -11,7 +11,15 @@
 // error entered the angles divided by the depth guess (2 m for a point 0.5-20 m away), which
 // left the published pose covariance several times overconfident (eval::rover_pose_consistency).
 // Covariance columns: the pose 0-5 (the rotation's error a left perturbation, R = exp(dtheta) R,
-// then the translation's), the gyro's bias 6-8, the wheels' scale 9, then 6 per slot.
+// then the translation's), the gyro's bias 6-8, the wheels' scale 9, the camera parameters the
+// filter considers (FilterSettings::camera_uncertainty; none by default), then 6 per slot.
+//
+// The considered camera parameters are Schmidt's consider states: their error is in the
+// covariance, correlated with the rest by every measurement, but never estimated. The mean holds
+// no entry for them (the camera stays as given) and their own block stays the calibration's
+// covariance (reset_camera_covariance after each update): a sequence may well be unable to tell
+// a mirror's tilt from the rig's attitude, and an estimate that drifts with the latter would
+// then bend every later measurement.
 
 #include <Eigen/Geometry>
 #include <map>
@@ -73,12 +81,22 @@ class FilterState {
  public:
   static constexpr int kBiasColumn = 6;
   static constexpr int kScaleColumn = 9;
-  static constexpr int kFirstPointColumn = 10;
+  static constexpr int kCameraColumn = 10;
   static constexpr int kPointSize = 6;
-  static int point_column(int slot) { return kFirstPointColumn + kPointSize * slot; }
+
+  // `camera_covariance`: of the considered camera parameters (0 x 0: none).
+  explicit FilterState(const Eigen::MatrixXd& camera_covariance = Eigen::MatrixXd());
+
+  int num_camera_params() const { return static_cast<int>(camera_covariance_.rows()); }
+  int first_point_column() const { return kCameraColumn + num_camera_params(); }
+  int point_column(int slot) const { return first_point_column() + kPointSize * slot; }
+  // The considered camera parameters' block back to the calibration's covariance, after an
+  // update has changed it: with their gain zero, Schmidt's update of the rest is the Kalman
+  // update's, and their own block is what the calibration said.
+  void reset_camera_covariance();
 
   FilterMean mean;
-  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(kFirstPointColumn, kFirstPointColumn);
+  Eigen::MatrixXd P;
 
   int num_slots() const { return static_cast<int>(slot_track_.size()); }
   // The slot of a track's point; -1 when the state holds none.
@@ -92,9 +110,12 @@ class FilterState {
   }
 
   // A new slot, the last, for a track's point at `params` about `anchor`. The point hangs on the
-  // pose: its error is G times the pose's plus its own (independent, `own_sigma` per parameter).
+  // pose and the considered camera parameters: its error is G times the pose's plus G_camera
+  // times theirs (kPointSize x num_camera_params(); ignored without them) plus its own
+  // (independent, `own_sigma` per parameter).
   int add(int track, const PointAnchor& anchor, const PointParams& params,
-          const Eigen::Matrix<double, kPointSize, 6>& G, const PointParams& own_sigma);
+          const Eigen::Matrix<double, kPointSize, 6>& G, const PointParams& own_sigma,
+          const Eigen::MatrixXd& G_camera = Eigen::MatrixXd());
   // The slot's point leaves; the last slot moves into its place.
   void remove(int slot);
   // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
@@ -106,6 +127,7 @@ class FilterState {
                        double min_inverse_depth);
 
  private:
+  Eigen::MatrixXd camera_covariance_;
   std::vector<PointAnchor> anchors_;  // per slot
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;

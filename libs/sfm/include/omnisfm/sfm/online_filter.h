@@ -40,6 +40,7 @@
 
 #include "omnisfm/core/track_observation.h"
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/sfm/camera_prior.h"
 #include "omnisfm/sfm/filter_state.h"
 
 namespace omnisfm::sfm {
@@ -115,6 +116,16 @@ struct FilterSettings {
   // is well conditioned. Vision alone the priors are all that holds the scale: taken back there,
   // the 600 m drives' error after a similarity alignment rose from 8.1-10.1 % to 9.5-13.0 %.
   bool take_back_depth_priors = true;
+  // The camera's calibration uncertainty (the camera file's [omni_camera_covariance], through
+  // camera_prior_from): those parameters become consider states (filter_state.h), so that every
+  // measurement's and every new point's error from the camera is carried, with its correlations
+  // across frames, in the covariance the filter publishes. A calibration error is the same in
+  // every frame, which no widening of each measurement's own noise can represent: over rover
+  // seeds 1-25 with cameras drawn from a calibration's covariance, the pose's mean NEES is 30
+  // with the camera taken as exact, 13-23 with pixel_sigma widened to 0.5-1.2 px, and 5.5 with
+  // the covariance considered (eval::rover_pose_consistency; 6 is honest). Empty: the camera is
+  // exact.
+  CameraPrior camera_uncertainty;
   // How many of the latest ended points and rejected tracks points() and rejected() keep; the
   // callbacks (OnlineFilter::on_point_ended, on_track_rejected) are handed every one.
   int kept_history = 10000;
@@ -218,6 +229,7 @@ class OnlineFilter {
     Eigen::Vector2d pixel;
     Eigen::Matrix<double, 2, 6> pose;   // rotation (left perturbation), then translation
     Eigen::Matrix<double, 2, FilterState::kPointSize> point;  // the point's parameters
+    Eigen::Matrix<double, 2, Eigen::Dynamic> camera;  // the considered camera parameters
   };
   struct Measurement {
     int slot;
@@ -241,6 +253,7 @@ class OnlineFilter {
   struct Iterate {
     Eigen::Matrix<double, Eigen::Dynamic, 6> H_pose;
     std::vector<Eigen::Matrix<double, 2, FilterState::kPointSize>> H_point;
+    Eigen::MatrixXd H_camera;  // the considered camera parameters' columns, two rows each
     // Per measurement, from the last iterate where it projected: h(x_i), z - h(x_i) (infinite
     // where it did not project here), H_i (x_i - x_prior) and the innovation
     // z - h(x_i) + H_i (x_i - x_prior).
@@ -249,7 +262,7 @@ class OnlineFilter {
     Eigen::VectorXd g;
     double cost = 0;         // the posterior cost at x_i (infinite where a point did not project)
 
-    void allocate(int measurements);  // the per-measurement parts
+    void allocate(int measurements, int camera_params);  // the per-measurement parts
 
     // Measurement k linearised at this iterate (its offset set), `observed` its pixel and its
     // point's parameters at `point_column` of the state: h(x_i) and z - h(x_i), and with
@@ -299,6 +312,12 @@ class OnlineFilter {
               Candidate* candidate) const;
   void accept(Candidate* candidate);
   void add_point(int track, const Eigen::Vector2d& pixel);
+  // How a new point's parameters about `anchor`, started from `pixel` by the pose (R, t), move
+  // with the considered camera parameters' errors (FilterState::add's G_camera): the ray the
+  // pixel unprojects to moves with them. By central differences of unprojection, which has no
+  // analytic Jacobian.
+  Eigen::MatrixXd ray_camera_jacobian(const PointAnchor& anchor, const Eigen::Vector2d& pixel,
+                                      const Eigen::Matrix3d& R) const;
 
   // One kilometre: far enough to stand for infinity in any scene the rig maps.
   static constexpr double kMinInverseDepth = 1e-3;
@@ -340,6 +359,10 @@ class OnlineFilter {
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
+  // Per considered camera parameter, the camera moved by minus and plus a step of it, and that
+  // step (ray_camera_jacobian).
+  std::vector<std::pair<camera::CatadioptricCamera, camera::CatadioptricCamera>> camera_steps_;
+  std::vector<double> camera_step_sizes_;
   LinearisationPoints linearisation_points_;
   int frame_ = 0;           // the frame being processed
   int previous_frame_ = 0;  // and the one before

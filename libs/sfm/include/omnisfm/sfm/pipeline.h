@@ -21,6 +21,10 @@ struct SfmSettings {
   // (sfm::camera_prior_from, settings_file.h). The batch refines the camera whenever that prior
   // lists parameters; run_sfm refuses this flag without one.
   bool refine_camera = false;
+  // Whether the filter carries the same covariance as its camera's uncertainty
+  // (FilterSettings::camera_uncertainty), filled the same way; run_sfm refuses this flag without
+  // it.
+  bool consider_camera = false;
   // After the batch, a track with a residual beyond this is rejected too, a track the filter
   // rejected that fits the batch's poses within it is taken back, and the batch re-run: a track
   // that slid to a nearby feature can fool the filter's test but not the whole sequence, and a

@@ -6,7 +6,7 @@
 //   batch  (0 or 1)  batch_outliers (0 or 1)  batch_outlier_threshold_px  huber_px
 //   covariances (0 or 1)  max_iterations
 //   batch_scale_start (0 or 1)  known_distance_m (metres > 0, or empty: not known)
-//   refine_camera (0 or 1)
+//   refine_camera (0 or 1)  consider_camera (0 or 1)
 
 #include <string>
 
@@ -26,7 +26,7 @@ SfmSettings read_sfm_settings(const io::IniSection& section);
 // The batch's prior on `camera` from its calibration's covariance (io::read_camera_covariance):
 // the named parameters' indices in camera.params(). Throws std::invalid_argument for a name the
 // camera does not have, or a covariance the batch cannot use (camera_prior_problem).
-BatchSettings::CameraPrior camera_prior_from(const camera::CatadioptricCamera& camera,
+CameraPrior camera_prior_from(const camera::CatadioptricCamera& camera,
                                              const io::ParameterCovariance& covariance);
 
 }  // namespace omnisfm::sfm

@@ -28,4 +28,10 @@ std::string scale_line(const SfmResult& result, const BatchSettings& settings);
 std::string camera_line(const camera::CatadioptricCamera& camera, const BatchResult& batch,
                         const BatchSettings& settings);
 
+// With the camera's calibration uncertainty considered by the filter
+// (FilterSettings::camera_uncertainty), the line beginning "filter's camera:" and ending in a
+// newline, naming the parameters; empty without.
+std::string considered_camera_line(const camera::CatadioptricCamera& camera,
+                                   const FilterSettings& settings);
+
 }  // namespace omnisfm::sfm
