@@ -554,7 +554,8 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
 }
 
 bool CatadioptricCamera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,
-                                   Eigen::Vector3d* direction) const {
+                                   Eigen::Vector3d* direction, RayJacobian* J,
+                                   bool with_params) const {
   Eigen::Vector3d o_C, d_C;
   if (!pixel.allFinite() || !inner_->unproject(pixel, &o_C, &d_C)) return false;
   const Eigen::Vector3d& t = pose_.translation();
@@ -641,7 +642,39 @@ bool CatadioptricCamera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d
   const Eigen::Vector3d reflected = d - 2 * incidence * normal;
   *origin = R_ * p + t;
   *direction = (R_ * reflected).normalized();
-  return origin->allFinite() && direction->allFinite();
+  if (!origin->allFinite() || !direction->allFinite()) return false;
+  return !J || ray_jacobian(*origin, *direction, J, with_params);
+}
+
+bool CatadioptricCamera::ray_jacobian(const Eigen::Vector3d& origin,
+                                      const Eigen::Vector3d& direction, RayJacobian* J,
+                                      bool with_params) const {
+  // Two points of the ray at scene distances, scaled by the mirror's size: far enough from it to
+  // project well, far enough apart to turn the ray accurately.
+  const double near = 20 * box_rho_max_, far = 200 * box_rho_max_;
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - direction * direction.transpose();
+  Eigen::Matrix<double, 3, 2> move_pixel[2];
+  Eigen::Matrix<double, 3, Eigen::Dynamic> move_params[2];
+  thread_local ParamsJacobian J_params;
+  for (int k = 0; k < 2; ++k) {
+    Eigen::Vector2d pixel;
+    Eigen::Matrix<double, 2, 3> J_X;
+    if (!project(origin + (k == 0 ? near : far) * direction, &pixel, &J_X,
+                 with_params ? &J_params : nullptr))
+      return false;
+    // J_X's pseudo-inverse, J_X^T (J_X J_X^T)^-1: the least-norm dX per pixel.
+    const Eigen::Matrix<double, 3, 2> least_norm =
+        across * J_X.transpose() * (J_X * J_X.transpose()).inverse();
+    move_pixel[k] = least_norm;
+    if (with_params) move_params[k] = -least_norm * J_params;
+  }
+  J->direction_pixel = (move_pixel[1] - move_pixel[0]) / (far - near);
+  J->origin_pixel = move_pixel[0] - near * J->direction_pixel;
+  if (with_params) {
+    J->direction_params = (move_params[1] - move_params[0]) / (far - near);
+    J->origin_params = move_params[0] - near * J->direction_params;
+  }
+  return J->direction_pixel.allFinite() && J->origin_pixel.allFinite();
 }
 
 }  // namespace omnisfm::camera

@@ -82,10 +82,11 @@ inline std::string write_opencv8_cameramodel() {
 // d f / d x at 0 by the five-point central stencil: truncation O(h^4), so steps can be large
 // enough to keep rounding noise near 1e-9 pixel per unit.
 template <typename F>
-Eigen::Vector2d five_point_derivative(const F& f, double h) {
-  const Eigen::Vector2d far_minus = f(-2 * h), far_plus = f(2 * h);
-  const Eigen::Vector2d near_minus = f(-h), near_plus = f(h);
-  return ((far_minus - far_plus) + 8 * (near_plus - near_minus)) / (12 * h);
+auto five_point_derivative(const F& f, double h) {
+  using Value = decltype(f(h));
+  const Value far_minus = f(-2 * h), far_plus = f(2 * h);
+  const Value near_minus = f(-h), near_plus = f(h);
+  return Value(((far_minus - far_plus) + 8 * (near_plus - near_minus)) / (12 * h));
 }
 
 // Tolerance for comparing an analytic Jacobian column with five_point_derivative: relative 1e-6

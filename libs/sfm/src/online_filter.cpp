@@ -31,24 +31,6 @@ OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const Filte
   if (const std::string wrong = camera_prior_problem(camera, settings.camera_uncertainty);
       !wrong.empty())
     throw std::invalid_argument("FilterSettings::camera_uncertainty: " + wrong);
-  const Eigen::VectorXd params = camera.params();
-  const CameraPrior& considered = settings.camera_uncertainty;
-  for (size_t k = 0; k < considered.parameters.size(); ++k) {
-    // A thousandth of the parameter's sigma: far below what changes the unprojection's
-    // linearity, far above its iterations' tolerance.
-    const auto i = static_cast<Eigen::Index>(k);
-    const double step = 1e-3 * std::sqrt(considered.covariance(i, i));
-    Eigen::VectorXd minus = params, plus = params;
-    minus(considered.parameters[k]) -= step;
-    plus(considered.parameters[k]) += step;
-    camera::CatadioptricCamera below = camera, above = camera;
-    if (!below.set_params(minus) || !above.set_params(plus))
-      throw std::invalid_argument(
-          "FilterSettings::camera_uncertainty: the camera is at the edge of its parameter " +
-          camera.param_names()[static_cast<size_t>(considered.parameters[k])]);
-    camera_steps_.emplace_back(std::move(below), std::move(above));
-    camera_step_sizes_.push_back(step);
-  }
 }
 
 Eigen::Isometry3d OnlineFilter::cam_from_world() const { return state_.mean.cam_from_world(); }
@@ -117,12 +99,12 @@ void OnlineFilter::reject(int track, int frame) {
 
 void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   Eigen::Vector3d origin, direction;
-  if (!camera_.unproject(pixel, &origin, &direction)) return;
+  camera::RayJacobian ray;
+  const bool considered = state_.num_camera_params() > 0;
+  const bool with_jacobian = camera_.unproject(pixel, &origin, &direction, &ray, considered);
+  if (!with_jacobian && !camera_.unproject(pixel, &origin, &direction)) return;
   // Angular resolution at this pixel, for the certainty across the ray.
-  Eigen::Vector3d o2, d2;
-  double radians_per_pixel = 0.005;
-  if (camera_.unproject(pixel + Eigen::Vector2d(1, 0), &o2, &d2))
-    radians_per_pixel = std::acos(std::clamp(direction.dot(d2), -1.0, 1.0));
+  const double radians_per_pixel = with_jacobian ? ray.direction_pixel.col(0).norm() : 0.005;
 
   const Eigen::Matrix3d& R = state_.mean.R;
   const Eigen::Vector3d& t = state_.mean.t;
@@ -149,26 +131,28 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   const double across = radians_per_pixel * settings_.pixel_sigma;
   PointParams own_sigma = PointParams::Zero();
   own_sigma.head<3>() << across, across, settings_.inverse_depth_sigma;
-  state_.add(track, anchor, params, G, own_sigma, ray_camera_jacobian(anchor, pixel, R_at));
+  Eigen::MatrixXd G_camera;  // none without considered parameters
+  if (considered)
+    G_camera = with_jacobian ? ray_camera_jacobian(anchor, ray, R_at)
+                             : Eigen::MatrixXd::Zero(FilterState::kPointSize,
+                                                     state_.num_camera_params());
+  state_.add(track, anchor, params, G, own_sigma, G_camera);
 }
 
 Eigen::MatrixXd OnlineFilter::ray_camera_jacobian(const PointAnchor& anchor,
-                                                  const Eigen::Vector2d& pixel,
+                                                  const camera::RayJacobian& ray,
                                                   const Eigen::Matrix3d& R) const {
   // As ray_pose_jacobian: the angles move with the direction across the first ray, the origin's
   // offset with the origin, both turned into the world frame.
-  const int c = state_.num_camera_params();
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(FilterState::kPointSize, c);
-  for (int k = 0; k < c; ++k) {
-    Eigen::Vector3d o_minus, d_minus, o_plus, d_plus;
-    if (!camera_steps_[k].first.unproject(pixel, &o_minus, &d_minus) ||
-        !camera_steps_[k].second.unproject(pixel, &o_plus, &d_plus))
-      continue;  // at the rim: the pixel's own noise dominates there
-    const double h2 = 2 * camera_step_sizes_[k];
-    const Eigen::Vector3d d_direction = R.transpose() * (d_plus - d_minus) / h2;
-    J(0, k) = anchor.basis.col(1).dot(d_direction);
-    J(1, k) = anchor.basis.col(2).dot(d_direction);
-    J.block<3, 1>(3, k) = R.transpose() * (o_plus - o_minus) / h2;
+  const std::vector<int>& considered = settings_.camera_uncertainty.parameters;
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(FilterState::kPointSize,
+                                            static_cast<Eigen::Index>(considered.size()));
+  for (size_t k = 0; k < considered.size(); ++k) {
+    const auto column = static_cast<Eigen::Index>(k);
+    const Eigen::Vector3d d_direction = R.transpose() * ray.direction_params.col(considered[k]);
+    J(0, column) = anchor.basis.col(1).dot(d_direction);
+    J(1, column) = anchor.basis.col(2).dot(d_direction);
+    J.block<3, 1>(3, column) = R.transpose() * ray.origin_params.col(considered[k]);
   }
   return J;
 }

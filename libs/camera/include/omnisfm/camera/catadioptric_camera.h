@@ -38,6 +38,15 @@ struct Reflection {
   int iterations = 0;         // Newton iterations used
 };
 
+// How a pixel's reflected ray moves, to first order, with the pixel and with params(): the
+// direction's change, and the origin's move across the ray (perpendicular to it: a move along the
+// ray changes the ray nothing, only where it is said to start).
+struct RayJacobian {
+  Eigen::Matrix<double, 3, 2> direction_pixel, origin_pixel;
+  // 3 x num_params(); filled only when asked for (unproject's with_params).
+  Eigen::Matrix<double, 3, Eigen::Dynamic> direction_params, origin_params;
+};
+
 class CatadioptricCamera {
  public:
   CatadioptricCamera(std::unique_ptr<InnerCamera> inner, std::unique_ptr<MirrorProfile> mirror,
@@ -53,9 +62,14 @@ class CatadioptricCamera {
                Eigen::Matrix<double, 2, 3>* J_X = nullptr, ParamsJacobian* J_params = nullptr,
                Reflection* reflection = nullptr) const;
 
-  // The reflected ray of a pixel, in frame C: origin on the mirror, unit direction.
-  bool unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,
-                 Eigen::Vector3d* direction) const;
+  // The reflected ray of a pixel, in frame C: origin on the mirror, unit direction. With J, its
+  // derivatives (with_params: in params() too), from the implicit function theorem on projection:
+  // the points of the ray stay at the pixel, and J_X's null space is the ray itself, so the
+  // least-norm solution of J_X dX = dpixel - J_params dparams is the ray's move across itself at
+  // X; two points of the ray give its turn and its shift. False also where those points do not
+  // project (the ray leaving through the camera's own reflection).
+  bool unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin, Eigen::Vector3d* direction,
+                 RayJacobian* J = nullptr, bool with_params = false) const;
 
   int num_params() const;
   std::vector<std::string> param_names() const;
@@ -79,6 +93,9 @@ class CatadioptricCamera {
  private:
   // Rebuilds what is derived from the parameters: rotation, the starting-guess table.
   void refresh();
+  // unproject's Jacobian of the ray (origin, direction).
+  bool ray_jacobian(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                    RayJacobian* J, bool with_params) const;
   // The starting point of the Newton solve for X_M: profile parameter, and azimuth relative to
   // X_M's own, whose cosine and sine are given.
   void initial_guess(const Eigen::Vector3d& X_M, double cos_azimuth, double sin_azimuth,

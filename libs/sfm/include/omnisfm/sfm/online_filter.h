@@ -312,11 +312,10 @@ class OnlineFilter {
               Candidate* candidate) const;
   void accept(Candidate* candidate);
   void add_point(int track, const Eigen::Vector2d& pixel);
-  // How a new point's parameters about `anchor`, started from `pixel` by the pose (R, t), move
-  // with the considered camera parameters' errors (FilterState::add's G_camera): the ray the
-  // pixel unprojects to moves with them. By central differences of unprojection, which has no
-  // analytic Jacobian.
-  Eigen::MatrixXd ray_camera_jacobian(const PointAnchor& anchor, const Eigen::Vector2d& pixel,
+  // How a new point's parameters about `anchor`, started from a pixel whose ray moves by `ray`
+  // (unprojection's Jacobian) seen from the pose's rotation R, move with the considered camera
+  // parameters' errors (FilterState::add's G_camera).
+  Eigen::MatrixXd ray_camera_jacobian(const PointAnchor& anchor, const camera::RayJacobian& ray,
                                       const Eigen::Matrix3d& R) const;
 
   // One kilometre: far enough to stand for infinity in any scene the rig maps.
@@ -359,10 +358,6 @@ class OnlineFilter {
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
-  // Per considered camera parameter, the camera moved by minus and plus a step of it, and that
-  // step (ray_camera_jacobian).
-  std::vector<std::pair<camera::CatadioptricCamera, camera::CatadioptricCamera>> camera_steps_;
-  std::vector<double> camera_step_sizes_;
   LinearisationPoints linearisation_points_;
   int frame_ = 0;           // the frame being processed
   int previous_frame_ = 0;  // and the one before
