@@ -446,10 +446,7 @@ bool OnlineFilter::process_frame(int frame, const std::vector<TrackPixel>& obser
   return process(frame, observations, nullptr);
 }
 
-bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observations,
-                           const MotionPrediction* motion) {
-  previous_frame_ = frame_;
-  frame_ = frame;
+std::map<int, Eigen::Vector2d> OnlineFilter::usable(const std::vector<TrackPixel>& observations) {
   std::map<int, Eigen::Vector2d> seen;
   for (const auto& o : observations)
     if (!excluded_.count(o.track)) seen[o.track] = o.pixel;
@@ -460,24 +457,11 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
       if (excluded_.count(o.track)) still_excluded.insert(o.track);
     excluded_.swap(still_excluded);
   }
+  return seen;
+}
 
-  if (!started_) {
-    started_ = true;
-    for (const auto& [track, pixel] : seen) add_point(track, pixel);
-    record_start_frame(frame, observations, nullptr, state_.mean.sensors);
-    return true;
-  }
-
-  // Tracks not seen in this frame have ended: their points leave the state.
-  for (int s = state_.num_slots() - 1; s >= 0; --s)
-    if (!seen.count(state_.track_of(s))) end_point(s);
-
-  const SensorStates predicted_at = state_.mean.sensors;
-  if (motion)
-    propagate(*motion);
-  else
-    propagate();
-
+std::vector<OnlineFilter::Measurement> OnlineFilter::measurements_of(
+    const std::map<int, Eigen::Vector2d>& seen) const {
   std::vector<Measurement> measurements;
   for (const auto& [track, pixel] : seen) {
     const int slot = state_.slot_of(track);
@@ -488,7 +472,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
                    &measurement.at_prior))
       continue;
     if (at_given_points()) {
-      const Eigen::Isometry3d T = linearisation_points_.cam_from_world(frame);
+      const Eigen::Isometry3d T = linearisation_points_.cam_from_world(frame_);
       Linearisation given;
       // The given point about the origin as the state now has it.
       const PointParams at = state_.mean.params(slot);
@@ -504,23 +488,24 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     }
     measurements.push_back(measurement);
   }
+  return measurements;
+}
 
-  std::set<int> rejected_slots;
+bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measurements,
+                                             bool predicted, std::set<int>* rejected_slots) {
   if (settings_.innovation_gate_chi2 > 0) {
     std::vector<Measurement> kept;
     for (const auto& m : measurements) {
       if (prior_chi2(m) > settings_.innovation_gate_chi2)
-        rejected_slots.insert(m.slot);
+        rejected_slots->insert(m.slot);
       else
         kept.push_back(m);
     }
     measurements.swap(kept);
   }
-
-  bool updated = false;
   Candidate candidate;
   while (!measurements.empty()) {
-    update(measurements, motion != nullptr, &candidate);
+    update(measurements, predicted, &candidate);
     linearisations_ += candidate.linearisations;
     // Without a factor of S (P not positive definite) only the pixels can be judged.
     const bool chi2 = settings_.outlier_test == OutlierTest::kChiSquare && candidate.PHt.size() > 0;
@@ -541,15 +526,43 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     if (!(*worst <= limit)) {
       // Drop the worst track, redo the update from the prediction.
       const auto index = worst - scores.begin();
-      rejected_slots.insert(measurements[index].slot);
+      rejected_slots->insert(measurements[index].slot);
       measurements.erase(measurements.begin() + index);
       continue;
     }
     accept(&candidate);
     for (const auto& m : measurements) ++state_.anchor(m.slot).updates;
-    updated = true;
-    break;
+    return true;
   }
+  return false;
+}
+
+bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observations,
+                           const MotionPrediction* motion) {
+  previous_frame_ = frame_;
+  frame_ = frame;
+  const std::map<int, Eigen::Vector2d> seen = usable(observations);
+
+  if (!started_) {
+    started_ = true;
+    for (const auto& [track, pixel] : seen) add_point(track, pixel);
+    record_start_frame(frame, observations, nullptr, state_.mean.sensors);
+    return true;
+  }
+
+  // Tracks not seen in this frame have ended: their points leave the state.
+  for (int s = state_.num_slots() - 1; s >= 0; --s)
+    if (!seen.count(state_.track_of(s))) end_point(s);
+
+  const SensorStates predicted_at = state_.mean.sensors;
+  if (motion)
+    propagate(*motion);
+  else
+    propagate();
+
+  std::set<int> rejected_slots;
+  const bool updated =
+      update_rejecting_outliers(measurements_of(seen), motion != nullptr, &rejected_slots);
   // Named by track: removing a slot moves another into its place.
   std::vector<int> rejected_tracks;
   for (int slot : rejected_slots) rejected_tracks.push_back(state_.track_of(slot));

@@ -274,6 +274,17 @@ class OnlineFilter {
   // Both process_frame overloads: propagated by `motion` when given, else by the random walk.
   bool process(int frame, const std::vector<TrackPixel>& observations,
                const MotionPrediction* motion);
+  // The observations of tracks not rejected, by track; rejected tracks no longer observed are
+  // forgotten.
+  std::map<int, Eigen::Vector2d> usable(const std::vector<TrackPixel>& observations);
+  // The measurements of the tracks the state holds, linearised at the propagated state (at the
+  // given points in a consistency study), those that project there.
+  std::vector<Measurement> measurements_of(const std::map<int, Eigen::Vector2d>& seen) const;
+  // The innovation gate, then the update with the outlier test: the worst track dropped and the
+  // update redone until every residual passes. The dropped tracks' slots go to rejected_slots.
+  // False when no measurement is left to update with.
+  bool update_rejecting_outliers(std::vector<Measurement> measurements, bool predicted,
+                                 std::set<int>* rejected_slots);
   void propagate();
   void propagate(const MotionPrediction& motion);
   // A track's point leaves the state: held while the smoothed start is pending, else handed over.
