@@ -197,24 +197,12 @@ std::string write_slam_rawlog(const std::string& file, const std::string& path,
   return line.str();
 }
 
-}  // namespace
+struct RunVerbOptions {
+  std::string rawlog, out, config, camera, ground_truth, slam_rawlog;
+  bool strict = false;
+};
 
-void add_run_verb(CLI::App& app) {
-  struct Options {
-    std::string rawlog, out, config, camera, ground_truth, slam_rawlog;
-    bool strict = false;
-  };
-  auto o = std::make_shared<Options>();
-  CLI::App* verb = app.add_subcommand(
-      "run",
-      "Replay an MRPT rawlog with fusion: the camera's "
-      "tracked features or its images through the tracker, wheel odometry, a gyro and GPS "
-      "fixes; writes what the sfm verb writes plus scene.3Dscene (for SceneViewer3D) and, with "
-      "GPS, geodetic.vnl. A truncated or corrupt rawlog is replayed up to the damaged object: a "
-      "warning names the object's index and what is wrong, and report.txt repeats it "
-      "(--strict: exit 2 instead, writing nothing). With [sfm] batch = false, the online "
-      "estimator alone, the rawlog read and the results written object by object in constant "
-      "memory (online.tum, points, outliers and the report; GPS fixes are not used)");
+void add_run_options(CLI::App* verb, RunVerbOptions* o) {
   verb->add_option("rawlog", o->rawlog, "The rawlog (either format, gzip-compressed or not)")
       ->required();
   verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
@@ -234,117 +222,149 @@ void add_run_verb(CLI::App& app) {
                    "robot's increment with its covariance (CActionRobotMovement3D) and the "
                    "tracks' points as range, yaw and pitch from the camera "
                    "(CObservationBearingRange, landmark id = track id); needs the batch");
+}
+
+// The settings file with the command line's camera, its calibration's covariance where asked
+// for, and what --slam-rawlog needs; refused combinations name the file.
+RunSettings run_settings_of(const RunVerbOptions& o) {
+  RunSettings settings = read_run_settings(o.config);
+  if (!o.slam_rawlog.empty() && is_inside(o.slam_rawlog, o.out))
+    throw io::InputError(o.slam_rawlog, 0,
+                         "is inside the --out folder, which the run replaces whole: put it "
+                         "beside it");
+  if (!o.camera.empty()) settings.replay.camera = io::read_camera_file(o.camera);
+  apply_camera_prior(o.config, o.camera,
+                     settings.replay.camera ? &*settings.replay.camera : nullptr, &settings.sfm);
+  if (o.slam_rawlog.empty()) return settings;
+  if (!settings.sfm.run_batch)
+    throw io::InputError(o.config, 0,
+                         "--slam-rawlog needs the batch's covariances: [sfm] batch = false "
+                         "leaves none");
+  if (!settings.sfm.batch.covariances)
+    throw io::InputError(o.config, 0,
+                         "--slam-rawlog needs the batch's covariances: [sfm] covariances = "
+                         "false leaves none");
+  // The points' uncertainty as the cameras see them (the measurements' ranges).
+  settings.sfm.batch.point_pose_covariances = true;
+  return settings;
+}
+
+// The report's lines on the replay, the fusion and the batch.
+std::string batch_run_report(const RunVerbOptions& o, const RunSettings& settings,
+                             const mrpt_plugin::ReplayInput& in, const sfm::SfmResult& result) {
+  std::ostringstream report;
+  if (!in.read.complete()) report << "rawlog damaged: " << in.read.problem << "\n";
+  report << "rawlog " << o.rawlog << ": " << in.read.objects << " objects; vision from "
+         << in.vision << "\n"
+         << "frames " << result.num_frames << ", observations " << in.tracks.size() << ", "
+         << sfm::outliers_phrase(result) << "\n"
+         << sensors_line(in) << sfm::considered_camera_line(*in.camera, settings.sfm.filter)
+         << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.sfm.batch)
+         << sfm::camera_line(*in.camera, result.batch, settings.sfm.batch)
+         << (in.sensors.empty() ? "" : noise_check_line(result.batch))
+         << motion_estimates_line(in.sensors, result);
+  return report.str();
+}
+
+// The rawlog replayed whole, fused by the filter and the batch, and every output written.
+void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
+                    const std::vector<io::StampedPose>& truth) {
+  mrpt_plugin::ReplayInput in = [&] {
+    TerminalProgress progress("tracked", "images");
+    return mrpt_plugin::read_replay_input(o.rawlog, settings.replay, progress.callback());
+  }();
+  check_replayed(o.rawlog, in.read.problem, in.frame_times.size(), o.strict, "replaying");
+  if (!in.camera)
+    throw io::InputError(o.rawlog, 0,
+                         "carries no camera model (stock CObservationImage): give --camera");
+  in.sensors.odometry_noise = settings.odometry_noise;
+  in.sensors.odometry_scale = settings.odometry_scale;
+  in.sensors.gyro_noise = settings.gyro_noise;
+
+  sfm::SfmResult result;
+  try {
+    TerminalProgress progress("filter", "frames");
+    result = sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings.sfm,
+                                progress.callback());
+  } catch (const std::invalid_argument& e) {
+    throw io::InputError(o.rawlog, 0, e.what());
+  }
+  // Camera frames after the last one with tracks have no pose: their times go too.
+  in.frame_times.resize(result.num_frames);
+  if (!result.batch.converged && result.batch.cam_from_world.empty())
+    throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
+
+  std::ostringstream report;
+  report << batch_run_report(o, settings, in, result);
+  const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(result.batch.cam_from_world);
+  // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
+  const bool geodetic = in.gps_origin && result.world_is_enu;
+  if (geodetic) {
+    const sfm::GpsResiduals gps =
+        sfm::gps_residuals(result.batch.cam_from_world, in.frame_times, in.sensors);
+    report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
+           << " m against it\n";
+  }
+  TruthComparison comparison;
+  if (!truth.empty()) {
+    comparison = compare_with_truth(result, true, truth, o.ground_truth, true);
+    report << comparison.report;
+  }
+
+  const auto write_outputs = [&] {
+    io::write_folder_atomically(o.out, [&](const std::string& dir) {
+      write_sfm_outputs(dir, result, true, in.frame_times, report.str());
+      write_refined_camera(dir, *in.camera, result.batch, settings.sfm.batch);
+      mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, true));
+      if (geodetic)
+        write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times,
+                                  mrpt_plugin::LocalEnuFrame(*in.gps_origin));
+      write_sfm_plots(dir, *in.camera, in.tracks, result, true, comparison);
+    });
+  };
+  if (o.slam_rawlog.empty()) {
+    write_outputs();
+  } else {
+    // The rawlog is written first (the report names it) and takes its place only once the
+    // folder has: a failure in either leaves both as they were.
+    io::write_atomically(o.slam_rawlog, [&](const std::string& temporary) {
+      report << write_slam_rawlog(temporary, o.slam_rawlog, in, result);
+      write_outputs();
+    });
+  }
+  std::cout << report.str();
+}
+
+}  // namespace
+
+void add_run_verb(CLI::App& app) {
+  auto o = std::make_shared<RunVerbOptions>();
+  CLI::App* verb = app.add_subcommand(
+      "run",
+      "Replay an MRPT rawlog with fusion: the camera's "
+      "tracked features or its images through the tracker, wheel odometry, a gyro and GPS "
+      "fixes; writes what the sfm verb writes plus scene.3Dscene (for SceneViewer3D) and, with "
+      "GPS, geodetic.vnl. A truncated or corrupt rawlog is replayed up to the damaged object: a "
+      "warning names the object's index and what is wrong, and report.txt repeats it "
+      "(--strict: exit 2 instead, writing nothing). With [sfm] batch = false, the online "
+      "estimator alone, the rawlog read and the results written object by object in constant "
+      "memory (online.tum, points, outliers and the report; GPS fixes are not used)");
+  add_run_options(verb, o.get());
   verb->callback([o] {
-    RunSettings settings = read_run_settings(o->config);
-    if (!o->slam_rawlog.empty() && is_inside(o->slam_rawlog, o->out))
-      throw io::InputError(o->slam_rawlog, 0,
-                           "is inside the --out folder, which the run replaces whole: put it "
-                           "beside it");
-    if (!o->camera.empty()) settings.replay.camera = io::read_camera_file(o->camera);
-    apply_camera_prior(o->config, o->camera,
-                       settings.replay.camera ? &*settings.replay.camera : nullptr, &settings.sfm);
-    // The points' uncertainty as the cameras see them (the measurements' ranges).
-    if (!o->slam_rawlog.empty()) {
-      if (settings.sfm.run_batch && !settings.sfm.batch.covariances)
-        throw io::InputError(o->config, 0,
-                             "--slam-rawlog needs the batch's covariances: [sfm] covariances = "
-                             "false leaves none");
-      settings.sfm.batch.point_pose_covariances = true;
-    }
+    const RunSettings settings = run_settings_of(*o);
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
-    if (!settings.sfm.run_batch) {
-      if (!o->slam_rawlog.empty())
-        throw io::InputError(o->config, 0,
-                             "--slam-rawlog needs the batch's covariances: [sfm] batch = false "
-                             "leaves none");
-      std::string report;
-      io::write_folder_atomically(o->out, [&](const std::string& dir) {
-        report = stream_online_run(o->rawlog, settings, o->strict, dir);
-        if (truth.empty()) return;
-        report += compare_written_online_with_truth(dir, truth, o->ground_truth, true);
-      });
-      std::cout << report;
+    if (settings.sfm.run_batch) {
+      run_with_batch(*o, settings, truth);
       return;
     }
-
-    mrpt_plugin::ReplayInput in = [&] {
-      TerminalProgress progress("tracked", "images");
-      return mrpt_plugin::read_replay_input(o->rawlog, settings.replay, progress.callback());
-    }();
-    check_replayed(o->rawlog, in.read.problem, in.frame_times.size(), o->strict, "replaying");
-    if (!in.camera)
-      throw io::InputError(o->rawlog, 0,
-                           "carries no camera model (stock CObservationImage): give --camera");
-    in.sensors.odometry_noise = settings.odometry_noise;
-    in.sensors.odometry_scale = settings.odometry_scale;
-    in.sensors.gyro_noise = settings.gyro_noise;
-
-    sfm::SfmResult result;
-    try {
-      TerminalProgress progress("filter", "frames");
-      result = sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings.sfm,
-                                  progress.callback());
-    } catch (const std::invalid_argument& e) {
-      throw io::InputError(o->rawlog, 0, e.what());
-    }
-    // Camera frames after the last one with tracks have no pose: their times go too.
-    in.frame_times.resize(result.num_frames);
-    const bool batch_ran = settings.sfm.run_batch;
-    if (batch_ran && !result.batch.converged && result.batch.cam_from_world.empty())
-      throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
-
-    std::ostringstream report;
-    if (!in.read.complete()) report << "rawlog damaged: " << in.read.problem << "\n";
-    report << "rawlog " << o->rawlog << ": " << in.read.objects << " objects; vision from "
-           << in.vision << "\n"
-           << "frames " << result.num_frames << ", observations " << in.tracks.size()
-           << ", " << sfm::outliers_phrase(result) << "\n"
-           << sensors_line(in) << sfm::considered_camera_line(*in.camera, settings.sfm.filter);
-    if (batch_ran)
-      report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.sfm.batch)
-             << sfm::camera_line(*in.camera, result.batch, settings.sfm.batch)
-             << (in.sensors.empty() ? "" : noise_check_line(result.batch))
-             << motion_estimates_line(in.sensors, result);
-
-    const std::vector<Eigen::Isometry3d>& estimate =
-        batch_ran ? result.batch.cam_from_world : result.online_cam_from_world;
-    const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(estimate);
-    // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
-    const bool geodetic = in.gps_origin && result.world_is_enu;
-    if (geodetic) {
-      const sfm::GpsResiduals gps = sfm::gps_residuals(estimate, in.frame_times, in.sensors);
-      report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
-             << " m against it\n";
-    }
-    TruthComparison comparison;
-    if (!truth.empty()) {
-      comparison = compare_with_truth(result, batch_ran, truth, o->ground_truth, true);
-      report << comparison.report;
-    }
-
-    const auto write_outputs = [&] {
-      io::write_folder_atomically(o->out, [&](const std::string& dir) {
-        write_sfm_outputs(dir, result, batch_ran, in.frame_times, report.str());
-        write_refined_camera(dir, *in.camera, result.batch, settings.sfm.batch);
-        mrpt_plugin::write_scene_file(dir + "/scene.3Dscene", scene_of(result, batch_ran));
-        if (geodetic)
-          write_geodetic_trajectory(dir + "/geodetic.vnl", trajectory, in.frame_times,
-                                    mrpt_plugin::LocalEnuFrame(*in.gps_origin));
-        write_sfm_plots(dir, *in.camera, in.tracks, result, batch_ran, comparison);
-      });
-    };
-    if (o->slam_rawlog.empty()) {
-      write_outputs();
-    } else {
-      // The rawlog is written first (the report names it) and takes its place only once the
-      // folder has: a failure in either leaves both as they were.
-      io::write_atomically(o->slam_rawlog, [&](const std::string& temporary) {
-        report << write_slam_rawlog(temporary, o->slam_rawlog, in, result);
-        write_outputs();
-      });
-    }
-    std::cout << report.str();
+    std::string report;
+    io::write_folder_atomically(o->out, [&](const std::string& dir) {
+      report = stream_online_run(o->rawlog, settings, o->strict, dir);
+      if (truth.empty()) return;
+      report += compare_written_online_with_truth(dir, truth, o->ground_truth, true);
+    });
+    std::cout << report;
   });
 }
 
