@@ -496,6 +496,147 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
 // The problem, its options, the solves and the covariances are steps of their own; the scale's
 // sequence of solves (with the scale free, plain, then held where the images do not fix it)
 // stays in one body, as it moves the problem's blocks between the solves and counts them.
+namespace {
+
+// What batch_adjust's steps share: the parameter blocks, the problem over them, and the solves'
+// tally. Ceres holds pointers into it: it stays where it was made.
+struct BatchProblem {
+  std::vector<PoseVector> poses;
+  std::map<int, Eigen::Vector3d> points;
+  // The scene's inverse scale: a parameter only while solve_with_scale runs, 1 and held otherwise.
+  double inverse_scale = 1;
+  Eigen::VectorXd camera_block;
+  // With the camera a block, the residuals project with it at that block's values.
+  std::unique_ptr<camera::SharedCamera> shared;
+  std::unique_ptr<ceres::Problem> problem;
+  std::vector<ceres::ResidualBlockId> projections;
+  ceres::Solver::Options options;
+  ceres::Solver::Summary summary;  // the last solve's that counts
+  int iterations = 0;
+  double solve_seconds = 0, initial_cost = -1;
+
+  void count(const ceres::Solver::Summary& solve) {
+    iterations += static_cast<int>(solve.iterations.size());
+    solve_seconds += solve.total_time_in_seconds;
+    if (initial_cost < 0) initial_cost = solve.initial_cost;  // the start's, of the first solve
+  }
+  void solve() {
+    ceres::Solve(options, problem.get(), &summary);
+    count(summary);
+  }
+  // The reprojections' share of the cost, in pixels (the sensors' terms weigh them by
+  // pixel_weight, given with them; else 0).
+  double reprojection_cost(double pixel_weight) const {
+    ceres::Problem::EvaluateOptions reprojections;
+    reprojections.residual_blocks = projections;
+    double cost = 0;
+    problem->Evaluate(reprojections, &cost, nullptr, nullptr, nullptr);
+    return pixel_weight > 0 ? cost / pixel_weight : cost;
+  }
+};
+
+// Where the start was, which a scale held at it goes back to.
+struct BatchStart {
+  std::vector<PoseVector> poses;
+  std::map<int, Eigen::Vector3d> points;
+  KnownDistanceFactor known;
+};
+
+// Where the images' solve leaves the scale (result's scale_source and scale_sigma_relative): free
+// where they fix it, else held, at the known distance or the start's, and solved again so.
+// Returns the degrees of freedom the pixels' variance is then estimated with. `moves`: whether any
+// camera moved from the first in the start.
+double decide_scale(BatchProblem* b, const BatchStart& start, const BatchSettings& settings,
+                    bool extra, bool moves, double dof, BatchResult* result) {
+  const ScaleGauge gauge = scale_gauge(*b->problem, &b->poses);
+  if (!moves || !gauge.pose) return dof;
+  // Alone, the pixels' variance is estimated from the residuals, as for the covariances.
+  const double variance = extra ? 1 : 2 * b->summary.final_cost / dof;
+  result->scale_sigma_relative =
+      scale_sigma_relative(b->problem.get(), gauge, &b->inverse_scale, &b->points, variance);
+  const bool known = settings.known_distance_m > 0;
+  if (known)
+    result->scale_source = BatchScale::kHeldAtKnownDistance;
+  else if (result->scale_sigma_relative <= settings.max_free_scale_sigma)
+    result->scale_source = BatchScale::kFromImages;
+  else
+    result->scale_source = BatchScale::kHeldAtStart;
+  if (result->scale_source == BatchScale::kFromImages) return dof;
+  // From the images' minimum, its shape kept and its scale put back where it is held: the
+  // start's (the gauge camera as far from the first as there) or the known distance between the
+  // first and last cameras. Then the scale is held, and the solve takes a few steps (from the
+  // start again it took as many as the first; on long drives 10 more).
+  double factor = known ? settings.known_distance_m /
+                              distance_from_first(b->poses, b->poses.size() - 1)
+                        : distance_from_first(start.poses, gauge.frame) /
+                              distance_from_first(b->poses, gauge.frame);
+  if (!(std::isfinite(factor) && factor > 0)) {
+    restore(start.poses, start.points, &b->poses, &b->points);
+    factor = start.known.factor;
+  }
+  scale_about_first_camera(factor, &b->poses, &b->points);
+  hold(b->problem.get(), gauge);
+  b->solve();
+  return dof + 1;
+}
+
+// The camera refined in a last solve under its calibration's prior, where the scale is known
+// (where the images do not fix it, it is held at the start's, and the mirror's size would take
+// up the difference); with the images' scale, its standard deviation again with the camera free.
+void refine_camera_where_scale_known(BatchProblem* b, const camera::CatadioptricCamera& optimised,
+                                     const CameraPrior& prior, bool extra, double variance_dof,
+                                     BatchResult* result) {
+  const bool scale_known = result->scale_source == BatchScale::kFromImages ||
+                           result->scale_source == BatchScale::kHeldAtKnownDistance ||
+                           result->scale_source == BatchScale::kFromSensors;
+  if (!scale_known) return;
+  // The calibration's prior against the pixels: whitened with them by the sensors' terms, else
+  // in pixels at the noise the solve so far has found in them (not the stated one: the prior
+  // would weigh as much more as the stated noise is larger). The covariances later take the
+  // noise after this solve, which the calibration's error hardly changes (rover: 0.19589 and
+  // 0.19585 px).
+  const double pixel_sigma = extra ? 1 : std::sqrt(2 * b->summary.final_cost / variance_dof);
+  ceres::Solver::Summary refining;
+  result->camera_refined =
+      refine_camera_last(b->problem.get(), b->options, optimised, prior, pixel_sigma,
+                         b->camera_block.data(), &b->poses, &b->points, &refining);
+  b->count(refining);
+  if (result->camera_refined) b->summary = refining;
+  // The images' scale was decided with the camera as calibrated; what the data fix once the
+  // camera's own uncertainty is admitted is the scale's standard deviation now (on the rover
+  // 16-31 % against 7-14 %, and the calibrated camera's scales were off by up to 39 %).
+  if (result->camera_refined && result->scale_source == BatchScale::kFromImages) {
+    result->scale_sigma_relative_camera_held = result->scale_sigma_relative;
+    result->scale_sigma_relative = scale_sigma_relative(
+        b->problem.get(), scale_gauge(*b->problem, &b->poses), &b->inverse_scale, &b->points,
+        extra ? 1 : 2 * b->summary.final_cost / variance_dof);
+  }
+}
+
+// The solves' figures and estimates into `result`: the pixels' RMS from `initial_cost` (the
+// reprojections' at the start) and at the end over `used` observations, the reprojections' alone
+// where other residuals are in the problem (the sensors' terms, which weigh the pixels by
+// `pixel_weight`, 0 without them; the camera's prior).
+void take_solution(const BatchProblem& b, double initial_cost, double pixel_weight, double used,
+                   double variance_dof, BatchResult* result) {
+  const ceres::Solver::Summary& summary = b.summary;
+  result->converged = summary.termination_type == ceres::CONVERGENCE;
+  result->message = summary.message;
+  result->iterations = b.iterations;
+  result->initial_rms_px = std::sqrt(initial_cost / used);
+  result->final_rms_px = std::sqrt(
+      (pixel_weight > 0 || result->camera_refined ? b.reprojection_cost(pixel_weight)
+                                                  : summary.final_cost) /
+      used);
+  result->solve_seconds = b.solve_seconds;
+  result->variance_factor = 2 * summary.final_cost / variance_dof;
+  result->linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
+  take_estimates(*b.problem, b.poses, b.points, result);
+  if (result->camera_refined) result->camera_params = b.camera_block;
+}
+
+}  // namespace
+
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<core::TrackObservation>& observations,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
@@ -503,19 +644,17 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const BatchSettings& settings, ExtraTerms* extra) {
   const auto started = std::chrono::steady_clock::now();
   BatchResult result;
-  std::vector<PoseVector> poses;
-  for (const auto& T : cam_from_world) poses.push_back(pose_vector_of(T));
-  std::map<int, Eigen::Vector3d> points = start_points;
-  const std::vector<PoseVector> start_poses = poses;
-  KnownDistanceFactor known_factor;
-  if (settings.known_distance_m != 0 && !poses.empty()) {
-    known_factor = known_distance_factor(poses, settings.known_distance_m);
-    if (!known_factor.problem.empty()) {
-      result.message = "known_distance_m: " + known_factor.problem;
+  BatchProblem b;
+  for (const auto& T : cam_from_world) b.poses.push_back(pose_vector_of(T));
+  b.points = start_points;
+  BatchStart start{b.poses, b.points, {}};
+  if (settings.known_distance_m != 0 && !b.poses.empty()) {
+    start.known = known_distance_factor(b.poses, settings.known_distance_m);
+    if (!start.known.problem.empty()) {
+      result.message = "known_distance_m: " + start.known.problem;
       return result;
     }
   }
-
   if (const std::string wrong = camera_prior_problem(camera, settings.camera_prior);
       !wrong.empty()) {
     result.message = "camera_prior: " + wrong;
@@ -524,155 +663,72 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
 
   const camera::CatadioptricCamera optimised = batch_camera(camera);
   const int threads = solver_threads(settings.threads, 2 * observations.size());
-  const std::vector<char> ok = projectable(optimised, observations, poses, points, threads);
+  const std::vector<char> ok = projectable(optimised, observations, b.poses, b.points, threads);
   std::vector<core::TrackObservation> used_observations;
   for (size_t i = 0; i < observations.size(); ++i)
     if (ok[i]) used_observations.push_back(observations[i]);
-  // The scene's inverse scale: a parameter only while solve_with_scale runs, 1 and held otherwise.
-  double inverse_scale = 1;
-  const bool refine_camera = !settings.camera_prior.parameters.empty();
-  Eigen::VectorXd camera_block = optimised.params();
-  // With the camera a block, the residuals project with it at that block's values.
-  std::unique_ptr<camera::SharedCamera> shared;
+  const bool refine_camera = !settings.camera_prior.empty();
+  b.camera_block = optimised.params();
   ceres::Problem::Options problem_options;
   if (refine_camera) {
-    shared = std::make_unique<camera::SharedCamera>(optimised, camera_block.data());
-    problem_options.evaluation_callback = shared.get();
+    b.shared = std::make_unique<camera::SharedCamera>(optimised, b.camera_block.data());
+    problem_options.evaluation_callback = b.shared.get();
   }
-  ceres::Problem problem(problem_options);
-  const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
-  const std::vector<ceres::ResidualBlockId> projections =
-      add_projections(optimised, used_observations, settings, extra != nullptr, &poses, &points,
-                      &inverse_scale, shared.get(), camera_block.data(), &problem);
+  b.problem = std::make_unique<ceres::Problem>(problem_options);
+  ceres::Problem& problem = *b.problem;
+  // With the sensors' terms, they weigh the pixels by this.
+  const double pixel_weight = extra ? 1 / (settings.pixel_sigma * settings.pixel_sigma) : 0;
+  b.projections = add_projections(optimised, used_observations, settings, extra != nullptr,
+                                  &b.poses, &b.points, &b.inverse_scale, b.shared.get(),
+                                  b.camera_block.data(), &problem);
   const double used = static_cast<double>(used_observations.size());
-  if (used == 0 || poses.empty()) {
+  if (used == 0 || b.poses.empty()) {
     result.message = "no observation can be projected from the starting estimate";
     return result;
   }
-  problem.SetParameterBlockConstant(&inverse_scale);
-  if (refine_camera) add_camera_block(optimised, settings, camera_block.data(), &problem);
-  // The camera is held while the scale is decided: the mirror's size along its axis trades
-  // against the scene's scale, and freed it would leave the scale to the prior alone.
-  if (refine_camera) problem.SetParameterBlockConstant(camera_block.data());
-  const bool gauge_fixed = extra && extra->add(&problem, &poses);
-  if (!gauge_fixed && problem.HasParameterBlock(poses[0].data()))
-    problem.SetParameterBlockConstant(poses[0].data());
+  problem.SetParameterBlockConstant(&b.inverse_scale);
+  if (refine_camera) {
+    add_camera_block(optimised, settings, b.camera_block.data(), &problem);
+    // The camera is held while the scale is decided: the mirror's size along its axis trades
+    // against the scene's scale, and freed it would leave the scale to the prior alone.
+    problem.SetParameterBlockConstant(b.camera_block.data());
+  }
+  const bool gauge_fixed = extra && extra->add(&problem, &b.poses);
+  if (!gauge_fixed && problem.HasParameterBlock(b.poses[0].data()))
+    problem.SetParameterBlockConstant(b.poses[0].data());
 
   const double dof =
       degrees_of_freedom(problem, gauge_fixed, refine_camera ? optimised.num_params() : 0);
-  ceres::Solver::Options options = batch_solver_options(
-      &problem, &points, used_observations, static_cast<int>(poses.size()), settings, threads, dof);
-  // The reprojections' share of the cost, in pixels (the sensors' terms weigh them by
-  // pixel_weight): with extra residuals or the camera's prior, the pixel figures are this alone.
-  const auto reprojection_cost = [&] {
-    ceres::Problem::EvaluateOptions reprojections;
-    reprojections.residual_blocks = projections;
-    double cost = 0;
-    problem.Evaluate(reprojections, &cost, nullptr, nullptr, nullptr);
-    return extra ? cost / pixel_weight : cost;
-  };
-  const double initial_reprojection_cost = extra ? reprojection_cost() : 0;
-  ceres::Solver::Summary summary;
-  int iterations = 0;
-  double solve_seconds = 0, initial_cost = -1;
-  const auto count = [&](const ceres::Solver::Summary& solve) {
-    iterations += static_cast<int>(solve.iterations.size());
-    solve_seconds += solve.total_time_in_seconds;
-    if (initial_cost < 0) initial_cost = solve.initial_cost;  // the start's, of the first solve
-  };
+  b.options = batch_solver_options(&problem, &b.points, used_observations,
+                                   static_cast<int>(b.poses.size()), settings, threads, dof);
+  // With extra residuals or the camera's prior, the pixel figures are the reprojections' alone.
+  const double initial_reprojection_cost = extra ? b.reprojection_cost(pixel_weight) : 0;
   // With the motion sensors' terms that fix the scale (odometry, GPS) the solve is the plain one.
   const bool scale_from_images = !extra || !extra->fixes_scale();
   // Whether any camera moves from the first in the start: else there is no scale to speak of.
-  const bool moves = scale_gauge(problem, &poses).pose != nullptr;
+  const bool moves = scale_gauge(problem, &b.poses).pose != nullptr;
   ScaleSolve scaled;
-  if (scale_from_images && settings.scale_start && problem.HasParameterBlock(poses[0].data())) {
-    scaled = solve_with_scale(&problem, options, &poses, &points, &inverse_scale, &summary);
-    if (scaled.solved) count(summary);
+  if (scale_from_images && settings.scale_start && problem.HasParameterBlock(b.poses[0].data())) {
+    scaled = solve_with_scale(&problem, b.options, &b.poses, &b.points, &b.inverse_scale,
+                              &b.summary);
+    if (scaled.solved) b.count(b.summary);
   }
-  if (!scaled.converged) {
-    // The plain problem, from the scaled estimate when it moved (it is lower in cost).
-    ceres::Solve(options, &problem, &summary);
-    count(summary);
-  }
+  // Else the plain problem, from the scaled estimate when it moved (it is lower in cost).
+  if (!scaled.converged) b.solve();
   double variance_dof = dof;
-  if (!scale_from_images) {
+  if (scale_from_images)
+    variance_dof = decide_scale(&b, start, settings, extra != nullptr, moves, dof, &result);
+  else
     result.scale_source = BatchScale::kFromSensors;
-  } else if (const ScaleGauge gauge = scale_gauge(problem, &poses); moves && gauge.pose) {
-    // Alone, the pixels' variance is estimated from the residuals, as for the covariances below.
-    const double variance = extra ? 1 : 2 * summary.final_cost / dof;
-    result.scale_sigma_relative =
-        scale_sigma_relative(&problem, gauge, &inverse_scale, &points, variance);
-    const bool known = settings.known_distance_m > 0;
-    if (known)
-      result.scale_source = BatchScale::kHeldAtKnownDistance;
-    else if (result.scale_sigma_relative <= settings.max_free_scale_sigma)
-      result.scale_source = BatchScale::kFromImages;
-    else
-      result.scale_source = BatchScale::kHeldAtStart;
-    if (result.scale_source != BatchScale::kFromImages) {
-      // From the images' minimum, its shape kept and its scale put back where it is held: the
-      // start's (the gauge camera as far from the first as there) or the known distance between
-      // the first and last cameras. Then the scale is held, and the solve takes a few steps
-      // (from the start again it took as many as the first; on long drives 10 more).
-      double factor =
-          known ? settings.known_distance_m / distance_from_first(poses, poses.size() - 1)
-                : distance_from_first(start_poses, gauge.frame) /
-                      distance_from_first(poses, gauge.frame);
-      if (!(std::isfinite(factor) && factor > 0)) {
-        restore(start_poses, start_points, &poses, &points);
-        factor = known_factor.factor;
-      }
-      scale_about_first_camera(factor, &poses, &points);
-      hold(&problem, gauge);
-      variance_dof += 1;
-      ceres::Solve(options, &problem, &summary);
-      count(summary);
-    }
-  }
-  // With a scale to refine the camera against (where the images do not fix it, it is held at the
-  // start's, and the mirror's size would take up the difference).
-  const bool scale_known = result.scale_source == BatchScale::kFromImages ||
-                           result.scale_source == BatchScale::kHeldAtKnownDistance ||
-                           result.scale_source == BatchScale::kFromSensors;
-  if (refine_camera && scale_known) {
-    // The calibration's prior against the pixels: whitened with them by the sensors' terms, else
-    // in pixels at the noise the solve so far has found in them (not the stated one: the prior
-    // would weigh as much more as the stated noise is larger). The covariances later take the
-    // noise after this solve, which the calibration's error hardly changes (rover: 0.19589 and
-    // 0.19585 px).
-    const double pixel_sigma = extra ? 1 : std::sqrt(2 * summary.final_cost / variance_dof);
-    ceres::Solver::Summary refining;
-    result.camera_refined =
-        refine_camera_last(&problem, options, optimised, settings.camera_prior, pixel_sigma,
-                           camera_block.data(), &poses, &points, &refining);
-    count(refining);
-    if (result.camera_refined) summary = refining;
-    // The images' scale was decided with the camera as calibrated; what the data fix once the
-    // camera's own uncertainty is admitted is the scale's standard deviation now (on the rover
-    // 16-31 % against 7-14 %, and the calibrated camera's scales were off by up to 39 %).
-    if (result.camera_refined && result.scale_source == BatchScale::kFromImages) {
-      result.scale_sigma_relative_camera_held = result.scale_sigma_relative;
-      result.scale_sigma_relative =
-          scale_sigma_relative(&problem, scale_gauge(problem, &poses), &inverse_scale, &points,
-                               extra ? 1 : 2 * summary.final_cost / variance_dof);
-    }
-  }
-  result.converged = summary.termination_type == ceres::CONVERGENCE;
-  result.message = summary.message;
-  result.iterations = iterations;
-  result.initial_rms_px = std::sqrt((extra ? initial_reprojection_cost : initial_cost) / used);
-  // The prior's residuals are not pixels: with them in the problem, the reprojections' alone.
-  result.final_rms_px = std::sqrt(
-      (extra || result.camera_refined ? reprojection_cost() : summary.final_cost) / used);
-  result.solve_seconds = solve_seconds;
-  result.variance_factor = 2 * summary.final_cost / variance_dof;
-  result.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
-  take_estimates(problem, poses, points, &result);
-  if (result.camera_refined) result.camera_params = camera_block;
+  if (refine_camera)
+    refine_camera_where_scale_known(&b, optimised, settings.camera_prior, extra != nullptr,
+                                    variance_dof, &result);
 
-  if (settings.covariances && summary.IsSolutionUsable())
-    compute_covariances(&problem, poses, points, used_observations, settings, extra,
-                        result.camera_refined ? camera_block.data() : nullptr, threads, &result);
+  take_solution(b, extra ? initial_reprojection_cost : b.initial_cost, pixel_weight, used,
+                variance_dof, &result);
+  if (settings.covariances && b.summary.IsSolutionUsable())
+    compute_covariances(&problem, b.poses, b.points, used_observations, settings, extra,
+                        result.camera_refined ? b.camera_block.data() : nullptr, threads, &result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }
