@@ -129,6 +129,71 @@ std::string write_report(const std::string& folder, const calib::CalibrationOutc
   return note;
 }
 
+// --holdout's views taken out of `inputs` (and named in its description): they leave the
+// calibration and come back to be measured against it.
+std::vector<calib::CalibrationView> hold_out(const CalibrateOptions& o, Inputs* inputs) {
+  if (o.holdout <= 0) return {};
+  calib::ViewPartition partition;
+  try {
+    partition = calib::hold_out_views(inputs->views, o.holdout);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--holdout", e.what());
+  }
+  inputs->views = std::move(partition.kept);
+  std::string names;
+  for (const auto& view : partition.held) names += (names.empty() ? "" : ", ") + view.name;
+  inputs->description.push_back("held out: " + names);
+  return std::move(partition.held);
+}
+
+// --cross-validate's folds, each calibrated from `start` as the camera written; progress a line
+// per fold.
+calib::CrossValidation cross_validated(const CalibrateOptions& o,
+                                       const camera::CatadioptricCamera& start,
+                                       const std::vector<calib::CalibrationView>& views,
+                                       const calib::StagedSettings& settings,
+                                       const std::string& observations_file) {
+  calib::StagedSettings fold_settings = settings;
+  fold_settings.progress = nullptr;
+  const bool show = static_cast<bool>(settings.progress);
+  calib::CrossValidation cross_validation;
+  try {
+    cross_validation =
+        calib::cross_validate(start, views, fold_settings, o.cross_validate, [&](int fold) {
+          if (show)
+            std::cerr << "\rcross-validation: fold " << fold + 1 << " of " << o.cross_validate
+                      << std::flush;
+        });
+  } catch (const std::invalid_argument& e) {
+    if (show) std::cerr << "\n";
+    throw io::InputError(observations_file, 0, std::string("cross-validation: ") + e.what());
+  }
+  if (show) std::cerr << "\n";
+  return cross_validation;
+}
+
+// The line on standard error that says what was written and how well it fits.
+void print_written(const CalibrateOptions& o, const calib::CalibrationOutcome& outcome,
+                   const std::string& folder, const std::string& note) {
+  const calib::CalibrationReport& final = outcome.report->final;
+  std::cerr << "omnisfm: wrote " << o.out << ": RMS " << final.rms_px
+            << " px per coordinate, worst " << final.worst_px << " px, " << final.num_outliers
+            << " outliers of " << final.num_observations << " observations";
+  if (const calib::HeldOutResult* held_out = outcome.held_out) {
+    std::cerr << "; held-out RMS " << held_out->rms_px << " px over "
+              << held_out->num_observations << " observations";
+  }
+  if (const calib::CrossValidation* folds = outcome.cross_validation) {
+    std::cerr << "; " << o.cross_validate << "-fold cross-validation: pooled held-out RMS "
+              << folds->pooled_rms_px << " px over " << folds->num_observations
+              << " observations";
+    if (folds->folds_not_converged > 0)
+      std::cerr << " (" << folds->folds_not_converged << " folds did not converge)";
+  }
+  std::cerr << "; report in " << folder << "\n";
+  if (!note.empty()) std::cerr << "omnisfm: warning: " << note << "\n";
+}
+
 void run_calibrate(const CalibrateOptions& o) {
   camera::CatadioptricCamera camera = load_camera(o.camera);
   require_writable_folder_of(o.out);
@@ -136,22 +201,7 @@ void run_calibrate(const CalibrateOptions& o) {
   if (inputs.views.empty()) {
     throw io::InputError(inputs.observations_file, 0, "no observations to calibrate from");
   }
-
-  // Held-out views leave the calibration now and come back to be measured against it.
-  std::vector<calib::CalibrationView> held;
-  if (o.holdout > 0) {
-    calib::ViewPartition partition;
-    try {
-      partition = calib::hold_out_views(inputs.views, o.holdout);
-    } catch (const std::invalid_argument& e) {
-      throw CLI::ValidationError("--holdout", e.what());
-    }
-    inputs.views = std::move(partition.kept);
-    held = std::move(partition.held);
-    std::string names;
-    for (const auto& view : held) names += (names.empty() ? "" : ", ") + view.name;
-    inputs.description.push_back("held out: " + names);
-  }
+  const std::vector<calib::CalibrationView> held = hold_out(o, &inputs);
 
   const int num_views = static_cast<int>(inputs.views.size());
   if (o.cross_validate > num_views)
@@ -201,25 +251,10 @@ void run_calibrate(const CalibrateOptions& o) {
     }
     outcome.held_out = &held_out;
   }
-  // Each fold calibrates from the same start as the camera written; progress a line per fold.
   calib::CrossValidation cross_validation;
   if (o.cross_validate > 0) {
-    calib::StagedSettings fold_settings = settings;
-    fold_settings.progress = nullptr;
-    const bool show = static_cast<bool>(settings.progress);
-    try {
-      cross_validation = calib::cross_validate(start, all_views, fold_settings, o.cross_validate,
-                                               [&](int fold) {
-                                                 if (show)
-                                                   std::cerr << "\rcross-validation: fold "
-                                                             << fold + 1 << " of "
-                                                             << o.cross_validate << std::flush;
-                                               });
-    } catch (const std::invalid_argument& e) {
-      if (show) std::cerr << "\n";
-      throw io::InputError(inputs.observations_file, 0, std::string("cross-validation: ") + e.what());
-    }
-    if (show) std::cerr << "\n";
+    cross_validation =
+        cross_validated(o, start, all_views, settings, inputs.observations_file);
     outcome.cross_validation = &cross_validation;
   }
   const int step = std::max(4, std::max(camera.image_width(), camera.image_height()) / 96);
@@ -234,24 +269,7 @@ void run_calibrate(const CalibrateOptions& o) {
 
   io::write_calibrated_camera_file(o.out, camera, {report.estimated, final.covariance});
   outcome.camera_file = o.out;
-  const std::string note = write_report(folder, outcome);
-
-  std::cerr << "omnisfm: wrote " << o.out << ": RMS " << final.rms_px
-            << " px per coordinate, worst " << final.worst_px << " px, " << final.num_outliers
-            << " outliers of " << final.num_observations << " observations";
-  if (outcome.held_out) {
-    std::cerr << "; held-out RMS " << held_out.rms_px << " px over " << held_out.num_observations
-              << " observations";
-  }
-  if (outcome.cross_validation) {
-    std::cerr << "; " << o.cross_validate << "-fold cross-validation: pooled held-out RMS "
-              << cross_validation.pooled_rms_px << " px over " << cross_validation.num_observations
-              << " observations";
-    if (cross_validation.folds_not_converged > 0)
-      std::cerr << " (" << cross_validation.folds_not_converged << " folds did not converge)";
-  }
-  std::cerr << "; report in " << folder << "\n";
-  if (!note.empty()) std::cerr << "omnisfm: warning: " << note << "\n";
+  print_written(o, outcome, folder, write_report(folder, outcome));
 }
 
 }  // namespace
