@@ -72,6 +72,112 @@ sfm::SfmResult shape_from_motion(const sim::Dataset& d,
   return sfm::run_sfm(d.camera, tracks, settings, progress.callback());
 }
 
+// The experiment's dataset with its images rendered into dir/dataset.
+void render_dataset(const sim::Dataset& d, const PaperFigures& paper, std::uint64_t seed,
+                    const std::string& imaging, const fs::path& dir) {
+  sim::Renderer renderer(d.camera, 4);
+  sim::Imaging camera(sim::ImagingSettings::named(imaging), &renderer, seed);
+  const int frames = static_cast<int>(d.world_from_cam.size());
+  TerminalProgress rendering(step(paper.scenario, "rendered"), "images");
+  sim::write_dataset(d, (dir / "dataset").string(), [&](int frame, const std::string& path) {
+    sim::write_png(path, camera.record(d, frame));
+    rendering(frame + 1, frames);
+  });
+}
+
+// From pixels: the rendered images tracked, as `omnisfm track` does, into dir/track.
+track::TrackedSequence track_rendered(const sim::Dataset& d, const PaperFigures& paper,
+                                      const fs::path& dir) {
+  track::ImageSequence images((dir / "dataset" / "images").string());
+  TerminalProgress tracking_progress(step(paper.scenario, "tracked"), "images");
+  track::TrackedSequence tracked = track::track_images(d.camera, images, track::TrackerSettings(),
+                                                       tracking_progress.callback());
+  for (track::TrackedFrame& f : tracked.frames) f.timestamp = d.timestamps[f.index];
+  fs::create_directories(dir / "track");
+  track::write_frames_file((dir / "track" / "frames.vnl").string(), tracked.frames);
+  io::write_tracks((dir / "track" / "tracks.vnl").string(), tracked.observations);
+  return tracked;
+}
+
+// An experiment's rows of the summary's two tables.
+struct ExperimentRows {
+  std::string motion, tracking;
+};
+
+// One of the paper's experiments from simulation to figures, its outputs under root/<scenario>.
+ExperimentRows run_experiment(const PaperFigures& paper, std::uint64_t seed,
+                              const std::string& imaging, const fs::path& root) {
+  sim::SimulationOptions options;
+  options.scenario = paper.scenario;
+  options.seed = seed;
+  const sim::Dataset d = sim::simulate(options);
+  const fs::path dir = root / paper.scenario;
+  fs::create_directories(dir);
+  render_dataset(d, paper, seed, imaging, dir);
+  const track::TrackedSequence tracked = track_rendered(d, paper, dir);
+  const eval::TrackAccuracy accuracy = eval::track_accuracy(d, tracked.observations);
+
+  // The same estimators on the simulator's tracks (Gaussian noise, known mistracks): what the
+  // tracking costs.
+  const sfm::SfmResult simulated =
+      shape_from_motion(d, d.observations, step(paper.scenario, "filter on simulated tracks"));
+  const auto simulated_batch = eval::trajectory_errors(
+      world_from_cam(simulated.batch.cam_from_world), d.world_from_cam, true);
+
+  const sfm::SfmResult r =
+      shape_from_motion(d, tracked.observations, step(paper.scenario, "filter on tracked images"));
+  const auto online =
+      eval::trajectory_errors(world_from_cam(r.online_cam_from_world), d.world_from_cam, true);
+  const auto batch =
+      eval::trajectory_errors(world_from_cam(r.batch.cam_from_world), d.world_from_cam, true);
+  // Outliers as shape-from-motion sees them: tracks that leave their point by more than its
+  // 2-pixel rejection threshold.
+  std::set<int> found;
+  for (const auto& o : r.outliers) found.insert(o.track);
+  const auto far_off = eval::track_accuracy(d, tracked.observations, 2.0).mistracked;
+  const auto outliers =
+      eval::outlier_detection(found, std::set<int>(far_off.begin(), far_off.end()));
+
+  std::ostringstream report;
+  report << sfm::scale_line(r, sfm::BatchSettings()) << figures_line("online", online)
+         << figures_line("batch", batch);
+  fs::create_directories(dir / "sfm");
+  write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());
+  const bool residuals_plotted =
+      write_residual_plots((dir / "sfm").string(), d.camera, tracked.observations, r, true);
+  const bool trajectories_plotted = write_trajectory_plots(
+      (dir / "sfm").string(), d.world_from_cam,
+      {{"online", world_from_cam(r.online_cam_from_world), online.alignment},
+       {"batch", world_from_cam(r.batch.cam_from_world), batch.alignment}});
+  const bool plotted = residuals_plotted && trajectories_plotted;
+
+  ExperimentRows rows;
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%-11s translation      %6.2f %%    %6.3f %%    %6.3f %%    %6.3f %%    %d/%d\n",
+                paper.scenario, paper.translation_percent,
+                simulated_batch.translation_error_percent, online.translation_error_percent,
+                batch.translation_error_percent, outliers.correct, outliers.actual);
+  rows.motion = line;
+  std::snprintf(line, sizeof line, "%-11s %-16s %6.2f deg  %6.3f deg  %6.3f deg  %6.3f deg%s\n",
+                "", paper.rotation_kind, paper.rotation_deg,
+                rotation_figure(paper.rotation_kind, simulated_batch),
+                rotation_figure(paper.rotation_kind, online),
+                rotation_figure(paper.rotation_kind, batch),
+                plotted ? "" : "   (no gnuplot: no plots)");
+  rows.motion += line;
+  const auto& s = tracked.statistics;
+  std::snprintf(line, sizeof line,
+                "%-11s %6d  %6d  %3d fr    %5.3f px  %5.3f px  %5d       %5d (%d)           %5.1f\n",
+                paper.scenario, s.frames, accuracy.tracks,
+                track::track_lengths(tracked.observations).median_frames, accuracy.median_px,
+                accuracy.p95_px, accuracy.mistracked_tracks, accuracy.reacquisitions,
+                accuracy.wrong_reacquisitions,
+                1000 * tracked.tracking_seconds / std::max(1, s.frames));
+  rows.tracking = line;
+  return rows;
+}
+
 }  // namespace
 
 void add_demo_verb(CLI::App& app) {
@@ -103,93 +209,9 @@ void add_demo_verb(CLI::App& app) {
              << "                            length    error against the truth   (> 1 px)\n";
     io::write_folder_atomically(*out, [&](const std::string& root) {
       for (const PaperFigures& paper : kPaper) {
-        sim::SimulationOptions options;
-        options.scenario = paper.scenario;
-        options.seed = *seed;
-        const sim::Dataset d = sim::simulate(options);
-        const fs::path dir = fs::path(root) / paper.scenario;
-        fs::create_directories(dir);
-        sim::Renderer renderer(d.camera, 4);
-        sim::Imaging camera(sim::ImagingSettings::named(*imaging), &renderer, *seed);
-        const int frames = static_cast<int>(d.world_from_cam.size());
-        TerminalProgress rendering(step(paper.scenario, "rendered"), "images");
-        sim::write_dataset(d, (dir / "dataset").string(), [&](int frame, const std::string& path) {
-          sim::write_png(path, camera.record(d, frame));
-          rendering(frame + 1, frames);
-        });
-
-        // From pixels: the rendered images tracked, as `omnisfm track` does.
-        track::ImageSequence images((dir / "dataset" / "images").string());
-        TerminalProgress tracking_progress(step(paper.scenario, "tracked"), "images");
-        track::TrackedSequence tracked =
-            track::track_images(d.camera, images, track::TrackerSettings(),
-                                tracking_progress.callback());
-        for (track::TrackedFrame& f : tracked.frames) f.timestamp = d.timestamps[f.index];
-        fs::create_directories(dir / "track");
-        track::write_frames_file((dir / "track" / "frames.vnl").string(), tracked.frames);
-        io::write_tracks((dir / "track" / "tracks.vnl").string(), tracked.observations);
-        const eval::TrackAccuracy accuracy = eval::track_accuracy(d, tracked.observations);
-
-        // The same estimators on the simulator's tracks (Gaussian noise, known mistracks): what
-        // the tracking costs.
-        const sfm::SfmResult simulated =
-            shape_from_motion(d, d.observations, step(paper.scenario, "filter on simulated tracks"));
-        const auto simulated_batch = eval::trajectory_errors(
-            world_from_cam(simulated.batch.cam_from_world), d.world_from_cam, true);
-
-        const sfm::SfmResult r =
-            shape_from_motion(d, tracked.observations, step(paper.scenario, "filter on tracked images"));
-        const auto online = eval::trajectory_errors(world_from_cam(r.online_cam_from_world),
-                                                    d.world_from_cam, true);
-        const auto batch =
-            eval::trajectory_errors(world_from_cam(r.batch.cam_from_world), d.world_from_cam, true);
-        // Outliers as shape-from-motion sees them: tracks that leave their point by more than its
-        // 2-pixel rejection threshold.
-        std::set<int> found;
-        for (const auto& o : r.outliers) found.insert(o.track);
-        const auto far_off = eval::track_accuracy(d, tracked.observations, 2.0).mistracked;
-        const auto outliers =
-            eval::outlier_detection(found, std::set<int>(far_off.begin(), far_off.end()));
-
-        std::ostringstream report;
-        report << sfm::scale_line(r, sfm::BatchSettings()) << figures_line("online", online)
-               << figures_line("batch", batch);
-        fs::create_directories(dir / "sfm");
-        write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());
-        const bool residuals_plotted = write_residual_plots(
-            (dir / "sfm").string(), d.camera, tracked.observations, r, true);
-        const bool trajectories_plotted = write_trajectory_plots(
-            (dir / "sfm").string(), d.world_from_cam,
-            {{"online", world_from_cam(r.online_cam_from_world), online.alignment},
-             {"batch", world_from_cam(r.batch.cam_from_world), batch.alignment}});
-        const bool plotted = residuals_plotted && trajectories_plotted;
-
-        char line[256];
-        std::snprintf(line, sizeof line,
-                      "%-11s translation      %6.2f %%    %6.3f %%    %6.3f %%    %6.3f %%    "
-                      "%d/%d\n",
-                      paper.scenario, paper.translation_percent,
-                      simulated_batch.translation_error_percent, online.translation_error_percent,
-                      batch.translation_error_percent, outliers.correct, outliers.actual);
-        motion << line;
-        std::snprintf(line, sizeof line,
-                      "%-11s %-16s %6.2f deg  %6.3f deg  %6.3f deg  %6.3f deg%s\n", "",
-                      paper.rotation_kind, paper.rotation_deg,
-                      rotation_figure(paper.rotation_kind, simulated_batch),
-                      rotation_figure(paper.rotation_kind, online),
-                      rotation_figure(paper.rotation_kind, batch),
-                      plotted ? "" : "   (no gnuplot: no plots)");
-        motion << line;
-        const auto& s = tracked.statistics;
-        std::snprintf(line, sizeof line,
-                      "%-11s %6d  %6d  %3d fr    %5.3f px  %5.3f px  %5d       %5d (%d)           "
-                      "%5.1f\n",
-                      paper.scenario, s.frames, accuracy.tracks,
-                      track::track_lengths(tracked.observations).median_frames, accuracy.median_px,
-                      accuracy.p95_px, accuracy.mistracked_tracks, accuracy.reacquisitions,
-                      accuracy.wrong_reacquisitions,
-                      1000 * tracked.tracking_seconds / std::max(1, s.frames));
-        tracking << line;
+        const ExperimentRows rows = run_experiment(paper, *seed, *imaging, root);
+        motion << rows.motion;
+        tracking << rows.tracking;
       }
       std::ofstream(fs::path(root) / "summary.txt") << motion.str() << "\n" << tracking.str();
     });
