@@ -249,9 +249,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   bool warm_step = false;
   Iterate at = first_iterate(meas, point_columns, predicted, linearisations, &warm_step);
   Iterate next;
-  const int camera_params = state_.num_camera_params();
-  constexpr int kCamera = FilterState::kCameraColumn;
-  next.allocate(m, camera_params);
+  next.allocate(m, state_.num_camera_params());
   c->residuals.resize(m);
 
   // P H^T and S's factor are built in the candidate: every step is taken (the warm start's is
@@ -278,13 +276,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
     const double shrink = 1 / (1 + mu);
     // P H^T and S = H P H^T / (1 + mu) + R from the blocks of H; the Cholesky factorisation
     // reads S's lower triangle only.
-    multiply(P.leftCols<6>(), false, at.H_pose, true, PHt);
-    add_point_columns(P, point_columns, at.H_point, &PHt);
-    if (camera_params > 0)
-      PHt.noalias() += P.middleCols(kCamera, camera_params) * at.H_camera.transpose();
-    multiply(at.H_pose, false, PHt.topRows<6>(), false, S);
-    add_point_rows_lower(PHt, point_columns, at.H_point, &S);
-    if (camera_params > 0) S.noalias() += at.H_camera * PHt.middleRows(kCamera, camera_params);
+    project_covariance(at, point_columns, &PHt, &S);
     if (mu > 0) {
       HPHt = S;  // for the undamped factor the covariance needs
       S *= shrink;
@@ -296,24 +288,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
       PHt.resize(0, 0);
       return;
     }
-    Eigen::VectorXd weighted = at.innovation - (1 - shrink) * at.H_offset;
-    S.triangularView<Eigen::Lower>().solveInPlace(weighted);
-    S.triangularView<Eigen::Lower>().adjoint().solveInPlace(weighted);
-    next.offset.noalias() = PHt * weighted;
-    next.g = mu * at.g;
-    next.g.head<6>().noalias() += at.H_pose.transpose() * weighted;
-    if (camera_params > 0)
-      next.g.segment(kCamera, camera_params).noalias() += at.H_camera.transpose() * weighted;
-    for (int k = 0; k < m; ++k)
-      next.g.segment<FilterState::kPointSize>(point_columns[k]).noalias() +=
-          at.H_point[k].transpose() * weighted.segment<2>(2 * k);
-    next.offset = shrink * (next.offset + mu * at.offset);
-    next.offset.segment(kCamera, camera_params).setZero();  // considered, never moved
-    next.g *= shrink;
-    // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
-    // model's residual r - H d is variance times the weighted innovation.
+    const double model_cost = take_step(at, point_columns, PHt, S, mu, &next);
     const double prior_cost = next.g.dot(next.offset);
-    const double model_cost = variance * weighted.squaredNorm() + prior_cost;
     FilterMean moved = state_.mean.plus(next.offset, kMinInverseDepth);
     next.offset.tail(n - state_.first_point_column()) = moved.points - state_.mean.points;
 
@@ -351,6 +327,46 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
     S.diagonal().array() += variance;
     if (!cholesky_lower_in_place(&S)) PHt.resize(0, 0);
   }
+}
+
+void OnlineFilter::project_covariance(const Iterate& at, const std::vector<int>& point_columns,
+                                      Eigen::MatrixXd* PHt, Eigen::MatrixXd* S) const {
+  const Eigen::MatrixXd& P = state_.P;
+  const int camera_params = state_.num_camera_params();
+  constexpr int kCamera = FilterState::kCameraColumn;
+  multiply(P.leftCols<6>(), false, at.H_pose, true, *PHt);
+  add_point_columns(P, point_columns, at.H_point, PHt);
+  if (camera_params > 0)
+    PHt->noalias() += P.middleCols(kCamera, camera_params) * at.H_camera.transpose();
+  multiply(at.H_pose, false, PHt->topRows<6>(), false, *S);
+  add_point_rows_lower(*PHt, point_columns, at.H_point, S);
+  if (camera_params > 0) S->noalias() += at.H_camera * PHt->middleRows(kCamera, camera_params);
+}
+
+double OnlineFilter::take_step(const Iterate& at, const std::vector<int>& point_columns,
+                               const Eigen::MatrixXd& PHt, const Eigen::MatrixXd& S_factor,
+                               double mu, Iterate* next) const {
+  const double shrink = 1 / (1 + mu);
+  const int camera_params = state_.num_camera_params();
+  constexpr int kCamera = FilterState::kCameraColumn;
+  Eigen::VectorXd weighted = at.innovation - (1 - shrink) * at.H_offset;
+  S_factor.triangularView<Eigen::Lower>().solveInPlace(weighted);
+  S_factor.triangularView<Eigen::Lower>().adjoint().solveInPlace(weighted);
+  next->offset.noalias() = PHt * weighted;
+  next->g = mu * at.g;
+  next->g.head<6>().noalias() += at.H_pose.transpose() * weighted;
+  if (camera_params > 0)
+    next->g.segment(kCamera, camera_params).noalias() += at.H_camera.transpose() * weighted;
+  for (size_t k = 0; k < point_columns.size(); ++k)
+    next->g.segment<FilterState::kPointSize>(point_columns[k]).noalias() +=
+        at.H_point[k].transpose() * weighted.segment<2>(2 * static_cast<Eigen::Index>(k));
+  next->offset = shrink * (next->offset + mu * at.offset);
+  next->offset.segment(kCamera, camera_params).setZero();  // considered, never moved
+  next->g *= shrink;
+  // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
+  // model's residual r - H d is variance times the weighted innovation.
+  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  return variance * weighted.squaredNorm() + next->g.dot(next->offset);
 }
 
 OnlineFilter::IterateCheck OnlineFilter::project_iterate(

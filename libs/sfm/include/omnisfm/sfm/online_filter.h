@@ -317,6 +317,15 @@ class OnlineFilter {
                                const std::vector<int>& point_columns, const FilterMean& moved,
                                bool jacobians, bool warm_step, double settled_px,
                                const Iterate& at, Iterate* next) const;
+  // P H^T and H P H^T (S's lower triangle, without the noise) from the blocks of `at`'s H.
+  void project_covariance(const Iterate& at, const std::vector<int>& point_columns,
+                          Eigen::MatrixXd* PHt, Eigen::MatrixXd* S) const;
+  // The step from `at` with Levenberg's damping mu, S_factor the (damped) innovation
+  // covariance's Cholesky factor: next's offset from the prior and its g. Returns the posterior
+  // cost the linear model predicts there.
+  double take_step(const Iterate& at, const std::vector<int>& point_columns,
+                   const Eigen::MatrixXd& PHt, const Eigen::MatrixXd& S_factor, double mu,
+                   Iterate* next) const;
   // The iterated update from the current (propagated) state; `predicted`: propagated by the
   // vehicle's sensors, not the random walk.
   void update(const std::vector<Measurement>& measurements, bool predicted,
