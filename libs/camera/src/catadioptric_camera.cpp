@@ -73,6 +73,17 @@ struct CatadioptricCamera::NewtonState {
   double A00 = 0, A01 = 0, A10 = 0, A11 = 0;  // dF/d(s, phi)
 };
 
+// What project's Jacobians share at a solved reflection (see project): the local frame S in
+// frame C, d pixel / d m_C and d m_local, GK, the reflection equations' derivatives in the
+// point (local and frame C), and the unit directions and tangent in the local frame.
+struct CatadioptricCamera::ReflectionDerivatives {
+  Eigen::Matrix3d S;
+  Eigen::Matrix<double, 2, 3> J_pixel_mC, G;
+  Eigen::Matrix2d GK;
+  Eigen::Matrix<double, 2, 3> dF_dXl, dF_dX_C;
+  Eigen::Vector3d u_l, v_l, tangent_l;
+};
+
 CatadioptricCamera::CatadioptricCamera(std::unique_ptr<InnerCamera> inner,
                                        std::unique_ptr<MirrorProfile> mirror,
                                        const MirrorPose& mirror_pose, int image_width,
@@ -444,7 +455,6 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   if (!X.allFinite() || (!inner_->is_orthographic() && X.norm() < 1e-12)) return false;
   const Eigen::Vector3d& t = pose_.translation();
   const Eigen::Vector3d X_M = R_.transpose() * (X - t);
-  const bool central = !inner_->is_orthographic();
   const bool want_jacobians = J_X || J_params;
 
   // The azimuth is carried as an offset phi from X's own, whose cosine and sine need no
@@ -458,8 +468,7 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
     return false;
   const double s = state.s;
   const MeridianPoint& mp = state.meridian;
-  const MeridianShapeJacobian& J_shape = state.J_shape;
-  const double cos_phi = state.cos_phi, sin_phi = state.sin_phi, du = state.du, dv = state.dv;
+  const double cos_phi = state.cos_phi, sin_phi = state.sin_phi, dv = state.dv;
   const double *u_local = state.u_local, *v_local = state.v_local;
   const double A00 = state.A00, A01 = state.A01, A10 = state.A10, A11 = state.A11;
   const int iteration = state.iterations;
@@ -513,6 +522,31 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
   const Eigen::Matrix<double, 2, 3> dF_dX_C = dF_dXl * S.transpose();
   if (J_X) *J_X = GK * dF_dX_C;
   if (!J_params) return true;
+  params_jacobian(X, state, {S, J_pixel_mC, G, GK, dF_dXl, dF_dX_C, u_l, v_l, tangent_l}, J_inner,
+                  J_params);
+  return true;
+}
+
+void CatadioptricCamera::params_jacobian(const Eigen::Vector3d& X, const NewtonState& state,
+                                         const ReflectionDerivatives& d,
+                                         const ParamsJacobian& J_inner,
+                                         ParamsJacobian* J_params) const {
+  const bool central = !inner_->is_orthographic();
+  const Eigen::Vector3d& t = pose_.translation();
+  const MeridianPoint& mp = state.meridian;
+  const MeridianShapeJacobian& J_shape = state.J_shape;
+  const double cos_phi = state.cos_phi, sin_phi = state.sin_phi, du = state.du, dv = state.dv;
+  const Eigen::Matrix3d& S = d.S;
+  const Eigen::Matrix<double, 2, 3>&J_pixel_mC = d.J_pixel_mC, &G = d.G, &dF_dXl = d.dF_dXl,
+                              &dF_dX_C = d.dF_dX_C;
+  const Eigen::Matrix2d& GK = d.GK;
+  const Eigen::Vector3d &u_l = d.u_l, &v_l = d.v_l, &tangent_l = d.tangent_l;
+  const auto dF_dtarget = [&](const Eigen::Vector3d& unit, double inverse_distance) {
+    Eigen::Matrix<double, 2, 3> dF;
+    dF.row(0) = (tangent_l - unit * unit.dot(tangent_l)).transpose() * inverse_distance;
+    dF.row(1) = (Eigen::Vector3d::UnitY() - unit * unit.y()).transpose() * inverse_distance;
+    return dF;
+  };
 
   J_params->resize(2, num_params());
   J_params->leftCols(J_inner.cols()) = J_inner;
@@ -550,7 +584,6 @@ bool CatadioptricCamera::project(const Eigen::Vector3d& X, Eigen::Vector2d* pixe
     J_t = J_pixel_mC - GK * ((dF_dXl + dF_dcamera_l) * S.transpose());
   else
     J_t = J_pixel_mC - GK * dF_dX_C;
-  return true;
 }
 
 bool CatadioptricCamera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector3d* origin,

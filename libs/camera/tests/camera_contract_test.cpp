@@ -184,8 +184,8 @@ TEST_P(CameraContract, RayJacobianMatchesCentralDifferences) {
   const int n = camera_->num_params();
   const Eigen::VectorXd params = camera_->params();
   std::vector<std::string> names = camera_->param_names();
-  const std::string& camera = GetParam().name;
-  const double noise = camera == "EquiangularMrcalOpencv8" ? 20 : camera == "TablePinhole" ? 1000 : 1;
+  const std::string& name = GetParam().name;
+  const double noise = name == "EquiangularMrcalOpencv8" ? 20 : name == "TablePinhole" ? 1000 : 1;
   for (const auto& X : points) {
     Eigen::Vector2d pixel;
     ASSERT_TRUE(camera_->project(X, &pixel));

@@ -107,6 +107,12 @@ class CatadioptricCamera {
   struct NewtonState;
   bool solve(const Eigen::Vector3d& X_M, double cos_base, double sin_base, bool want_shape,
              NewtonState* state) const;
+  // project's J_params at the reflection `state` solved for X (frame C), the inner camera's
+  // columns J_inner first.
+  struct ReflectionDerivatives;
+  void params_jacobian(const Eigen::Vector3d& X, const NewtonState& state,
+                       const ReflectionDerivatives& d, const ParamsJacobian& J_inner,
+                       ParamsJacobian* J_params) const;
 
   std::unique_ptr<InnerCamera> inner_;
   std::unique_ptr<MirrorProfile> mirror_;
