@@ -8,7 +8,8 @@ namespace omnisfm::sfm {
 std::string camera_prior_problem(const camera::CatadioptricCamera& camera,
                                  const CameraPrior& prior) {
   const auto k = static_cast<Eigen::Index>(prior.parameters.size());
-  if (k == 0) return "";
+  if (k == 0)
+    return prior.covariance.size() == 0 ? "" : "a covariance is given for no parameters";
   std::set<int> seen;
   for (int p : prior.parameters) {
     if (p < 0 || p >= camera.num_params())

@@ -127,12 +127,25 @@ void add_point_rows_lower(const Eigen::MatrixXd& PHt, const std::vector<int>& fi
 }
 
 std::vector<double> posterior_chi2(const Eigen::MatrixXd& L, const Eigen::VectorXd& residual,
-                                   double variance) {
+                                   double variance, const Eigen::MatrixXd* unestimated) {
   const int m = static_cast<int>(residual.size()) / 2;
+  std::vector<double> chi2(m);
+  if (unestimated) {
+    // (M S^-1 M^T)_kk = Y_k^T Y_k with Y = L^-1 M^T, column block k.
+    Eigen::MatrixXd Y = unestimated->transpose();
+    Y.diagonal().array() += variance;
+    L.triangularView<Eigen::Lower>().solveInPlace(Y);
+    for (int k = 0; k < m; ++k) {
+      const Eigen::Vector2d r = residual.segment<2>(2 * k);
+      const auto Y_k = Y.middleCols<2>(2 * k);
+      const Eigen::Matrix2d covariance = Y_k.transpose() * Y_k;
+      chi2[k] = r.allFinite() ? r.dot(covariance.inverse() * r) : INFINITY;
+    }
+    return chi2;
+  }
   // (S^-1)_kk = X_k^T X_k with X = L^-1, whose column block k is zero above row 2k.
   Eigen::MatrixXd X = Eigen::MatrixXd::Identity(2 * m, 2 * m);
   L.triangularView<Eigen::Lower>().solveInPlace(X);
-  std::vector<double> chi2(m);
   for (int k = 0; k < m; ++k) {
     const Eigen::Vector2d r = residual.segment<2>(2 * k);
     if (!r.allFinite()) {

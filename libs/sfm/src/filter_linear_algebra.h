@@ -41,8 +41,10 @@ void add_point_rows_lower(const Eigen::MatrixXd& PHt, const std::vector<int>& fi
 // update, r_k = z_k - h_k(x+), under that residual's covariance R - H_k P+ H_k^T =
 // variance^2 (S^-1)_kk (measurement noise `variance` I): chi-square with 2 degrees of freedom for
 // a measurement the model explains. L: the lower Cholesky factor of S; an infinite residual
-// gives an infinite distance.
+// gives an infinite distance. With parameters the update considers but does not estimate
+// (Schmidt's), `unestimated` = H_c (P H^T)_c: their gain is zero, the residual is M S^-1 y with
+// M = variance I + unestimated, and its covariance M S^-1 M^T.
 std::vector<double> posterior_chi2(const Eigen::MatrixXd& L, const Eigen::VectorXd& residual,
-                                   double variance);
+                                   double variance, const Eigen::MatrixXd* unestimated = nullptr);
 
 }  // namespace omnisfm::sfm

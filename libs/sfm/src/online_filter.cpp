@@ -23,15 +23,23 @@ constexpr int kEstablishedUpdates = 2;
 
 }  // namespace
 
+namespace {
+
+// The considered parameters' covariance, once checked: the state is sized by it.
+const Eigen::MatrixXd& checked_uncertainty(const camera::CatadioptricCamera& camera,
+                                           const CameraPrior& uncertainty) {
+  if (const std::string wrong = camera_prior_problem(camera, uncertainty); !wrong.empty())
+    throw std::invalid_argument("FilterSettings::camera_uncertainty: " + wrong);
+  return uncertainty.covariance;
+}
+
+}  // namespace
+
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
     : camera_(camera),
       settings_(settings),
-      state_(settings.camera_uncertainty.covariance),
-      smoothing_start_(settings.smoothed_start_frames > 0) {
-  if (const std::string wrong = camera_prior_problem(camera, settings.camera_uncertainty);
-      !wrong.empty())
-    throw std::invalid_argument("FilterSettings::camera_uncertainty: " + wrong);
-}
+      state_(checked_uncertainty(camera, settings.camera_uncertainty)),
+      smoothing_start_(settings.smoothed_start_frames > 0) {}
 
 Eigen::Isometry3d OnlineFilter::cam_from_world() const { return state_.mean.cam_from_world(); }
 
@@ -277,6 +285,8 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
     // P H^T and S = H P H^T / (1 + mu) + R from the blocks of H; the Cholesky factorisation
     // reads S's lower triangle only.
     project_covariance(at, point_columns, &PHt, &S);
+    if (const int k = state_.num_camera_params(); k > 0)
+      c->unestimated = at.H_camera * PHt.middleRows(FilterState::kCameraColumn, k);
     if (mu > 0) {
       HPHt = S;  // for the undamped factor the covariance needs
       S *= shrink;
@@ -361,7 +371,10 @@ double OnlineFilter::take_step(const Iterate& at, const std::vector<int>& point_
     next->g.segment<FilterState::kPointSize>(point_columns[k]).noalias() +=
         at.H_point[k].transpose() * weighted.segment<2>(2 * static_cast<Eigen::Index>(k));
   next->offset = shrink * (next->offset + mu * at.offset);
-  next->offset.segment(kCamera, camera_params).setZero();  // considered, never moved
+  // Considered, never moved. Undamped this is Schmidt's step exactly; a damped one (under the
+  // random walk only, about one frame in twelve on the rover) weighs the camera's share of the
+  // innovation covariance by 1 / (1 + mu), and its cost ratio is approximate.
+  next->offset.segment(kCamera, camera_params).setZero();
   next->g *= shrink;
   // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
   // model's residual r - H d is variance times the weighted innovation.
@@ -532,7 +545,8 @@ bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measuremen
       // track's second sighting, 1.6 px off, scored 1,700). Judged by its innovation instead, as
       // the prediction, with its wide depth, had it.
       scores = posterior_chi2(candidate.S_factor, candidate.residual,
-                              settings_.pixel_sigma * settings_.pixel_sigma);
+                              settings_.pixel_sigma * settings_.pixel_sigma,
+                              candidate.unestimated.size() > 0 ? &candidate.unestimated : nullptr);
       for (size_t k = 0; k < measurements.size(); ++k)
         if (state_.anchor(measurements[k].slot).updates < kEstablishedUpdates)
           scores[k] = prior_chi2(measurements[k]);

@@ -110,6 +110,11 @@ TEST(CameraRefinement, AnUnusablePriorIsRefused) {
   EXPECT_NE(camera_prior_problem(camera, prior).find("for 4 parameters"), std::string::npos);
   prior.parameters.push_back(camera.num_params());
   EXPECT_NE(camera_prior_problem(camera, prior).find("is not one of"), std::string::npos);
+  prior.parameters.clear();
+  EXPECT_NE(camera_prior_problem(camera, prior).find("for no parameters"), std::string::npos);
+  FilterSettings considering;
+  considering.camera_uncertainty = prior;
+  EXPECT_THROW(OnlineFilter(camera, considering), std::invalid_argument);
 
   const sim::Dataset d = simulated("rover", 1);
   prior = lab_target_calibration_prior(d.camera);

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <optional>
+#include <functional>
 #include <random>
 #include <string>
 
@@ -25,6 +26,37 @@ Eigen::MatrixXd random_covariance(int n, std::mt19937_64& rng) {
   std::normal_distribution<double> normal(0, 1);
   const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(rng); });
   return A * A.transpose() + n * Eigen::MatrixXd::Identity(n, n);
+}
+
+// Over draws of a linear model (truth x ~ N(0, P), z = H x + noise of `variance`, the prior
+// mean 0), the mean per measurement of score(z - H gain z); with `check`, the first draws' scores
+// also against the Mahalanobis distances under `residual_covariance`.
+double mean_score(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H, const Eigen::MatrixXd& gain,
+                  double variance, const Eigen::MatrixXd& residual_covariance, bool check,
+                  const std::function<std::vector<double>(const Eigen::VectorXd&)>& score,
+                  std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0, 1);
+  const Eigen::LLT<Eigen::MatrixXd> P_factor(P);
+  const auto n = P.rows();
+  const int m = static_cast<int>(H.rows()) / 2;
+  double mean = 0;
+  const int draws = 4000;
+  for (int draw = 0; draw < draws; ++draw) {
+    Eigen::VectorXd x = P_factor.matrixL() * Eigen::VectorXd::NullaryExpr(n, [&] { return normal(rng); });
+    Eigen::VectorXd z = H * x;
+    for (int i = 0; i < 2 * m; ++i) z[i] += std::sqrt(variance) * normal(rng);
+    const Eigen::VectorXd residual = z - H * (gain * z);
+    const std::vector<double> chi2 = score(residual);
+    for (int k = 0; k < m; ++k) {
+      const Eigen::Vector2d r = residual.segment<2>(2 * k);
+      const Eigen::Matrix2d C = residual_covariance.block<2, 2>(2 * k, 2 * k);
+      if (check && draw < 3) {
+        EXPECT_NEAR(chi2[k], r.dot(C.ldlt().solve(r)), 1e-6 * (1 + chi2[k]));
+      }
+      mean += chi2[k] / (draws * m);
+    }
+  }
+  return mean;
 }
 
 TEST(FilterLinearAlgebra, DowndateMatchesTheTextbookFormula) {
@@ -98,31 +130,46 @@ TEST(FilterLinearAlgebra, PosteriorChi2MatchesTheResidualCovariance) {
       variance * Eigen::MatrixXd::Identity(2 * m, 2 * m) - H * P_posterior * H.transpose();
   Eigen::MatrixXd L = S;
   ASSERT_TRUE(cholesky_lower_in_place(&L));
-  const Eigen::LLT<Eigen::MatrixXd> P_factor(P);
-  double mean = 0;
-  const int draws = 4000;
-  for (int draw = 0; draw < draws; ++draw) {
-    // Truth x ~ N(0, P), z = H x + noise, the prior mean 0: the residual z - H x+.
-    Eigen::VectorXd x = P_factor.matrixL() * Eigen::VectorXd::NullaryExpr(n, [&] { return normal(rng); });
-    Eigen::VectorXd z = H * x;
-    for (int i = 0; i < 2 * m; ++i) z[i] += std::sqrt(variance) * normal(rng);
-    const Eigen::VectorXd residual = z - H * (gain * z);
-    const std::vector<double> chi2 = posterior_chi2(L, residual, variance);
-    for (int k = 0; k < m; ++k) {
-      const Eigen::Vector2d r = residual.segment<2>(2 * k);
-      const Eigen::Matrix2d C = residual_covariance.block<2, 2>(2 * k, 2 * k);
-      if (draw < 3) {
-        EXPECT_NEAR(chi2[k], r.dot(C.ldlt().solve(r)), 1e-6 * (1 + chi2[k]));
-      }
-      mean += chi2[k] / (draws * m);
-    }
-  }
+  const double mean = mean_score(
+      P, H, gain, variance, residual_covariance, true,
+      [&](const Eigen::VectorXd& r) { return posterior_chi2(L, r, variance); }, rng);
   // The mean of 32,000 chi-square(2) draws (standard deviation 2 each, correlated within a draw):
   // 2 within a few hundredths.
   EXPECT_NEAR(mean, 2.0, 0.06);
   Eigen::VectorXd residual = Eigen::VectorXd::Zero(2 * m);
   residual[3] = INFINITY;
   EXPECT_TRUE(std::isinf(posterior_chi2(L, residual, variance)[1]));
+}
+
+// Schmidt's update, the last k of the state considered (their gain zero): against the residual's
+// covariance formed directly, (I - H K) S (I - H K)^T with K = [K_x; 0]; over draws its mean is 2;
+// and the full update's formula, which the considered parameters' share of S would break, is
+// off.
+TEST(FilterLinearAlgebra, PosteriorChi2WithConsideredParameters) {
+  std::mt19937_64 rng(6);
+  std::normal_distribution<double> normal(0, 1);
+  const int n = 21, k = 5, m = 8;
+  const double variance = 0.09;
+  const Eigen::MatrixXd P = random_covariance(n, rng);
+  const Eigen::MatrixXd H = Eigen::MatrixXd::NullaryExpr(2 * m, n, [&] { return normal(rng); });
+  Eigen::MatrixXd S = H * P * H.transpose();
+  S.diagonal().array() += variance;
+  const Eigen::MatrixXd PHt = P * H.transpose();
+  Eigen::MatrixXd gain = PHt * S.inverse();
+  gain.bottomRows(k).setZero();
+  const Eigen::MatrixXd unexplained = Eigen::MatrixXd::Identity(2 * m, 2 * m) - H * gain;
+  const Eigen::MatrixXd residual_covariance = unexplained * S * unexplained.transpose();
+  const Eigen::MatrixXd unestimated = H.rightCols(k) * PHt.bottomRows(k);
+  Eigen::MatrixXd L = S;
+  ASSERT_TRUE(cholesky_lower_in_place(&L));
+  const double mean = mean_score(
+      P, H, gain, variance, residual_covariance, true,
+      [&](const Eigen::VectorXd& r) { return posterior_chi2(L, r, variance, &unestimated); }, rng);
+  const double mean_full_formula = mean_score(
+      P, H, gain, variance, residual_covariance, false,
+      [&](const Eigen::VectorXd& r) { return posterior_chi2(L, r, variance); }, rng);
+  EXPECT_NEAR(mean, 2.0, 0.06);
+  EXPECT_GT(std::abs(mean_full_formula - 2.0), 0.2);
 }
 
 TEST(FilterLinearAlgebra, CholeskyRefusesAnIndefiniteMatrix) {

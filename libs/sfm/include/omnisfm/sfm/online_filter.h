@@ -244,6 +244,9 @@ class OnlineFilter {
     Eigen::VectorXd residual;       // the residuals themselves, two rows per measurement
     Eigen::MatrixXd PHt;            // P H^T at the last linearisation
     Eigen::MatrixXd S_factor;       // the innovation covariance's Cholesky factor (lower)
+    // With considered camera parameters, H_c (P H^T)_c at the last linearisation: the part of S
+    // the update does not take out of the residuals (posterior_chi2).
+    Eigen::MatrixXd unestimated;
     int linearisations = 0;         // that the update took
   };
   // An iterate of the update, x_i. Offsets x - x_prior hold the rotation in the prior's chart,
