@@ -227,7 +227,8 @@ OnlineFilter::Iterate OnlineFilter::first_iterate(const std::vector<Measurement>
     for (int k : new_points) {
       at.H_pose.middleRows<2>(2 * k).setZero();
       at.H_point[k].setZero();
-      at.H_camera.middleRows<2>(2 * k).setZero();
+      // (Without considered parameters H_camera has no data to offset into.)
+      if (at.H_camera.cols() > 0) at.H_camera.middleRows<2>(2 * k).setZero();
     }
   return at;
 }
@@ -402,8 +403,9 @@ OnlineFilter::IterateCheck OnlineFilter::project_iterate(
       next.H_pose.middleRows<2>(2 * k) =
           stale_prior ? meas[k].at_prior.pose : at.H_pose.middleRows<2>(2 * k);
       next.H_point[k] = stale_prior ? meas[k].at_prior.point : at.H_point[k];
-      next.H_camera.middleRows<2>(2 * k) =
-          stale_prior ? meas[k].at_prior.camera : at.H_camera.middleRows<2>(2 * k).eval();
+      if (next.H_camera.cols() > 0)
+        next.H_camera.middleRows<2>(2 * k) =
+            stale_prior ? meas[k].at_prior.camera : at.H_camera.middleRows<2>(2 * k).eval();
       next.pixels.segment<2>(2 * k) = at.pixels.segment<2>(2 * k);
       next.residual.segment<2>(2 * k).setConstant(INFINITY);
       next.innovation.segment<2>(2 * k) =
