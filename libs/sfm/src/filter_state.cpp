@@ -29,18 +29,27 @@ PointParams PointAnchor::params_of(const Eigen::Vector3d& X) const {
   return params;
 }
 
+Eigen::Matrix<double, 6, Eigen::Dynamic> ray_parameters_jacobian(
+    const PointAnchor& anchor, const Eigen::Matrix<double, 3, Eigen::Dynamic>& direction_moves,
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& origin_moves) {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J =
+      Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, direction_moves.cols());
+  J.row(0) = anchor.basis.col(1).transpose() * direction_moves;
+  J.row(1) = anchor.basis.col(2).transpose() * direction_moves;
+  J.bottomRows<3>() = origin_moves;
+  return J;
+}
+
 Eigen::Matrix<double, 6, 6> ray_pose_jacobian(const PointAnchor& anchor, const Eigen::Matrix3d& R,
                                               const Eigen::Vector3d& t,
                                               const Eigen::Vector3d& origin,
                                               const Eigen::Vector3d& direction) {
   // R^T d and R^T (o - t) with R = exp(dtheta) R: each turns by R^T [.]x dtheta.
-  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
-  const Eigen::Matrix3d d_direction = R.transpose() * so3::skew(direction);
-  G.block<1, 3>(0, 0) = anchor.basis.col(1).transpose() * d_direction;
-  G.block<1, 3>(1, 0) = anchor.basis.col(2).transpose() * d_direction;
-  G.block<3, 3>(3, 0) = R.transpose() * so3::skew(origin - t);
-  G.block<3, 3>(3, 3) = -R.transpose();
-  return G;
+  Eigen::Matrix<double, 3, 6> direction_moves = Eigen::Matrix<double, 3, 6>::Zero();
+  direction_moves.leftCols<3>() = R.transpose() * so3::skew(direction);
+  Eigen::Matrix<double, 3, 6> origin_moves;
+  origin_moves << R.transpose() * so3::skew(origin - t), -R.transpose();
+  return ray_parameters_jacobian(anchor, direction_moves, origin_moves);
 }
 
 FilterMean FilterMean::plus(const Eigen::VectorXd& delta, double min_inverse_depth) const {

@@ -150,19 +150,15 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
 Eigen::MatrixXd OnlineFilter::ray_camera_jacobian(const PointAnchor& anchor,
                                                   const camera::RayJacobian& ray,
                                                   const Eigen::Matrix3d& R) const {
-  // As ray_pose_jacobian: the angles move with the direction across the first ray, the origin's
-  // offset with the origin, both turned into the world frame.
+  // The ray's moves in the camera's frame, turned into the world's.
   const std::vector<int>& considered = settings_.camera_uncertainty.parameters;
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(FilterState::kPointSize,
-                                            static_cast<Eigen::Index>(considered.size()));
-  for (size_t k = 0; k < considered.size(); ++k) {
-    const auto column = static_cast<Eigen::Index>(k);
-    const Eigen::Vector3d d_direction = R.transpose() * ray.direction_params.col(considered[k]);
-    J(0, column) = anchor.basis.col(1).dot(d_direction);
-    J(1, column) = anchor.basis.col(2).dot(d_direction);
-    J.block<3, 1>(3, column) = R.transpose() * ray.origin_params.col(considered[k]);
+  const auto k = static_cast<Eigen::Index>(considered.size());
+  Eigen::Matrix<double, 3, Eigen::Dynamic> direction_moves(3, k), origin_moves(3, k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    direction_moves.col(i) = R.transpose() * ray.direction_params.col(considered[i]);
+    origin_moves.col(i) = R.transpose() * ray.origin_params.col(considered[i]);
   }
-  return J;
+  return ray_parameters_jacobian(anchor, direction_moves, origin_moves);
 }
 
 bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R,

@@ -53,6 +53,13 @@ struct PointAnchor {
   PointParams params_of(const Eigen::Vector3d& world_point) const;
 };
 
+// How a new point's parameters about `anchor` move with some errors, given how they move its
+// first ray in the world frame (a column per error): the angles with the direction across the
+// ray, the origin's offset with the origin, the depth not at all.
+Eigen::Matrix<double, 6, Eigen::Dynamic> ray_parameters_jacobian(
+    const PointAnchor& anchor, const Eigen::Matrix<double, 3, Eigen::Dynamic>& direction_moves,
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& origin_moves);
+
 // How a new point's parameters about `anchor` move with the error of the pose (R, t) it was seen
 // from (the rotation's a left perturbation, then the translation's), its ray leaving the camera at
 // origin along direction (camera frame): the ray's origin moves with both, its direction turns
