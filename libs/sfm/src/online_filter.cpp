@@ -450,20 +450,25 @@ void OnlineFilter::accept(Candidate* c) {
 }
 
 double OnlineFilter::prior_chi2(const Measurement& m) const {
-  // H's nonzero columns: the pose's, the considered camera parameters', the point's.
-  const int c = state_.num_camera_params();
-  std::vector<int> columns;
-  for (int k = 0; k < 6; ++k) columns.push_back(k);
-  for (int k = 0; k < c; ++k) columns.push_back(FilterState::kCameraColumn + k);
-  for (int k = 0; k < FilterState::kPointSize; ++k)
-    columns.push_back(state_.point_column(m.slot) + k);
-  const auto size = static_cast<Eigen::Index>(columns.size());
-  Eigen::MatrixXd H(2, size);
-  H << m.at_prior.pose, m.at_prior.camera, m.at_prior.point;
-  Eigen::MatrixXd P_local(size, size);
-  for (Eigen::Index a = 0; a < size; ++a)
-    for (Eigen::Index b = 0; b < size; ++b) P_local(a, b) = state_.P(columns[a], columns[b]);
+  constexpr int kSize = FilterState::kPointSize;
+  const int c = state_.point_column(m.slot);
+  const Eigen::MatrixXd& P = state_.P;
+  Eigen::Matrix<double, 2, 6 + kSize> H;
+  H << m.at_prior.pose, m.at_prior.point;
+  Eigen::Matrix<double, 6 + kSize, 6 + kSize> P_local;
+  P_local << P.topLeftCorner<6, 6>(), P.block<6, kSize>(0, c), P.block<kSize, 6>(c, 0),
+      P.block<kSize, kSize>(c, c);
   Eigen::Matrix2d S = H * P_local * H.transpose();
+  if (const int k = state_.num_camera_params(); k > 0) {
+    // The considered camera parameters' columns of H: their own block and their cross terms
+    // with the pose's and the point's.
+    constexpr int kCamera = FilterState::kCameraColumn;
+    const Eigen::MatrixXd& H_camera = m.at_prior.camera;
+    Eigen::Matrix<double, Eigen::Dynamic, 6 + kSize> P_camera_local(k, 6 + kSize);
+    P_camera_local << P.block(kCamera, 0, k, 6), P.block(kCamera, c, k, kSize);
+    const Eigen::Matrix2d cross = H_camera * P_camera_local * H.transpose();
+    S += cross + cross.transpose() + H_camera * P.block(kCamera, kCamera, k, k) * H_camera.transpose();
+  }
   S.diagonal().array() += settings_.pixel_sigma * settings_.pixel_sigma;
   const Eigen::Vector2d y = m.pixel - m.at_prior.pixel;
   return y.dot(S.ldlt().solve(y));
