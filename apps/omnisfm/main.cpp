@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   omnisfm::app::add_sfm_verb(app);
   omnisfm::app::add_eval_verb(app);
   omnisfm::app::add_calibrate_verb(app);
+  omnisfm::app::add_detect_corners_verb(app);
   omnisfm::app::add_demo_verb(app);
   omnisfm::app::add_export_mrcal_verb(app);
   omnisfm::app::add_track_verb(app);

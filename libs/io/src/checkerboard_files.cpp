@@ -1,11 +1,15 @@
 #include "omnisfm/io/checkerboard_files.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <ostream>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <stdexcept>
 
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/io/vnlog.h"
@@ -14,6 +18,32 @@ namespace omnisfm::io {
 
 int ImageCorners::num_detected() const {
   return static_cast<int>(std::count(detected.begin(), detected.end(), true));
+}
+
+void write_corners(const std::string& path, const std::vector<ImageCorners>& images) {
+  for (const ImageCorners& image : images)
+    if (image.filename.empty() ||
+        std::any_of(image.filename.begin(), image.filename.end(),
+                    [](unsigned char c) { return std::isspace(c) != 0; }))
+      throw std::invalid_argument("write_corners: '" + image.filename +
+                                  "' cannot be a vnlog column (empty, or with whitespace)");
+  write_text_atomically(path, [&](std::ostream& out) {
+    out << "# filename x y level\n";
+    char row[96];
+    for (const ImageCorners& image : images) {
+      if (image.num_detected() == 0) {
+        out << image.filename << " - - -\n";
+        continue;
+      }
+      for (std::size_t k = 0; k < image.pixels.size(); ++k) {
+        if (image.detected[k])
+          std::snprintf(row, sizeof row, " %.4f %.4f 0\n", image.pixels[k].x(), image.pixels[k].y());
+        else
+          std::snprintf(row, sizeof row, " - - -\n");
+        out << image.filename << row;
+      }
+    }
+  });
 }
 
 std::vector<ImageCorners> read_corners(const std::string& path) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include "io_test_folder.h"
 #include "omnisfm/io/input_error.h"
@@ -32,6 +34,27 @@ TEST_F(CheckerboardFiles, ReadsCornersKeepingMissingOnesInBoardOrder) {
   EXPECT_EQ(images[0].first_line, 2);
   EXPECT_TRUE(images[1].pixels.empty());
   EXPECT_EQ(images[2].detected, (std::vector<bool>{true, false}));
+}
+
+TEST_F(CheckerboardFiles, WrittenCornersReadBackTheSame) {
+  constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<ImageCorners> written{
+      {"a.png", {{1.25, 2.5}, {kNan, kNan}, {7.125, 8}}, {true, false, true}, 0},
+      {"b.png", {}, {}, 0},  // no board
+      {"c.png", {{9, 10}}, {true}, 0}};
+  const std::string path = write("corners.vnl", "");
+  write_corners(path, written);
+  const auto read = read_corners(path);
+  ASSERT_EQ(read.size(), 3u);
+  EXPECT_EQ(read[0].detected, written[0].detected);
+  EXPECT_EQ(read[0].pixels[0], written[0].pixels[0]);
+  EXPECT_EQ(read[0].pixels[2], written[0].pixels[2]);
+  EXPECT_EQ(read[1].filename, "b.png");
+  EXPECT_EQ(read[1].num_detected(), 0);
+  EXPECT_EQ(read[2].pixels[0], Eigen::Vector2d(9, 10));
+  EXPECT_THROW(write_corners(path, {{"with space.png", {{1, 2}}, {true}, 0}}),
+               std::invalid_argument);
+  EXPECT_EQ(read_corners(path).size(), 3u);  // the file as it was
 }
 
 TEST_F(CheckerboardFiles, RejectsInterleavedImagesAndBadNumbers) {

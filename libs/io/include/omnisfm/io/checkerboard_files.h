@@ -26,6 +26,12 @@ struct ImageCorners {
 // not contiguous.
 std::vector<ImageCorners> read_corners(const std::string& path);
 
+// Writes `images` as corners.vnl, atomically (atomic_write.h): a row per corner (level 0, or `-`
+// for a missing one) and `filename - - -` for an image without any. Throws std::invalid_argument
+// for a file name that is empty or holds whitespace (a vnlog column cannot), std::runtime_error
+// when the file cannot be written.
+void write_corners(const std::string& path, const std::vector<ImageCorners>& images);
+
 // Throws InputError naming the file and line for a missing column, an index out of sequence, or
 // a coordinate that is missing or not finite.
 std::vector<Eigen::Vector3d> read_board(const std::string& path);

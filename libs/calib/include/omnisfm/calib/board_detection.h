@@ -1,0 +1,62 @@
+#pragma once
+// Checkerboards found in raw catadioptric images, where the mirror bends them too much for a
+// detector (mrgingham's and OpenCV's fail on them). Each image is looked at through virtual
+// perspective views (perspective_view.h) at several azimuths, elevations and fields of view; in
+// one of them the board is nearly straight and OpenCV's sector-based detector finds it. Its
+// corners are mapped back through the view's table and refined on the raw image, so that no
+// approximation of the views is left in them.
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
+
+#include "omnisfm/calib/perspective_view.h"
+
+namespace omnisfm::calib {
+
+struct BoardSearch {
+  int view_size = 480;  // pixels
+  std::vector<double> fields_of_view_deg{80, 100, 120};
+  std::vector<double> elevations_deg{0, -20, 20};
+  double azimuth_step_deg = 30;
+  // Without a camera model: the elevations the mirror's picture spans, inner to outer radius.
+  double elevation_span_deg = 100;
+  // Without a camera model: corners must lie this fraction of its radius beyond the camera's own
+  // reflection.
+  double reflection_margin = 0.25;
+};
+
+struct DetectedBoard {
+  // Raw-image pixels, width_n per row, rows in order: mrcal's board order, up to the board's
+  // symmetries (which a rigid motion of the board explains).
+  std::vector<Eigen::Vector2d> corners;
+  ViewDirection view;  // where it was found
+};
+
+class BoardDetector {
+ public:
+  // grid: points across (mrcal's object-width-n) and down (object-height-n). Without a model, the
+  // generic views about `mirror`; with one, views through it.
+  BoardDetector(const MirrorImage& mirror, cv::Size grid, const BoardSearch& search = {});
+  BoardDetector(const camera::CatadioptricCamera& camera, cv::Size grid,
+                const BoardSearch& search = {});
+
+  // The whole board in an 8-bit grey raw image, or nothing. The views' tables are made the first
+  // time each is needed and kept: they depend on the mirror only.
+  std::optional<DetectedBoard> detect(const cv::Mat& raw_grey);
+
+ private:
+  const PerspectiveView& view(std::size_t index);
+  // Inside the image, and with the generic views inside the mirror's picture.
+  bool usable(cv::Point2f corner, cv::Size image) const;
+
+  std::optional<MirrorImage> mirror_;
+  std::optional<camera::CatadioptricCamera> camera_;
+  cv::Size grid_;
+  BoardSearch search_;
+  std::vector<ViewDirection> directions_;
+  std::vector<std::optional<PerspectiveView>> views_;
+};
+
+}  // namespace omnisfm::calib

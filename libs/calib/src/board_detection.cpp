@@ -1,0 +1,100 @@
+#include "omnisfm/calib/board_detection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace omnisfm::calib {
+
+namespace {
+
+constexpr double kRadiansPerDegree = M_PI / 180;
+
+std::vector<ViewDirection> view_directions(const BoardSearch& search) {
+  std::vector<ViewDirection> directions;
+  for (double fov : search.fields_of_view_deg)
+    for (double azimuth = 0; azimuth < 360 - 1e-9; azimuth += search.azimuth_step_deg)
+      for (double elevation : search.elevations_deg)
+        directions.push_back({azimuth * kRadiansPerDegree, elevation * kRadiansPerDegree,
+                              fov * kRadiansPerDegree});
+  return directions;
+}
+
+// Half the refinement window: big enough to hold the corner's saddle, small enough to stay inside
+// its own squares (a 40 % of the closest neighbour's distance).
+int refinement_half_window(const std::vector<cv::Point2f>& corners, int width_n) {
+  double closest = INFINITY;
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    if ((k + 1) % width_n != 0) closest = std::min<double>(closest, cv::norm(corners[k + 1] - corners[k]));
+    if (k + width_n < corners.size())
+      closest = std::min<double>(closest, cv::norm(corners[k + width_n] - corners[k]));
+  }
+  return std::clamp(static_cast<int>(0.4 * closest), 2, 10);
+}
+
+}  // namespace
+
+BoardDetector::BoardDetector(const MirrorImage& mirror, cv::Size grid, const BoardSearch& search)
+    : mirror_(mirror), grid_(grid), search_(search), directions_(view_directions(search)),
+      views_(directions_.size()) {}
+
+BoardDetector::BoardDetector(const camera::CatadioptricCamera& camera, cv::Size grid,
+                             const BoardSearch& search)
+    : camera_(camera), grid_(grid), search_(search), directions_(view_directions(search)),
+      views_(directions_.size()) {}
+
+bool BoardDetector::usable(cv::Point2f corner, cv::Size image) const {
+  if (corner.x < 0 || corner.y < 0 || corner.x > image.width - 1 || corner.y > image.height - 1)
+    return false;
+  if (!mirror_) return true;
+  // Next to the camera's own reflection the squares are squeezed and merge with its dark disc, and
+  // a board larger than the grid asked for is better taken a row further out.
+  const double r = (Eigen::Vector2d(corner.x, corner.y) - mirror_->centre).norm();
+  return r > (1 + search_.reflection_margin) * mirror_->inner_radius && r < mirror_->outer_radius;
+}
+
+const PerspectiveView& BoardDetector::view(std::size_t index) {
+  if (!views_[index]) {
+    if (camera_)
+      views_[index].emplace(*camera_, directions_[index], search_.view_size);
+    else
+      views_[index].emplace(*mirror_, search_.elevation_span_deg * kRadiansPerDegree,
+                            directions_[index], search_.view_size);
+  }
+  return *views_[index];
+}
+
+std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey) {
+  CV_Assert(raw_grey.type() == CV_8UC1);
+  // OpenCV's quick check (a few milliseconds) orders the search: the views it likes first, then
+  // the rest, as it misses a third of the boards the full detector (about 0.1 s a view) finds.
+  std::vector<std::size_t> likely, others;
+  std::vector<cv::Mat> rendered(directions_.size());
+  for (std::size_t index = 0; index < directions_.size(); ++index) {
+    rendered[index] = view(index).render(raw_grey);
+    (cv::checkChessboard(rendered[index], grid_) ? likely : others).push_back(index);
+  }
+  likely.insert(likely.end(), others.begin(), others.end());
+  for (std::size_t index : likely) {
+    std::vector<cv::Point2f> corners;
+    if (!cv::findChessboardCornersSB(rendered[index], grid_, corners,
+                                     cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY))
+      continue;
+    const PerspectiveView& v = view(index);
+    for (cv::Point2f& c : corners) c = v.raw_pixel(c);
+    if (!std::all_of(corners.begin(), corners.end(),
+                     [&](const cv::Point2f& c) { return usable(c, raw_grey.size()); }))
+      continue;
+    const int half = refinement_half_window(corners, grid_.width);
+    cv::cornerSubPix(raw_grey, corners, cv::Size(half, half), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
+    DetectedBoard board;
+    board.view = directions_[index];
+    for (const cv::Point2f& c : corners) board.corners.emplace_back(c.x, c.y);
+    return board;
+  }
+  return std::nullopt;
+}
+
+}  // namespace omnisfm::calib

@@ -1,0 +1,150 @@
+#include "omnisfm/calib/mirror_image.h"
+
+#include <vector>
+#include <algorithm>
+#include <cstdint>
+#include <cmath>
+#include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace omnisfm::calib {
+
+void MeanImage::add(const cv::Mat& grey) {
+  if (sum_.empty()) sum_ = cv::Mat::zeros(grey.size(), CV_64F);
+  cv::accumulate(grey, sum_);
+  ++count_;
+}
+
+cv::Mat MeanImage::mean() const {
+  cv::Mat mean;
+  if (count_ > 0) sum_.convertTo(mean, CV_8U, 1.0 / count_);
+  return mean;
+}
+
+namespace {
+
+// Circles of radius [min_radius, max_radius] on a blurred image, strongest first, in the
+// coordinates of the full image though searched on one at most kSearchWidth wide (the
+// transform's cost grows with the radii).
+std::vector<cv::Vec3f> circles(const cv::Mat& blurred, double min_radius, double max_radius,
+                               double accumulator_threshold) {
+  constexpr double kSearchWidth = 640;
+  const double scale = std::min(1.0, kSearchWidth / blurred.cols);
+  cv::Mat small = blurred;
+  if (scale < 1) cv::resize(blurred, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  std::vector<cv::Vec3f> found;
+  cv::HoughCircles(small, found, cv::HOUGH_GRADIENT, 1, std::max(1.0, min_radius * scale / 4),
+                   60, accumulator_threshold, static_cast<int>(min_radius * scale),
+                   static_cast<int>(std::ceil(max_radius * scale)));
+  for (cv::Vec3f& c : found) c /= scale;
+  return found;
+}
+
+// The radius in [from, to] about `centre` where the mean grey along circles rises fastest
+// (rising = true: the edge of a dark disc, the camera's reflection, against the scene around it)
+// or falls fastest (the mirror's picture against the dark ring of its rim). Circles are sampled
+// inside the image only.
+double steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, double from, double to,
+                     bool rising) {
+  constexpr int kAngles = 360;
+  std::vector<double> profile;
+  for (int r = static_cast<int>(from); r <= static_cast<int>(to); ++r) {
+    double sum = 0;
+    int n = 0;
+    for (int k = 0; k < kAngles; ++k) {
+      const double a = 2 * M_PI * k / kAngles;
+      const int x = static_cast<int>(std::lround(centre.x() + r * std::cos(a)));
+      const int y = static_cast<int>(std::lround(centre.y() + r * std::sin(a)));
+      if (x < 0 || y < 0 || x >= blurred.cols || y >= blurred.rows) continue;
+      sum += blurred.at<std::uint8_t>(y, x);
+      ++n;
+    }
+    profile.push_back(n > 0 ? sum / n : 0);
+  }
+  constexpr int kStep = 3;  // pixels either side: the edge is blurred
+  double best = -INFINITY, radius = from;
+  for (int i = kStep; i + kStep < static_cast<int>(profile.size()); ++i)
+    if (const double rise = (rising ? 1 : -1) * (profile[i + kStep] - profile[i - kStep]);
+        rise > best) {
+      best = rise;
+      radius = from + i;
+    }
+  return radius;
+}
+
+// The circle through the edge of the dark disc about `centre` of radius near `radius`: along each
+// of many rays, the steepest rise within 20 % of it, and a least-squares circle through those
+// (Kasa's algebraic fit: x^2 + y^2 + D x + E y + F = 0, linear in D, E, F). The Hough transform's
+// centre is only as fine as its grid.
+bool fit_disc_edge(const cv::Mat& blurred, Eigen::Vector2d* centre, double* radius) {
+  constexpr int kRays = 180;
+  Eigen::MatrixXd A(kRays, 3);
+  Eigen::VectorXd b(kRays);
+  int n = 0;
+  for (int k = 0; k < kRays; ++k) {
+    const Eigen::Vector2d ray(std::cos(2 * M_PI * k / kRays), std::sin(2 * M_PI * k / kRays));
+    double best = 0, at = -1;
+    for (double r = 0.8 * *radius; r <= 1.2 * *radius; r += 0.25) {
+      const Eigen::Vector2d inside = *centre + (r - 2) * ray, outside = *centre + (r + 2) * ray;
+      if (inside.minCoeff() < 0 || outside.minCoeff() < 0 || outside.x() > blurred.cols - 2 ||
+          outside.y() > blurred.rows - 2 || inside.x() > blurred.cols - 2 ||
+          inside.y() > blurred.rows - 2)
+        continue;
+      cv::Mat grey_in, grey_out;
+      cv::getRectSubPix(blurred, cv::Size(1, 1), cv::Point2f(inside.x(), inside.y()), grey_in, CV_32F);
+      cv::getRectSubPix(blurred, cv::Size(1, 1), cv::Point2f(outside.x(), outside.y()), grey_out, CV_32F);
+      if (const double rise = grey_out.at<float>(0, 0) - grey_in.at<float>(0, 0); rise > best) {
+        best = rise;
+        at = r;
+      }
+    }
+    if (at < 0) continue;
+    const Eigen::Vector2d p = *centre + at * ray;
+    A.row(n) << p.x(), p.y(), 1;
+    b[n++] = -p.squaredNorm();
+  }
+  if (n < kRays / 2) return false;
+  const Eigen::Vector3d DEF = A.topRows(n).colPivHouseholderQr().solve(b.head(n));
+  *centre = -0.5 * DEF.head<2>();
+  *radius = std::sqrt(std::max(0.0, centre->squaredNorm() - DEF[2]));
+  return true;
+}
+
+}  // namespace
+
+MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
+  CV_Assert(mean_grey.type() == CV_8UC1);
+  cv::Mat blurred;
+  cv::GaussianBlur(mean_grey, blurred, cv::Size(5, 5), 2);
+  const double side = std::min(mean_grey.cols, mean_grey.rows);
+  const std::vector<cv::Vec3f> rims = circles(blurred, 0.25 * side, 0.7 * side, 40);
+  if (rims.empty()) throw std::runtime_error("the mirror's rim (a circle) was not found");
+  const cv::Vec3f rim = rims.front();
+  MirrorImage mirror;
+  mirror.centre = Eigen::Vector2d(rim[0], rim[1]);
+  // The strongest circle may be the mount's rather than the mirror's own edge: the picture ends
+  // where the grey falls most steeply, a little inside that (the edge is blurred).
+  mirror.outer_radius = 0.98 * steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2],
+                                             false);
+  // The reflection's radius from the radial profile, where Hough's votes favour big circles;
+  // then its centre from a circle of about that radius.
+  const double self_radius =
+      steepest_edge(blurred, mirror.centre, 0.05 * rim[2], 0.45 * rim[2], true);
+  mirror.inner_radius = self_radius;
+  for (const cv::Vec3f& self : circles(blurred, 0.9 * self_radius, 1.1 * self_radius, 20)) {
+    if (std::hypot(self[0] - rim[0], self[1] - rim[1]) > 0.1 * rim[2]) continue;
+    mirror.centre = Eigen::Vector2d(self[0], self[1]);
+    mirror.inner_radius = self[2];
+    break;
+  }
+  Eigen::Vector2d centre = mirror.centre;
+  double radius = mirror.inner_radius;
+  if (fit_disc_edge(blurred, &centre, &radius) && (centre - mirror.centre).norm() < 0.1 * radius) {
+    mirror.centre = centre;
+    mirror.inner_radius = radius;
+  }
+  return mirror;
+}
+
+}  // namespace omnisfm::calib
