@@ -985,6 +985,59 @@ TEST_F(CliTest, DetectCornersThenCalibrateOnRealCheckerboards) {
         }
 }
 
+// Calibration with no starting file: from the raw images in one go, and from corners alone; the
+// same fit as from the hand-written starts (vmr-initial.ini, paracatadioptric-initial.ini).
+TEST_F(CliTest, CalibrateStartsFromTheImagesWithoutACameraFile) {
+  const fs::path data = real_data_folder();
+  if (!fs::is_directory(data)) GTEST_SKIP() << "no real data at " << data;
+  const Outcome run = omnisfm("calibrate --images " + quoted((data / "vmr").string()) +
+                              " --object-spacing 0.03 --object-width-n 6 --object-height-n 7"
+                              " --mirror conic --out vmr.ini");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("found a 6x7 board in 10 of 10 images"), std::string::npos) << run.err;
+  EXPECT_EQ(VnlogTable::read((dir_ / "vmr.corners.vnl").string()).num_rows(), 420u);
+  const Outcome hand = omnisfm("calibrate --camera " + quoted(shipped_camera("vmr-initial.ini")) +
+                               " --corners vmr.corners.vnl --object-spacing 0.03"
+                               " --object-width-n 6 --object-height-n 7"
+                               " --estimate mirror-pose,intrinsics,mirror-shape --out hand.ini");
+  ASSERT_EQ(hand.status, 0) << hand.err;
+  // Measured: both 0.231279 px.
+  EXPECT_LT(figure_after(run.err, "RMS "), 1.01 * figure_after(hand.err, "RMS ")) << run.err;
+  const std::string report = read_all(dir_ / "vmr.report/report.txt");
+  EXPECT_NE(report.find("camera a generic conic mirror before a pinhole lens, from the images' "
+                        "mirror"),
+            std::string::npos)
+      << report;
+
+  // Corners and the image size only: the telecentric set, its published corners.
+  const std::string para = " --corners " + quoted((data / "paracatadioptric/corners.vnl").string()) +
+                           " --board " + quoted((data / "paracatadioptric/board.vnl").string());
+  const Outcome corners = omnisfm("calibrate" + para + " --image-size 1280x1024 --mirror conic"
+                                  " --inner orthographic --out para.ini");
+  ASSERT_EQ(corners.status, 0) << corners.err;
+  const Outcome para_hand =
+      omnisfm("calibrate" + para + " --camera " +
+              quoted(shipped_camera("paracatadioptric-initial.ini")) +
+              " --estimate mirror-pose,intrinsics,mirror-shape --out para-hand.ini");
+  ASSERT_EQ(para_hand.status, 0) << para_hand.err;
+  // Measured: both 0.475978 px.
+  EXPECT_LT(figure_after(corners.err, "RMS "), 1.01 * figure_after(para_hand.err, "RMS "))
+      << corners.err;
+
+  // What cannot start: said, and no camera written.
+  for (const std::string& args :
+       {std::string(para + " --mirror conic --out x.ini"),                      // no image size
+        para + " --mirror conic --image-size 1280 --out x.ini",                  // not WxH
+        para + " --mirror equiangular --inner orthographic --image-size 1280x1024 --out x.ini",
+        para + " --out x.ini",                                                   // no start at all
+        para + " --mirror conic --camera " + quoted(shipped_camera("vmr-initial.ini")) +
+            " --image-size 1280x1024 --out x.ini"}) {
+    const Outcome refused = omnisfm("calibrate" + args);
+    EXPECT_EQ(refused.status, 2) << args << "\n" << refused.err;
+    EXPECT_FALSE(fs::exists(dir_ / "x.ini")) << args;
+  }
+}
+
 TEST_F(CliTest, DetectCornersRejectsBadInputAndWritesNothing) {
   // No mirror in the images: said, naming the folder, and nothing written.
   fs::create_directories(dir_ / "flat");

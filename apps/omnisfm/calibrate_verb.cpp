@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -19,12 +21,14 @@
 #include "omnisfm/calib/calibration_views.h"
 #include "omnisfm/calib/cross_validation.h"
 #include "omnisfm/calib/projection_uncertainty.h"
+#include "omnisfm/calib/starting_camera.h"
 #include "omnisfm/calib/staged_calibration.h"
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/checkerboard_files.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/target_files.h"
+#include "board_images.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -35,6 +39,10 @@ namespace fs = std::filesystem;
 
 struct CalibrateOptions {
   std::string camera, targets, observations, corners, board, out;
+  // Without a starting camera file: the images to detect the boards in, or the corners' image
+  // size, and the kind of mirror and lens to start from.
+  std::string images, mirror, inner = "pinhole", image_size;
+  bool estimate_given = false;
   double object_spacing = 0;
   int object_width_n = 0, object_height_n = 0;
   std::string estimate = "mirror-pose";
@@ -61,9 +69,9 @@ struct Inputs {
   std::string observations_file;  // the file that errors about observations point at
 };
 
-Inputs read_inputs(const CalibrateOptions& o) {
+Inputs read_inputs(const CalibrateOptions& o, const std::string& camera_description) {
   Inputs inputs;
-  inputs.description.push_back("camera " + o.camera);
+  inputs.description.push_back("camera " + camera_description);
   if (!o.targets.empty()) {
     const auto targets = io::read_targets(o.targets);
     const auto rows = io::read_target_observations(o.observations);
@@ -194,10 +202,111 @@ void print_written(const CalibrateOptions& o, const calib::CalibrationOutcome& o
   if (!note.empty()) std::cerr << "omnisfm: warning: " << note << "\n";
 }
 
-void run_calibrate(const CalibrateOptions& o) {
-  camera::CatadioptricCamera camera = load_camera(o.camera);
+// --image-size's "WxH".
+cv::Size parse_image_size(const std::string& text) {
+  int width = 0, height = 0;
+  char x = 0, rest = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' ||
+      width < 2 || height < 2)
+    throw CLI::ValidationError("--image-size", "must be WIDTHxHEIGHT in pixels, not '" + text + "'");
+  return {width, height};
+}
+
+// Where the mirror's picture lies when only corners are given: about the image's centre, out
+// beyond the farthest corner and in short of the nearest.
+calib::MirrorImage mirror_around_corners(const std::string& corners_file, cv::Size size) {
+  calib::MirrorImage mirror;
+  mirror.centre = Eigen::Vector2d((size.width - 1) / 2.0, (size.height - 1) / 2.0);
+  double nearest = INFINITY, farthest = 0;
+  for (const io::ImageCorners& image : io::read_corners(corners_file))
+    for (std::size_t k = 0; k < image.pixels.size(); ++k)
+      if (image.detected[k]) {
+        const double r = (image.pixels[k] - mirror.centre).norm();
+        nearest = std::min(nearest, r);
+        farthest = std::max(farthest, r);
+      }
+  if (farthest == 0) throw io::InputError(corners_file, 0, "no observations to calibrate from");
+  mirror.inner_radius = std::max(1.0, 0.8 * nearest);
+  mirror.outer_radius = 1.15 * farthest;
+  return mirror;
+}
+
+// The starting camera and how the report names it: the --camera file, or a generic start of the
+// --mirror and --inner kinds from the mirror's picture in the images (or around the corners).
+struct Start {
+  std::unique_ptr<camera::CatadioptricCamera> camera;
+  std::string description;
+  std::optional<calib::MirrorImage> mirror;  // found in the images
+};
+
+Start starting_camera(const CalibrateOptions& o) {
+  Start start;
+  if (!o.camera.empty()) {
+    start.camera = std::make_unique<camera::CatadioptricCamera>(load_camera(o.camera));
+    start.description = o.camera;
+    return start;
+  }
+  cv::Size size;
+  calib::MirrorImage mirror;
+  std::string from;
+  if (!o.images.empty()) {
+    size = image_size_of(o.images);
+    mirror = mirror_of(o.images);
+    start.mirror = mirror;
+    from = "the images' mirror";
+  } else {
+    size = parse_image_size(o.image_size);
+    mirror = mirror_around_corners(o.corners, size);
+    from = "the corners' spread";
+  }
+  const calib::StartingMirror mirror_kind =
+      o.mirror == "equiangular" ? calib::StartingMirror::kEquiangular : calib::StartingMirror::kConic;
+  const calib::StartingInner inner_kind = o.inner == "orthographic"
+                                              ? calib::StartingInner::kOrthographic
+                                              : calib::StartingInner::kPinhole;
+  try {
+    start.camera = std::make_unique<camera::CatadioptricCamera>(
+        calib::starting_camera(mirror, size.width, size.height, mirror_kind, inner_kind));
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--mirror", e.what());
+  }
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "a generic %s mirror before a %s lens, from %s: centre (%.1f, %.1f), picture "
+                "%.0f-%.0f px",
+                o.mirror.c_str(), o.inner == "orthographic" ? "telecentric" : "pinhole",
+                from.c_str(), mirror.centre.x(), mirror.centre.y(), mirror.inner_radius,
+                mirror.outer_radius);
+  start.description = text;
+  return start;
+}
+
+// --images: the boards detected (through the start's generic views, or the --camera model) and
+// written as OUT-stem.corners.vnl beside the camera file, which the calibration then reads.
+std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
+  const cv::Size grid(o.object_width_n, o.object_height_n);
+  std::unique_ptr<calib::BoardDetector> detector =
+      start.mirror ? std::make_unique<calib::BoardDetector>(*start.mirror, grid)
+                   : std::make_unique<calib::BoardDetector>(*start.camera, grid);
+  const std::vector<io::ImageCorners> corners = detect_boards(o.images, detector.get(), nullptr);
+  const fs::path out(o.out);
+  const std::string file = (out.parent_path() / (out.stem().string() + ".corners.vnl")).string();
+  io::write_corners(file, corners);
+  int boards = 0;
+  for (const io::ImageCorners& image : corners) boards += image.num_detected() > 0;
+  std::cerr << "omnisfm: found a " << grid.width << "x" << grid.height << " board in " << boards
+            << " of " << corners.size() << " images; their corners are in " << file << "\n";
+  return file;
+}
+
+void run_calibrate(CalibrateOptions o) {
   require_writable_folder_of(o.out);
-  Inputs inputs = read_inputs(o);
+  const Start start_camera = starting_camera(o);
+  camera::CatadioptricCamera camera = *start_camera.camera;
+  if (!o.images.empty()) o.corners = detect_corners_for(o, start_camera);
+  // A generic start is far from the camera: its lens and mirror are freed too.
+  if (o.camera.empty() && !o.estimate_given) o.estimate = "mirror-pose,intrinsics,mirror-shape";
+  Inputs inputs = read_inputs(o, start_camera.description);
   if (inputs.views.empty()) {
     throw io::InputError(inputs.observations_file, 0, "no observations to calibrate from");
   }
@@ -279,13 +388,30 @@ void add_calibrate_verb(CLI::App& app) {
   CLI::App* verb = app.add_subcommand(
       "calibrate",
       "Calibrate from surveyed targets (the mirror-to-camera transform, the paper's method) or "
-      "checkerboards (any camera parameters); writes the camera file with its covariance and a "
+      "checkerboards (any camera parameters: their corners, or their raw images with --images, "
+      "and from a starting --camera file or, with --mirror, from none); writes the camera file with its covariance and a "
       "report folder OUT-stem.report/ beside it. A solve that does not converge exits 1 and "
       "writes no camera file, but still writes its report folder (replacing an earlier one "
       "whole; status: NOT CONVERGED), to show why");
-  verb->add_option("--camera", o->camera, "Starting camera file (the nominal design)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  auto* camera = verb->add_option("--camera", o->camera,
+                                  "Starting camera file (the nominal design); or --mirror")
+                     ->check(CLI::ExistingFile);
+  auto* images = verb->add_option(
+      "--images", o->images,
+      "Board images (a folder of PNG or JPG files, or a video): the boards are detected as "
+      "detect-corners does and their corners written beside --out as OUT-stem.corners.vnl "
+      "(needs --object-spacing, --object-width-n and --object-height-n)");
+  auto* mirror = verb->add_option("--mirror", o->mirror,
+                                  "Without --camera: start from a generic mirror of this kind, "
+                                  "placed by the mirror's picture in --images (or about the "
+                                  "image's centre, around the corners, with --image-size)")
+                     ->check(CLI::IsMember({"conic", "equiangular"}));
+  verb->add_option("--inner", o->inner,
+                   "With --mirror: the lens, a pinhole or a telecentric (orthographic) one")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pinhole", "orthographic"}));
+  auto* image_size = verb->add_option("--image-size", o->image_size,
+                                      "With --mirror and --corners: the images' size, WxH");
   auto* targets = verb->add_option("--targets", o->targets, "Surveyed targets, `# target x y z`");
   auto* observations = verb->add_option("--observations", o->observations,
                                         "Their observations, `# image target u v`");
@@ -297,9 +423,9 @@ void add_calibrate_verb(CLI::App& app) {
   auto* width_n = verb->add_option("--object-width-n", o->object_width_n, "Board points across");
   auto* height_n = verb->add_option("--object-height-n", o->object_height_n, "Board points down");
   verb->add_option("--out", o->out, "Calibrated camera file to write")->required();
-  verb->add_option("--estimate", o->estimate,
+  auto* estimate = verb->add_option("--estimate", o->estimate,
                    "Comma-separated parameter groups: mirror-pose, mirror-shape, intrinsics, "
-                   "distortion, all")
+                   "distortion, all (with --mirror: mirror-pose,intrinsics,mirror-shape)")
       ->capture_default_str()
       ->check([](const std::string& text) {
         for (const std::string& group : comma_separated(text)) {
@@ -332,20 +458,36 @@ void add_calibrate_verb(CLI::App& app) {
       ->capture_default_str()
       ->check(positive_number());
 
+  camera->excludes(mirror);
+  mirror->excludes(camera);
+  images->excludes(corners)->excludes(targets)->needs(spacing);
+  corners->excludes(images);
+  image_size->needs(mirror)->needs(corners);
   targets->needs(observations);
   observations->needs(targets);
   targets->excludes(corners);
   corners->excludes(targets);
   board->needs(corners);
-  spacing->needs(corners)->needs(width_n)->needs(height_n);
+  spacing->needs(width_n)->needs(height_n);
   width_n->needs(spacing);
   height_n->needs(spacing);
   board->excludes(spacing);
   spacing->excludes(board);
-  verb->callback([o, corners, targets, board, spacing] {
-    if (targets->count() == 0 && corners->count() == 0)
+  verb->callback([o, corners, targets, board, spacing, camera, mirror, images, image_size,
+                  estimate] {
+    if (targets->count() == 0 && corners->count() == 0 && images->count() == 0)
       throw CLI::ValidationError("calibrate",
-                                 "give --targets with --observations, or --corners with --board");
+                                 "give --targets with --observations, --corners with --board, "
+                                 "or --images with --object-spacing");
+    if (camera->count() == 0 && mirror->count() == 0)
+      throw CLI::ValidationError("calibrate", "give a starting --camera, or --mirror");
+    if (mirror->count() > 0 && corners->count() > 0 && image_size->count() == 0)
+      throw CLI::ValidationError("--mirror", "with --corners needs --image-size");
+    if (mirror->count() > 0 && targets->count() > 0)
+      throw CLI::ValidationError("--mirror", "surveyed targets need a starting --camera");
+    if (spacing->count() > 0 && corners->count() == 0 && images->count() == 0)
+      throw CLI::ValidationError("--object-spacing", "needs --corners or --images");
+    o->estimate_given = estimate->count() > 0;
     if (corners->count() > 0 && board->count() == 0 && spacing->count() == 0)
       throw CLI::ValidationError("--corners", "needs --board, or --object-spacing with "
                                               "--object-width-n and --object-height-n");

@@ -15,8 +15,7 @@
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/checkerboard_files.h"
 #include "omnisfm/io/input_error.h"
-#include "omnisfm/track/image_sequence.h"
-#include "terminal_progress.h"
+#include "board_images.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -29,30 +28,6 @@ struct DetectCornersOptions {
   std::string images, camera, out;
   int width_n = 0, height_n = 0;
 };
-
-// An image's name in corners.vnl: its file's name, or for a video's frame the video's stem and the
-// frame's index.
-std::string image_name(const track::ImageSequence& sequence, const track::SequenceFrame& frame) {
-  if (!frame.file.empty()) return fs::path(frame.file).filename().string();
-  char index[16];
-  std::snprintf(index, sizeof index, "-%06d", frame.index);
-  return fs::path(sequence.path()).stem().string() + index;
-}
-
-// Where the mirror is, from the mean of every image.
-calib::MirrorImage mirror_of(const std::string& images) {
-  track::ImageSequence sequence(images);
-  calib::MeanImage mean;
-  track::SequenceFrame frame;
-  while (sequence.next(&frame)) mean.add(frame.image);
-  try {
-    return calib::find_mirror_image(mean.mean());
-  } catch (const std::runtime_error& e) {
-    throw io::InputError(images, 0,
-                         std::string(e.what()) + " on the mean of its " +
-                             std::to_string(mean.count()) + " images (give --camera instead)");
-  }
-}
 
 // The image with the mirror's circles (generic views only) and the board's corners drawn, the
 // first corner marked, the rows in the detector's colours.
@@ -83,37 +58,24 @@ struct Found {
 Found detect_all(const DetectCornersOptions& o, const std::optional<calib::MirrorImage>& mirror,
                  calib::BoardDetector* detector, const std::string& report) {
   const cv::Size grid(o.width_n, o.height_n);
-  track::ImageSequence sequence(o.images);
-  TerminalProgress progress("searched", "images");
   std::string summary = "# filename found view_azimuth_deg view_elevation_deg view_fov_deg\n";
   Found found;
-  track::SequenceFrame frame;
-  while (sequence.next(&frame)) {
-    const std::string name = image_name(sequence, frame);
-    if (name.find_first_of(" \t\r\n\v\f") != std::string::npos)
-      throw io::InputError(frame.file, 0, "has whitespace in its name, which corners.vnl cannot hold");
-    const std::optional<calib::DetectedBoard> board = detector->detect(frame.image);
-    io::ImageCorners image{name, {}, {}, 0};
+  found.corners = detect_boards(o.images, detector, [&](const BoardImage& image) {
     char line[160];
-    if (board) {
+    if (image.board) {
       ++found.boards;
-      image.pixels = board->corners;
-      image.detected.assign(board->corners.size(), true);
       constexpr double kDeg = 180 / M_PI;
-      std::snprintf(line, sizeof line, " 1 %.0f %.0f %.0f\n", board->view.azimuth * kDeg,
-                    board->view.elevation * kDeg, board->view.field_of_view * kDeg);
+      const calib::ViewDirection& view = image.board->view;
+      std::snprintf(line, sizeof line, " 1 %.0f %.0f %.0f\n", view.azimuth * kDeg,
+                    view.elevation * kDeg, view.field_of_view * kDeg);
     } else {
-      image.pixels.assign(1, Eigen::Vector2d::Constant(NAN));
-      image.detected.assign(1, false);
       std::snprintf(line, sizeof line, " 0 - - -\n");
     }
-    summary += name + line;
-    found.corners.push_back(std::move(image));
-    const std::string overlay_file = (fs::path(report) / (name + ".png")).string();
-    if (!cv::imwrite(overlay_file, overlay(frame.image, mirror, board, grid)))
-      throw std::runtime_error("cannot write " + overlay_file);
-    progress(static_cast<int>(found.corners.size()), sequence.expected_frames());
-  }
+    summary += image.name + line;
+    const std::string file = (fs::path(report) / (image.name + ".png")).string();
+    if (!cv::imwrite(file, overlay(image.grey, mirror, image.board, grid)))
+      throw std::runtime_error("cannot write " + file);
+  });
   io::write_text_atomically((fs::path(report) / "summary.vnl").string(),
                             [&](std::ostream& out) { out << summary; });
   return found;
@@ -130,7 +92,11 @@ void run_detect_corners(const DetectCornersOptions& o) {
   std::unique_ptr<calib::BoardDetector> detector;
   const cv::Size grid(o.width_n, o.height_n);
   if (o.camera.empty()) {
-    mirror = mirror_of(o.images);
+    try {
+      mirror = mirror_of(o.images);
+    } catch (const io::InputError& e) {
+      throw io::InputError(e.file(), e.line(), e.message() + " (give --camera instead)");
+    }
     detector = std::make_unique<calib::BoardDetector>(*mirror, grid);
   } else {
     detector = std::make_unique<calib::BoardDetector>(load_camera(o.camera), grid);

@@ -1,0 +1,76 @@
+#include "board_images.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "omnisfm/io/input_error.h"
+#include "omnisfm/track/image_sequence.h"
+#include "terminal_progress.h"
+
+namespace omnisfm::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string image_name(const track::ImageSequence& sequence, const track::SequenceFrame& frame) {
+  if (!frame.file.empty()) return fs::path(frame.file).filename().string();
+  char index[16];
+  std::snprintf(index, sizeof index, "-%06d", frame.index);
+  return fs::path(sequence.path()).stem().string() + index;
+}
+
+}  // namespace
+
+calib::MirrorImage mirror_of(const std::string& images) {
+  track::ImageSequence sequence(images);
+  calib::MeanImage mean;
+  track::SequenceFrame frame;
+  while (sequence.next(&frame)) mean.add(frame.image);
+  try {
+    return calib::find_mirror_image(mean.mean());
+  } catch (const std::runtime_error& e) {
+    throw io::InputError(images, 0,
+                         std::string(e.what()) + " on the mean of its " +
+                             std::to_string(mean.count()) + " images");
+  }
+}
+
+cv::Size image_size_of(const std::string& images) {
+  track::ImageSequence sequence(images);
+  track::SequenceFrame frame;
+  if (!sequence.next(&frame)) throw io::InputError(images, 0, "holds no image");
+  return frame.image.size();
+}
+
+std::vector<io::ImageCorners> detect_boards(const std::string& images,
+                                            calib::BoardDetector* detector,
+                                            const std::function<void(const BoardImage&)>& each) {
+  track::ImageSequence sequence(images);
+  TerminalProgress progress("searched", "images");
+  std::vector<io::ImageCorners> found;
+  track::SequenceFrame frame;
+  while (sequence.next(&frame)) {
+    BoardImage image{image_name(sequence, frame), frame.image, std::nullopt};
+    if (image.name.find_first_of(" \t\r\n\v\f") != std::string::npos)
+      throw io::InputError(frame.file, 0,
+                           "has whitespace in its name, which corners.vnl cannot hold");
+    image.board = detector->detect(frame.image);
+    io::ImageCorners corners{image.name, {}, {}, 0};
+    if (image.board) {
+      corners.pixels = image.board->corners;
+      corners.detected.assign(corners.pixels.size(), true);
+    } else {
+      corners.pixels.assign(1, Eigen::Vector2d::Constant(NAN));
+      corners.detected.assign(1, false);
+    }
+    found.push_back(std::move(corners));
+    if (each) each(image);
+    progress(static_cast<int>(found.size()), sequence.expected_frames());
+  }
+  return found;
+}
+
+}  // namespace omnisfm::app

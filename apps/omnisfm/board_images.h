@@ -1,0 +1,37 @@
+#pragma once
+// Checkerboards searched in a folder of images or a video (calib/board_detection.h), as the
+// detect-corners and calibrate verbs take them.
+
+#include <functional>
+#include <optional>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "omnisfm/calib/board_detection.h"
+#include "omnisfm/io/checkerboard_files.h"
+
+namespace omnisfm::app {
+
+// The mirror's circles on the mean of the images in `images`. Throws io::InputError naming it when
+// they are not found, or when the images are unreadable or of mixed sizes.
+calib::MirrorImage mirror_of(const std::string& images);
+
+// Each image searched in order: its corners (one missing corner where no whole board was found),
+// `each` told of every image as it is searched. Image names are the files' names, or for a
+// video's frames the video's stem and the frame's index; a name with whitespace is refused
+// (io::InputError naming the image), as corners.vnl cannot hold it.
+struct BoardImage {
+  std::string name;
+  cv::Mat grey;
+  std::optional<calib::DetectedBoard> board;
+};
+std::vector<io::ImageCorners> detect_boards(const std::string& images,
+                                            calib::BoardDetector* detector,
+                                            const std::function<void(const BoardImage&)>& each);
+
+// The size of the images in `images` (its first), throwing io::InputError naming it when none
+// can be read.
+cv::Size image_size_of(const std::string& images);
+
+}  // namespace omnisfm::app
