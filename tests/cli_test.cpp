@@ -1036,6 +1036,26 @@ TEST_F(CliTest, CalibrateStartsFromTheImagesWithoutACameraFile) {
     EXPECT_EQ(refused.status, 2) << args << "\n" << refused.err;
     EXPECT_FALSE(fs::exists(dir_ / "x.ini")) << args;
   }
+  // A board size that matches nothing, and a square of no size: nothing written at all.
+  copy_images(data / "vmr", dir_ / "few", {"VMRImage3.jpg", "VMRImage8.jpg"});
+  copy_images(data / "vmr", dir_ / "one", {"VMRImage8.jpg"});
+  for (const std::string& board : {std::string(" --object-spacing 0.03 --object-width-n 9"),
+                                   std::string(" --object-spacing 0 --object-width-n 6")}) {
+    const Outcome refused = omnisfm("calibrate --images one" + board +
+                                    " --object-height-n 7 --mirror conic --out z.ini");
+    EXPECT_EQ(refused.status, 2) << board << "\n" << refused.err;
+    for (const std::string written : {"z.ini", "z.corners.vnl", "z.report"})
+      EXPECT_FALSE(fs::exists(dir_ / written)) << board << " " << written;
+  }
+  const Outcome few = omnisfm("calibrate --images few --object-spacing 0.03 --object-width-n 6"
+                              " --object-height-n 7 --mirror conic --out x.ini");
+  EXPECT_EQ(few.status, 2);
+  EXPECT_EQ(few.err.rfind("omnisfm: few: a whole 6x7 board was found in 2 of 2 images; "
+                          "calibrating needs at least 3",
+                          0),
+            0u)
+      << few.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.corners.vnl"));
 }
 
 TEST_F(CliTest, DetectCornersRejectsBadInputAndWritesNothing) {

@@ -289,11 +289,20 @@ std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
       start.mirror ? std::make_unique<calib::BoardDetector>(*start.mirror, grid)
                    : std::make_unique<calib::BoardDetector>(*start.camera, grid);
   const std::vector<io::ImageCorners> corners = detect_boards(o.images, detector.get(), nullptr);
+  int boards = 0;
+  for (const io::ImageCorners& image : corners) boards += image.num_detected() > 0;
+  // Fewer views than the staged solve's groups can be told apart from.
+  constexpr int kMinBoards = 3;
+  if (boards < kMinBoards)
+    throw io::InputError(o.images, 0,
+                         "a whole " + std::to_string(grid.width) + "x" +
+                             std::to_string(grid.height) + " board was found in " +
+                             std::to_string(boards) + " of " + std::to_string(corners.size()) +
+                             " images; calibrating needs at least " +
+                             std::to_string(kMinBoards) + " (is the board's size right?)");
   const fs::path out(o.out);
   const std::string file = (out.parent_path() / (out.stem().string() + ".corners.vnl")).string();
   io::write_corners(file, corners);
-  int boards = 0;
-  for (const io::ImageCorners& image : corners) boards += image.num_detected() > 0;
   std::cerr << "omnisfm: found a " << grid.width << "x" << grid.height << " board in " << boards
             << " of " << corners.size() << " images; their corners are in " << file << "\n";
   return file;
@@ -419,7 +428,8 @@ void add_calibrate_verb(CLI::App& app) {
                                    "Checkerboard corners, mrcal's `# filename x y level`");
   auto* board = verb->add_option("--board", o->board, "The board's points, `# index x y z`");
   auto* spacing = verb->add_option("--object-spacing", o->object_spacing,
-                                   "Board point spacing, metres (instead of --board)");
+                                   "Board point spacing, metres (instead of --board)")
+                      ->check(positive_number());
   auto* width_n = verb->add_option("--object-width-n", o->object_width_n, "Board points across");
   auto* height_n = verb->add_option("--object-height-n", o->object_height_n, "Board points down");
   verb->add_option("--out", o->out, "Calibrated camera file to write")->required();
