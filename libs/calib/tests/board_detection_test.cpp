@@ -54,10 +54,19 @@ TEST(MirrorImage, AnImageWithoutAMirrorIsRefused) {
 // A board of `width_n` x `height_n` inner corners, `square` apart, rendered through `camera` by
 // casting each pixel's ray onto its plane (4 x 4 samples a pixel): the board's frame is
 // `cam_from_board`, its corner (i, j) at (i, j, 0) squares. Only pixels near the board are cast.
+// With `mirror_bounds`, every pixel whose ray leaves no mirror (beyond the rim, in the camera's own
+// reflection) is dark, as a real rig's mount and lens show them.
 cv::Mat render_board(const camera::CatadioptricCamera& camera, const Eigen::Isometry3d& cam_from_board,
                      int width_n, int height_n, double square,
-                     std::vector<Eigen::Vector2d>* corners) {
+                     std::vector<Eigen::Vector2d>* corners, bool mirror_bounds = false) {
   cv::Mat image(camera.image_height(), camera.image_width(), CV_8UC1, cv::Scalar(110));
+  if (mirror_bounds)
+    for (int v = 0; v < image.rows; ++v)
+      for (int u = 0; u < image.cols; ++u) {
+        Eigen::Vector3d origin, direction;
+        if (!camera.unproject(Eigen::Vector2d(u, v), &origin, &direction))
+          image.at<std::uint8_t>(v, u) = 15;
+      }
   Eigen::AlignedBox2d box;
   for (int j = -1; j <= height_n; ++j)
     for (int i = -1; i <= width_n; ++i) {
@@ -114,27 +123,33 @@ std::vector<double> distances(const std::vector<Eigen::Vector2d>& truth,
   return d;
 }
 
-TEST(BoardDetection, ThroughTheModelTheCornersAreWhereTheBoardIs) {
-  const camera::CatadioptricCamera camera =
-      io::read_camera_file(source_file("share/omnisfm/cameras/equiangular.ini"));
-  // The board 0.7 m out along the ray of a pixel halfway out on the mirror, facing back at the
-  // camera and tilted 25 degrees.
+// A board 0.7 m out along the ray of the pixel (511.5 + 220, 383.5 + 60) of the shipped
+// equiangular camera, facing back at it and tilted 25 degrees; its true corners in *truth.
+constexpr int kWidth = 7, kHeight = 5;
+cv::Mat rendered_board(const camera::CatadioptricCamera& camera, bool mirror_bounds,
+                       std::vector<Eigen::Vector2d>* truth) {
+  constexpr double kSquare = 0.04;
   Eigen::Vector3d origin, direction;
-  ASSERT_TRUE(camera.unproject(Eigen::Vector2d(511.5 + 220, 383.5 + 60), &origin, &direction));
+  EXPECT_TRUE(camera.unproject(Eigen::Vector2d(511.5 + 220, 383.5 + 60), &origin, &direction));
   const Eigen::Vector3d centre = origin + 0.7 * direction;
-  const Eigen::Vector3d normal = (Eigen::AngleAxisd(0.44, Eigen::Vector3d::UnitZ()) * direction).normalized();
+  const Eigen::Vector3d normal =
+      (Eigen::AngleAxisd(0.44, Eigen::Vector3d::UnitZ()) * direction).normalized();
   Eigen::Matrix3d R;
   R.col(2) = normal;
   R.col(0) = normal.cross(Eigen::Vector3d::UnitZ()).normalized();
   R.col(1) = R.col(2).cross(R.col(0));
-  constexpr int kWidth = 7, kHeight = 5;
-  constexpr double kSquare = 0.04;
   Eigen::Isometry3d cam_from_board = Eigen::Isometry3d::Identity();
   cam_from_board.linear() = R;
   cam_from_board.translation() = centre - R * Eigen::Vector3d((kWidth - 1) * kSquare / 2,
                                                                (kHeight - 1) * kSquare / 2, 0);
+  return render_board(camera, cam_from_board, kWidth, kHeight, kSquare, truth, mirror_bounds);
+}
+
+TEST(BoardDetection, ThroughTheModelTheCornersAreWhereTheBoardIs) {
+  const camera::CatadioptricCamera camera =
+      io::read_camera_file(source_file("share/omnisfm/cameras/equiangular.ini"));
   std::vector<Eigen::Vector2d> truth;
-  const cv::Mat image = render_board(camera, cam_from_board, kWidth, kHeight, kSquare, &truth);
+  const cv::Mat image = rendered_board(camera, false, &truth);
   ASSERT_EQ(truth.size(), static_cast<std::size_t>(kWidth * kHeight));
 
   BoardDetector detector(camera, cv::Size(kWidth, kHeight));
@@ -149,6 +164,29 @@ TEST(BoardDetection, ThroughTheModelTheCornersAreWhereTheBoardIs) {
   // Board order: a row of width_n corners, then the next row.
   EXPECT_LT((board->corners[1] - board->corners[0]).norm(),
             (board->corners[kWidth] - board->corners[0]).norm() * 2.5);
+}
+
+// No model: the mirror found on the image itself (its rim and the camera's reflection, drawn dark
+// where the model says no ray leaves), the generic views, the same corners.
+TEST(BoardDetection, WithoutTheModelTheMirrorIsFoundAndTheCornersToo) {
+  const camera::CatadioptricCamera camera =
+      io::read_camera_file(source_file("share/omnisfm/cameras/equiangular.ini"));
+  std::vector<Eigen::Vector2d> truth;
+  const cv::Mat image = rendered_board(camera, true, &truth);
+  const MirrorImage mirror = find_mirror_image(image);
+  // The model's centre is the principal point (511.5, 383.5); its reflection ends 800 tan 0.02 =
+  // 16.0 px out, its rim 800 tan 0.35 = 292.0 px out (the picture taken 2 % inside it). Measured:
+  // (511.494, 383.494), 15.9 and 286.3 px; corners at median 0.047 px, worst 0.099 px.
+  EXPECT_NEAR(mirror.centre.x(), 511.5, 0.1);
+  EXPECT_NEAR(mirror.centre.y(), 383.5, 0.1);
+  EXPECT_NEAR(mirror.inner_radius, 16.0, 0.5);
+  EXPECT_NEAR(mirror.outer_radius, 0.98 * 292.0, 2);
+  BoardDetector detector(mirror, cv::Size(kWidth, kHeight));
+  const std::optional<DetectedBoard> board = detector.detect(image);
+  ASSERT_TRUE(board.has_value());
+  const std::vector<double> d = distances(truth, board->corners);
+  EXPECT_LT(d[d.size() / 2], 0.07);
+  EXPECT_LT(d.back(), 0.15);
 }
 
 class RealImages : public ::testing::Test {
