@@ -164,6 +164,20 @@ def main():
                         os.path.join(d, "model.cameramodel")]),
     ]
 
+    # Boards in raw images, where the real ones are at hand: two images, then three others.
+    if real:
+        for name, images in (("boards1", ["VMRImage0.jpg", "VMRImage1.jpg"]),
+                             ("boards2", ["VMRImage3.jpg", "VMRImage8.jpg", "VMRImage9.jpg"])):
+            os.makedirs(os.path.join(inputs, name))
+            for image in images:
+                shutil.copy(os.path.join(vmr, image), os.path.join(inputs, name, image))
+        verbs.append(Verb(
+            "detect-corners", ["corners.vnl", "corners.report"],
+            *[(lambda n: lambda d: [o, "detect-corners", "--images", os.path.join(inputs, n),
+                                    "--object-width-n", "6", "--object-height-n", "7", "--out",
+                                    os.path.join(d, "corners.vnl")])(n)
+              for n in ("boards1", "boards2")]))
+
     failures = []
     for verb in verbs:
         earlier, reference = os.path.join(work, verb.name, "earlier"), os.path.join(
