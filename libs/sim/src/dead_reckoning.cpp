@@ -193,6 +193,14 @@ Eigen::Isometry3d interpolate_pose(const Dataset& d, double t) {
                  (t - times[k]) / (times[k + 1] - times[k]));
 }
 
+Eigen::Isometry3d extrapolate_pose(const Dataset& d, double t) {
+  const std::vector<double>& times = d.timestamps;
+  if (times.size() < 2) return d.world_from_cam.front();
+  const size_t k = interval_of(times, t);
+  return between(d.world_from_cam[k], d.world_from_cam[k + 1],
+                 (t - times[k]) / (times[k + 1] - times[k]));
+}
+
 Eigen::Isometry3d body_from_cam(const Dataset& d) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   const bool camera_looks_down = d.world_from_cam.front().linear()(2, 2) < 0;

@@ -73,7 +73,8 @@ cv::Mat Imaging::record(const Dataset& dataset, int frame) {
   renderer_->use_photos(photos_);
   if (settings_.is_clean()) return renderer_->render(dataset.scene, dataset.world_from_cam[frame]);
 
-  // Motion blur: renderings over the exposure, centred on the frame's time.
+  // Motion blur: renderings over the exposure, centred on the frame's time (also about the first
+  // and last frames: a clamped exposure there would shift those frames' image of the scene).
   const int samples = std::max(settings_.motion_blur_samples, 1);
   cv::Mat light;
   if (samples == 1 || frames < 2) {
@@ -86,7 +87,7 @@ cv::Mat Imaging::record(const Dataset& dataset, int frame) {
     light = cv::Mat::zeros(renderer_->height(), renderer_->width(), CV_32FC1);
     for (int k = 0; k < samples; ++k) {
       const double at = t + exposure * ((k + 0.5) / samples - 0.5);
-      light += renderer_->render_radiance(dataset.scene, interpolate_pose(dataset, at));
+      light += renderer_->render_radiance(dataset.scene, extrapolate_pose(dataset, at));
     }
     light /= samples;
   }

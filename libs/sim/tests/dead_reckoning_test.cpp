@@ -120,6 +120,25 @@ TEST(DeadReckoning, DeterministicForASeed) {
   EXPECT_NE(a.odometry.back().pose, c.odometry.back().pose);
 }
 
+// An exposure about the first or last frame reaches past the sequence: the rig's motion goes on
+// there (the rover drives at a constant speed), where interpolate_pose stops at the end frames.
+TEST(DeadReckoning, ExtrapolatedPoseContinuesTheMotionPastTheEnds) {
+  const Dataset d = dataset_of("rover");
+  const double interval = d.timestamps[1] - d.timestamps[0];
+  for (const double t : {d.timestamps[0] + 0.3 * interval, d.timestamps[5]})
+    EXPECT_TRUE(extrapolate_pose(d, t).isApprox(interpolate_pose(d, t), 1e-12));
+  const Eigen::Vector3d before = extrapolate_pose(d, d.timestamps[0] - 0.25 * interval).translation();
+  const Eigen::Vector3d step = d.world_from_cam[1].translation() - d.world_from_cam[0].translation();
+  EXPECT_LT((before - (d.world_from_cam[0].translation() - 0.25 * step)).norm(), 1e-9);
+  const size_t last = d.timestamps.size() - 1;
+  const Eigen::Vector3d after =
+      extrapolate_pose(d, d.timestamps[last] + 0.25 * interval).translation();
+  const Eigen::Vector3d last_step =
+      d.world_from_cam[last].translation() - d.world_from_cam[last - 1].translation();
+  EXPECT_LT((after - (d.world_from_cam[last].translation() + 0.25 * last_step)).norm(), 1e-9);
+  EXPECT_TRUE(interpolate_pose(d, d.timestamps[0] - interval).isApprox(d.world_from_cam[0]));
+}
+
 TEST(DeadReckoning, RejectsNonsense) {
   Dataset d = dataset_of("lab");
   DeadReckoningOptions options;

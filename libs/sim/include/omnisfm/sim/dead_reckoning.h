@@ -111,6 +111,9 @@ class DeadReckoningStream {
 
 // world_from_cam at time t, between the frames around it (clamped to the first and last frame).
 Eigen::Isometry3d interpolate_pose(const Dataset& dataset, double t);
+// The same, but before the first frame and after the last the motion of the first or last
+// interval goes on (a camera's exposure about its first frame began before that frame's time).
+Eigen::Isometry3d extrapolate_pose(const Dataset& dataset, double t);
 
 // The camera-to-body rotation that the odometry and the gyro use for this dataset.
 Eigen::Isometry3d body_from_cam(const Dataset& dataset);

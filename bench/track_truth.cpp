@@ -1,0 +1,114 @@
+// The tracker's tracks against the truth on a rendered simulation (not a benchmark: one run, one
+// report): how long tracks last, why they end, how far they stray from their true points and how
+// that error grows with a track's age. The images are those `omnisfm simulate --render` wrote
+// for the same scenario and seed (rendering them again would take most of the time).
+//   omnisfm simulate --scenario rover --render --imaging realistic --out /tmp/rover
+//   track_truth rover /tmp/rover/images [SEED=1] [SETTING=VALUE...]
+// SETTING is one of the TrackerSettings fields listed in `settable` below.
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "omnisfm/core/percentile.h"
+#include "omnisfm/eval/track_accuracy.h"
+#include "omnisfm/sim/scenario.h"
+#include "omnisfm/track/image_sequence.h"
+#include "omnisfm/track/track_images.h"
+#include "omnisfm/track/track_lengths.h"
+
+namespace {
+
+using namespace omnisfm;
+
+// Applies "name=value" to *settings; false for a name not listed.
+bool set(const std::string& assignment, track::TrackerSettings* settings) {
+  const std::map<std::string, std::function<void(double)>> settable = {
+      {"min_ncc", [&](double v) { settings->min_ncc = v; }},
+      {"max_patch_distortion", [&](double v) { settings->max_patch_distortion = v; }},
+      {"max_refinement_shift_px", [&](double v) { settings->max_refinement_shift_px = v; }},
+      {"max_forward_backward_px", [&](double v) { settings->max_forward_backward_px = v; }},
+      {"patch_half_size", [&](double v) { settings->patch_half_size = static_cast<int>(v); }},
+      {"reacquire", [&](double v) { settings->reacquire = v != 0; }},
+      {"image_blur_sigma", [&](double v) { settings->image_blur_sigma = v; }},
+      {"max_tracks", [&](double v) { settings->max_tracks = static_cast<int>(v); }},
+  };
+  const size_t equals = assignment.find('=');
+  if (equals == std::string::npos) return false;
+  const auto setter = settable.find(assignment.substr(0, equals));
+  if (setter == settable.end()) return false;
+  setter->second(std::atof(assignment.c_str() + equals + 1));
+  return true;
+}
+
+// The error's median and 95th percentile per band of track age (frames since the track's
+// first observation), over the tracks that follow their points.
+void print_errors_by_age(const sim::Dataset& dataset,
+                         const std::vector<core::TrackObservation>& observations,
+                         const eval::TrackAccuracy& accuracy) {
+  const std::vector<double> errors = eval::track_errors(dataset, observations);
+  std::map<int, int> first_frame;
+  for (const auto& o : observations)
+    if (!first_frame.count(o.track)) first_frame[o.track] = o.frame;
+  const std::vector<int> band_starts = {1, 3, 6, 11, 21, 41, 81};
+  std::vector<std::vector<double>> bands(band_starts.size());
+  for (size_t i = 0; i < observations.size(); ++i) {
+    if (!(errors[i] <= 1e9)) continue;
+    bool mistracked = false;
+    for (const int m : accuracy.mistracked) mistracked |= m == observations[i].track;
+    if (mistracked) continue;
+    const int age = observations[i].frame - first_frame[observations[i].track];
+    size_t band = 0;
+    while (band + 1 < band_starts.size() && age >= band_starts[band + 1]) ++band;
+    bands[band].push_back(errors[i]);
+  }
+  std::printf("error by age (frames): ");
+  for (size_t b = 0; b < bands.size(); ++b)
+    if (!bands[b].empty())
+      std::printf("%d+: %.3f/%.3f (%zu)  ", band_starts[b], core::percentile(bands[b], 0.5),
+                  core::percentile(bands[b], 0.95), bands[b].size());
+  std::printf("\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: track_truth SCENARIO IMAGES_DIR [SEED=1] [SETTING=VALUE...]\n");
+    return 2;
+  }
+  sim::SimulationOptions options;
+  options.scenario = argv[1];
+  int next = 3;
+  if (argc > 3 && std::string(argv[3]).find('=') == std::string::npos)
+    options.seed = std::strtoull(argv[next++], nullptr, 10);
+  track::TrackerSettings settings;
+  for (; next < argc; ++next)
+    if (!set(argv[next], &settings)) {
+      std::fprintf(stderr, "track_truth: unknown setting %s\n", argv[next]);
+      return 2;
+    }
+  const sim::Dataset dataset = sim::simulate(options);
+  track::ImageSequence images(argv[2]);
+  const track::TrackedSequence tracked = track::track_images(dataset.camera, images, settings);
+  const eval::TrackAccuracy a = eval::track_accuracy(dataset, tracked.observations);
+  const track::TrackLengths lengths = track::track_lengths(tracked.observations);
+  const track::TrackerStatistics& s = tracked.statistics;
+  std::printf(
+      "%s seed %llu: %d tracks, median length %d frames, %d mistracked (%.2f %%), error median "
+      "%.3f px, p95 %.3f px, max %.3f px; reacquisitions %d (%d wrong); %.2f ms per frame\n",
+      argv[1], static_cast<unsigned long long>(options.seed), a.tracks, lengths.median_frames,
+      a.mistracked_tracks, 100.0 * a.mistracked_tracks / std::max(1, a.tracks), a.median_px,
+      a.p95_px, a.max_px, a.reacquisitions, a.wrong_reacquisitions,
+      1000 * tracked.tracking_seconds / std::max(1, s.frames));
+  std::printf(
+      "ended: lost %d, forward-backward %d, appearance %d, reshaped %d, left region %d, "
+      "duplicate %d\n",
+      s.lost, s.forward_backward, s.appearance, s.reshaped, s.left_region, s.duplicate);
+  print_errors_by_age(dataset, tracked.observations, a);
+  return 0;
+}
