@@ -30,6 +30,7 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
   const std::map<std::string, std::function<void(double)>> settable = {
       {"min_ncc", [&](double v) { settings->min_ncc = v; }},
       {"max_patch_distortion", [&](double v) { settings->max_patch_distortion = v; }},
+      {"max_misfit_px", [&](double v) { settings->max_misfit_px = v; }},
       {"max_refinement_shift_px", [&](double v) { settings->max_refinement_shift_px = v; }},
       {"max_forward_backward_px", [&](double v) { settings->max_forward_backward_px = v; }},
       {"patch_half_size", [&](double v) { settings->patch_half_size = static_cast<int>(v); }},
@@ -106,9 +107,9 @@ int main(int argc, char** argv) {
       a.p95_px, a.max_px, a.reacquisitions, a.wrong_reacquisitions,
       1000 * tracked.tracking_seconds / std::max(1, s.frames));
   std::printf(
-      "ended: lost %d, forward-backward %d, appearance %d, reshaped %d, left region %d, "
-      "duplicate %d\n",
-      s.lost, s.forward_backward, s.appearance, s.reshaped, s.left_region, s.duplicate);
+      "ended: lost %d, forward-backward %d, appearance %d, misfit %d, reshaped %d, left region "
+      "%d, duplicate %d\n",
+      s.lost, s.forward_backward, s.appearance, s.misfit, s.reshaped, s.left_region, s.duplicate);
   print_errors_by_age(dataset, tracked.observations, a);
   return 0;
 }

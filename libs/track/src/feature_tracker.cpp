@@ -169,6 +169,10 @@ void FeatureTracker::follow_live_tracks() {
       end_track(i, &statistics_.appearance);
       continue;
     }
+    if (settings_.refine && aligned.misfit_px > settings_.max_misfit_px) {
+      end_track(i, &statistics_.misfit, false);
+      continue;
+    }
     const Eigen::Vector2d stretch = Eigen::JacobiSVD<Eigen::Matrix2d>(warp.A).singularValues();
     if (std::max(std::abs(stretch(0) - 1), std::abs(stretch(1) - 1)) >
         settings_.max_patch_distortion) {

@@ -29,6 +29,18 @@ Lanes join(const Pair& low, const Pair& high) {
   return __builtin_shufflevector(low, high, 0, 1, 2, 3);
 }
 
+// Whether template offset (x, y) lies in part h of a patch of this half size: its left, right,
+// top or bottom half, or its centre (within half the half size).
+bool in_part(double x, double y, int h, int half_size) {
+  switch (h) {
+    case 0: return x < 0;
+    case 1: return x >= 0;
+    case 2: return y < 0;
+    case 3: return y >= 0;
+    default: return 4 * (x * x + y * y) <= half_size * half_size;
+  }
+}
+
 double lane_sum(const Lanes& l) {
   double sum = 0;
   for (int lane = 0; lane < ReferencePatch::kLanes; ++lane) sum += l[lane];
@@ -81,7 +93,10 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   if (p.norm_ < kMinContrast) return false;
 
   Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix2d part_hessian[kParts];
+  for (Eigen::Matrix2d& h : part_hessian) h.setZero();
   p.steepest_.setZero(padded, 6);
+  p.part_steepest_.setZero(padded, 2 * kParts);
   k = 0;
   for (int y = -half_size; y <= half_size; ++y)
     for (int x = -half_size; x <= half_size; ++x, ++k) {
@@ -94,7 +109,20 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
       sd << gx * u, gx * v, gy * u, gy * v, gx, gy;
       hessian += p.weights_(k) * sd * sd.transpose();
       p.steepest_.row(k) = (p.weights_(k) * sd).cast<float>().transpose();
+      const Eigen::Vector2d gradient(gx, gy);
+      for (int h = 0; h < kParts; ++h)
+        if (in_part(u, v, h, half_size)) {
+          part_hessian[h] += p.weights_(k) * gradient * gradient.transpose();
+          p.part_steepest_.row(k).segment<2>(2 * h) = p.steepest_.row(k).tail<2>();
+        }
     }
+  for (int h = 0; h < kParts; ++h) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> part(part_hessian[h],
+                                                              Eigen::EigenvaluesOnly);
+    const bool placeable = part.eigenvalues()(0) > 1e-6 * part.eigenvalues()(1);
+    p.part_hessian_inverse_[h] =
+        placeable ? Eigen::Matrix2d(part_hessian[h].inverse()) : Eigen::Matrix2d::Zero();
+  }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(hessian,
                                                                          Eigen::EigenvaluesOnly);
   if (!(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5))) return false;
@@ -173,6 +201,19 @@ double ReferencePatch::ncc(const cv::Mat& image, const AffineWarp& warp) const {
   return sample(image, warp, values.data(), &mean, &gain);
 }
 
+double ReferencePatch::misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp) const {
+  // One Gauss-Newton step of the feature's position per part, from the same residuals.
+  const Eigen::Matrix<float, 2 * kParts, 1> gradients =
+      part_steepest_.transpose() * residuals.matrix();
+  double worst = 0;
+  for (int h = 0; h < kParts; ++h) {
+    const Eigen::Vector2d step =
+        warp.A * (part_hessian_inverse_[h] * gradients.segment<2>(2 * h).cast<double>());
+    worst = std::max(worst, step.norm());
+  }
+  return worst;
+}
+
 AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, int max_iterations,
                                       double step_tolerance_px) const {
   CV_Assert(image.type() == CV_32FC1 && !empty());
@@ -203,6 +244,7 @@ AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, in
     // fifth of the alignment.
     if (step.norm() < step_tolerance_px) {
       result.converged = true;
+      result.misfit_px = misfit(values, *warp);
       return result;
     }
   }

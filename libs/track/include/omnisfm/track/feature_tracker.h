@@ -38,6 +38,7 @@ struct TrackerStatistics {
   int lost = 0;              // Lucas-Kanade found nothing
   int forward_backward = 0;  // failed the forward-backward check
   int appearance = 0;        // failed the appearance check
+  int misfit = 0;            // its patch's parts pulled apart beyond max_misfit_px
   int reshaped = 0;          // scaled or sheared beyond max_patch_distortion
   int left_region = 0;
   int duplicate = 0;

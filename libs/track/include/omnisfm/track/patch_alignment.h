@@ -31,6 +31,14 @@ struct AlignmentResult {
   // Weighted zero-mean normalised cross-correlation where the last step started (converged: a
   // step below the tolerance before the end).
   double ncc = 0;
+  // Converged: the largest shift of the feature that one part of the patch (its left, right, top
+  // or bottom half, or its centre) would take on its own from the warp found. Where one warp fits
+  // the whole patch, each part stays; where the look has changed in a way an affine warp cannot
+  // follow (a patch of ground foreshortened unevenly as it comes closer, a feature on a crease),
+  // the parts pull apart, and the feature's position is off by about as much (measured against
+  // the truth on the rendered sets). The centre catches the even part of such a change (the same
+  // for opposite halves), which shifts the whole patch's best fit but not the centre's.
+  double misfit_px = 0;
 };
 
 class ReferencePatch {
@@ -76,6 +84,15 @@ class ReferencePatch {
   // Weighted steepest-descent images, a column per parameter: the gradient is six dot products.
   Eigen::Matrix<float, Eigen::Dynamic, 6> steepest_;
   Eigen::Matrix<double, 6, 6> hessian_inverse_;
+  // The translation's two columns of steepest_ within each part of the patch (left, right, top,
+  // bottom, centre; zero elsewhere), and each part's 2 x 2 Hessian inverse (zero for a part too
+  // flat to place on its own).
+  static constexpr int kParts = 5;
+  Eigen::Matrix<float, Eigen::Dynamic, 2 * kParts> part_steepest_;
+  Eigen::Matrix2d part_hessian_inverse_[kParts];
+
+  // The largest shift one part of the patch would take alone, from the residuals at `warp`.
+  double misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp) const;
 };
 
 }  // namespace omnisfm::track

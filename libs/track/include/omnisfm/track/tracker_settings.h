@@ -33,19 +33,26 @@ struct TrackerSettings {
   // Refinement: the track's reference patch (2 patch_half_size + 1 wide, from the image where the
   // track started) aligned affinely into the frame, which removes the drift of frame-to-frame
   // chaining. The appearance check ends a track whose aligned patch correlates (zero-mean NCC)
-  // below min_ncc, whose refined position leaves the Lucas-Kanade one by more than
-  // max_refinement_shift_px, or whose patch is scaled or sheared by more than
+  // below min_ncc, or whose refined position leaves the Lucas-Kanade one by more than
+  // max_refinement_shift_px. A track also ends when a part of its patch (a half, or the centre)
+  // would move the feature by more than max_misfit_px on its own (AlignmentResult::misfit_px):
+  // the look has changed in a way one affine warp cannot follow, and the feature's position is
+  // off by about as much. That measures what a change of shape costs: on the realistic rover the
+  // error grows with it, where a patch scaled by the mirror and the approaching ground can often
+  // still be placed to a tenth of a pixel. A patch scaled or sheared by more than
   // max_patch_distortion (relative change of a singular value of the affine map; rotation is
-  // free): the further a feature's look has moved from its reference, the further the best match
-  // drifts from the true point. The reference is never renewed: a renewed reference inherits the
-  // track's error at that moment, so errors would add up; a feature that no longer looks like
-  // its reference ends instead, and a new track starts.
+  // free) ends too: where a texture's look changes with its scale (the clean renderings'
+  // procedural textures), the error grows with the scale faster than the parts' misfit shows. The
+  // reference is never renewed: a renewed reference inherits the track's error at that moment,
+  // so errors would add up; a feature that no longer looks like its reference ends instead, and
+  // a new track starts.
   bool refine = true;  // false: positions chained by Lucas-Kanade alone (faster; drifts)
   int patch_half_size = 7;
   double image_blur_sigma = 0.5;  // Gaussian smoothing of the images patches are aligned on
   double min_ncc = 0.97;
   double max_refinement_shift_px = 1.0;
-  double max_patch_distortion = 0.2;
+  double max_misfit_px = 0.2;
+  double max_patch_distortion = 0.6;
   // Two live tracks closer than this follow the same feature: the younger one ends.
   double min_track_separation_px = 3;
 
