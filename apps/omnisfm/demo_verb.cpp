@@ -139,8 +139,8 @@ ExperimentRows run_experiment(const PaperFigures& paper, std::uint64_t seed,
       eval::outlier_detection(found, std::set<int>(far_off.begin(), far_off.end()));
 
   std::ostringstream report;
-  report << sfm::scale_line(r, sfm::BatchSettings()) << figures_line("online", online)
-         << figures_line("batch", batch);
+  report << sfm::scale_line(r, sfm::BatchSettings()) << eval::figures_line("online", online)
+         << eval::figures_line("batch", batch);
   fs::create_directories(dir / "sfm");
   write_sfm_outputs((dir / "sfm").string(), r, true, d.timestamps, report.str());
   const bool residuals_plotted =

@@ -47,7 +47,7 @@ void add_eval_verb(CLI::App& app) {
     const eval::TrajectoryErrors e =
         eval::trajectory_errors(paired.estimate, paired.truth, !o->rigid);
     std::cout << "poses " << paired.estimate.size() << "\n"
-              << figures_line(o->rigid ? "rigid" : "similar", e);
+              << eval::figures_line(o->rigid ? "rigid" : "similar", e);
   });
 }
 

@@ -305,9 +305,9 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
     report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
            << " m against it\n";
   }
-  TruthComparison comparison;
+  eval::TruthComparison comparison;
   if (!truth.empty()) {
-    comparison = compare_with_truth(result, true, truth, o.ground_truth, true);
+    comparison = eval::compare_with_truth(result, true, truth, o.ground_truth, true);
     report << comparison.report;
   }
 

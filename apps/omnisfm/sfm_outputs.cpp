@@ -38,40 +38,6 @@ std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3
   return out;
 }
 
-std::string figures_line(const char* name, const eval::TrajectoryErrors& e) {
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "%-7s translation %.4f m mean (%.3f%% of %.2f m), rotation %.3f deg, yaw %.3f deg, "
-                "rotation spread %.3f deg, scale %.4f\n",
-                name, e.mean_translation_error_m, e.translation_error_percent,
-                e.distance_travelled_m, e.mean_rotation_error_deg, e.mean_yaw_error_deg,
-                e.rotation_spread_deg, e.alignment.scale);
-  return line;
-}
-
-TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
-                                   const std::vector<io::StampedPose>& truth,
-                                   const std::string& truth_file, bool rigid_too) {
-  if (truth.size() != static_cast<size_t>(result.num_frames))
-    throw io::InputError(truth_file, 0,
-                         "has " + std::to_string(truth.size()) + " poses for " +
-                             std::to_string(result.num_frames) + " frames");
-  TruthComparison comparison;
-  for (const auto& p : truth) comparison.truth.push_back(p.world_from_cam);
-  const auto compare = [&](const char* name, const std::vector<Eigen::Isometry3d>& cam_from_world) {
-    const auto estimate = world_from_cam(cam_from_world);
-    const auto similar = eval::trajectory_errors(estimate, comparison.truth, true);
-    comparison.report += figures_line(name, similar);
-    comparison.plotted.push_back({name, estimate, similar.alignment});
-    if (rigid_too)
-      comparison.report += figures_line((std::string(name) + "/rigid").c_str(),
-                                        eval::trajectory_errors(estimate, comparison.truth, false));
-  };
-  compare("online", result.online_cam_from_world);
-  if (batch_ran) compare("batch", result.batch.cam_from_world);
-  return comparison;
-}
-
 std::string compare_written_online_with_truth(const std::string& dir,
                                               const std::vector<io::StampedPose>& truth,
                                               const std::string& truth_file, bool rigid_too) {
@@ -79,11 +45,12 @@ std::string compare_written_online_with_truth(const std::string& dir,
   for (const auto& p : io::read_tum_trajectory(dir + "/online.tum"))
     result.online_cam_from_world.push_back(p.world_from_cam.inverse());
   result.num_frames = static_cast<int>(result.online_cam_from_world.size());
-  const TruthComparison comparison = compare_with_truth(result, false, truth, truth_file, rigid_too);
+  const eval::TruthComparison comparison =
+      eval::compare_with_truth(result, false, truth, truth_file, rigid_too);
   std::ofstream report(dir + "/report.txt", std::ios::app);
   report << comparison.report;
   if (!report.flush()) throw std::runtime_error(dir + ": write failed");
-  if (!write_trajectory_plots(dir, comparison.truth, comparison.plotted))
+  if (!write_trajectory_plots(dir, comparison.truth, comparison.estimates))
     std::cerr << "omnisfm: gnuplot failed: plots missing\n";
   return comparison.report;
 }
@@ -145,11 +112,11 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
 void write_sfm_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
                      const std::vector<core::TrackObservation>& tracks,
                      const sfm::SfmResult& result, bool batch_ran,
-                     const TruthComparison& comparison) {
+                     const eval::TruthComparison& comparison) {
   const bool residuals_plotted = write_residual_plots(dir, camera, tracks, result, batch_ran);
   const bool trajectories_plotted =
-      comparison.plotted.empty() ||
-      write_trajectory_plots(dir, comparison.truth, comparison.plotted);
+      comparison.estimates.empty() ||
+      write_trajectory_plots(dir, comparison.truth, comparison.estimates);
   if (!residuals_plotted || !trajectories_plotted)
     std::cerr << "omnisfm: gnuplot failed: plots missing\n";
 }

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/eval/truth_comparison.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "trajectory_plots.h"
@@ -25,23 +25,8 @@ void write_refined_camera(const std::string& dir, const camera::CatadioptricCame
 // world_from_cam of cam_from_world poses.
 std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& cam_from_world);
 
-// One line of the paper's figures.
-std::string figures_line(const char* name, const eval::TrajectoryErrors& e);
-
-// The result against a ground-truth trajectory (paired frame by frame), after a similarity
-// alignment and, with `rigid_too`, a rigid one (for estimates whose scale is known).
-struct TruthComparison {
-  std::string report;  // one figures_line per estimate
-  std::vector<PlottedTrajectory> plotted;
-  std::vector<Eigen::Isometry3d> truth;
-};
-// Throws io::InputError naming `truth_file` when it has another number of poses than frames.
-TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
-                                   const std::vector<io::StampedPose>& truth,
-                                   const std::string& truth_file, bool rigid_too = false);
-
 // For a streamed run: DIR/online.tum read back (the comparison needs the whole estimate) and
-// compared with the truth as compare_with_truth does; its figures appended to DIR/report.txt and
+// compared with the truth as eval::compare_with_truth does; its figures appended to DIR/report.txt and
 // returned, its trajectory plots written into DIR.
 std::string compare_written_online_with_truth(const std::string& dir,
                                               const std::vector<io::StampedPose>& truth,
@@ -52,6 +37,6 @@ std::string compare_written_online_with_truth(const std::string& dir,
 void write_sfm_plots(const std::string& dir, const camera::CatadioptricCamera& camera,
                      const std::vector<core::TrackObservation>& tracks,
                      const sfm::SfmResult& result, bool batch_ran,
-                     const TruthComparison& comparison);
+                     const eval::TruthComparison& comparison);
 
 }  // namespace omnisfm::app

@@ -176,9 +176,9 @@ void add_sfm_verb(CLI::App& app) {
     if (settings.run_batch)
       report << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.batch)
              << sfm::camera_line(camera, result.batch, settings.batch);
-    TruthComparison comparison;
+    eval::TruthComparison comparison;
     if (!truth.empty()) {
-      comparison = compare_with_truth(result, settings.run_batch, truth, o->ground_truth);
+      comparison = eval::compare_with_truth(result, settings.run_batch, truth, o->ground_truth);
       report << comparison.report;
     }
 

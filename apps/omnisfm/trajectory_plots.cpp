@@ -33,7 +33,7 @@ Eigen::Isometry3d aligned(const eval::Similarity& s, const Eigen::Isometry3d& T)
 }  // namespace
 
 bool write_trajectory_plots(const std::string& dir, const std::vector<Eigen::Isometry3d>& truth,
-                            const std::vector<PlottedTrajectory>& estimates) {
+                            const std::vector<eval::ComparedTrajectory>& estimates) {
   const char* names[6] = {"x (m)", "y (m)", "z (m)", "roll (deg)", "pitch (deg)", "yaw (deg)"};
   std::vector<Eigen::Matrix<double, 6, 1>> true_c;
   for (const auto& T : truth)

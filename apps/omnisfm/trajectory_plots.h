@@ -6,19 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/eval/truth_comparison.h"
 
 namespace omnisfm::app {
-
-struct PlottedTrajectory {
-  std::string name;
-  std::vector<Eigen::Isometry3d> world_from_cam;
-  eval::Similarity alignment;  // onto the truth
-};
 
 // Writes motion.png and path.png (and their data and gnuplot scripts) into `dir`. Returns false
 // when gnuplot is missing or failed; the data files are written either way.
 bool write_trajectory_plots(const std::string& dir, const std::vector<Eigen::Isometry3d>& truth,
-                            const std::vector<PlottedTrajectory>& estimates);
+                            const std::vector<eval::ComparedTrajectory>& estimates);
 
 }  // namespace omnisfm::app
