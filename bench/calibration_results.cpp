@@ -1,7 +1,8 @@
 // Calibration results for the README, measured in one run:
 //   - the real checkerboard sets vmr and paracatadioptric: omnisfm's noncentral model, calibrated
 //     from the shipped starting guesses, next to OpenCV's cv::omnidir::calibrate (Mei's unified
-//     model) on the same corners: RMS over all views and leave-one-view-out RMS;
+//     model) and mrcal's splined stereographic model (bench/mrcal_cross_validation.py, run with
+//     Debian's python3-mrcal) on the same corners: RMS over all views and leave-one-view-out RMS;
 //   - the paper's method on the simulated lab (0.1 px noise): the mirror's errors.
 // Not a unit test: it prints a table. Usage:
 //   calibration_results [REAL_DATA_DIR]    (default: ../shared/data/real-catadioptric beside the
@@ -44,6 +45,10 @@ namespace fs = std::filesystem;
 struct RealSet {
   std::string name, folder, initial_camera;
   std::vector<std::string> groups;
+  // mrcal_cross_validation.py's board and focal-length guess (stereographic: the picture's edge
+  // radius over 2 tan(55 deg), for a rim 20-25 degrees above the horizon).
+  std::string mrcal_board;
+  double mrcal_focal = 0;
 };
 
 struct Fit {
@@ -299,6 +304,24 @@ Fit omnidir_fit(const std::vector<CalibrationView>& views, cv::Size size) {
   return fit;
 }
 
+// mrcal's splined stereographic model (8 x 6 knots) on the same corners, through
+// bench/mrcal_cross_validation.py (mrcal's own calibration tool, and the same leave-one-out).
+Fit mrcal_fit(const RealSet& set, cv::Size size) {
+  const std::string command =
+      "/usr/bin/python3 " + std::string(OMNISFM_SOURCE_DIR) + "/bench/mrcal_cross_validation.py " +
+      set.folder + "/corners.vnl --imagersize " + std::to_string(size.width) + " " +
+      std::to_string(size.height) + " " + set.mrcal_board + " --focal " +
+      std::to_string(set.mrcal_focal) + " --flip-x";
+  Fit fit;
+  FILE* out = popen(command.c_str(), "r");
+  if (!out || std::fscanf(out, "views %d rms %lf rejected %d loo_rms %lf observations %d",
+                          &fit.views, &fit.rms_px, &fit.rejected, &fit.loo_rms_px,
+                          &fit.loo_observations) != 5)
+    fit.note = "mrcal_cross_validation.py failed";
+  if (out) pclose(out);
+  return fit;
+}
+
 // --- Report ------------------------------------------------------------------------------------
 
 void print_row(const std::string& set, const std::string& method, const Fit& fit) {
@@ -311,9 +334,10 @@ void real_data(const std::string& root) {
   const std::string share = std::string(OMNISFM_SHARE_DIR) + "/cameras/";
   const std::vector<std::string> groups = {"mirror-pose", "intrinsics", "mirror-shape"};
   const std::vector<RealSet> sets = {
-      {"vmr", root + "/vmr", share + "vmr-initial.ini", groups},
+      {"vmr", root + "/vmr", share + "vmr-initial.ini", groups,
+       "--object-spacing 0.03 --object-width-n 6 --object-height-n 7", 143},
       {"paracatadioptric", root + "/paracatadioptric", share + "paracatadioptric-initial.ini",
-       groups}};
+       groups, "--object-spacing 0.041 --object-width-n 6 --object-height-n 8", 124}};
   std::printf("Real checkerboards (%s).\nRMS per coordinate (in brackets: RMS of the residual "
               "vectors' lengths, OpenCV's figure), pixels.\n\n",
               root.c_str());
@@ -341,6 +365,8 @@ void real_data(const std::string& root) {
       print_row(set.name, model + ", all (+ distortion)", omnisfm_fit(set, views, {"all"}, false));
     print_row(set.name, "OpenCV omnidir (Mei, 10 parameters)",
               omnidir_fit(views, cv::Size(camera.image_width(), camera.image_height())));
+    print_row(set.name, "mrcal splined stereographic (8x6 knots, 300 deg)",
+              mrcal_fit(set, cv::Size(camera.image_width(), camera.image_height())));
     std::fprintf(stderr, "%s: %.1f s\n", set.name.c_str(),
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
@@ -349,7 +375,10 @@ void real_data(const std::string& root) {
       "named\n(less what parameter_gauge.h holds); 'rejection': residuals beyond 4 sigma "
       "rejected, the RMS over\nthe rest. Leave-one-out: each view left out in turn, its pose "
       "solved with the camera fixed,\nall its observations counted. OpenCV: omnidir::calibrate, "
-      "flags 0, on the same corners; it drops\nviews its initialisation cannot use.\n");
+      "flags 0, on the same corners; it drops\nviews its initialisation cannot use. mrcal: "
+      "mrcal-calibrate-cameras on the corners mirrored left to right (a\ncatadioptric image is a "
+      "mirror image, which no central mrcal model is), with its own outlier\nrejection, "
+      "regularisation and board warp; the same leave-one-out.\n");
 }
 
 void lab() {
