@@ -54,8 +54,9 @@ def write_corners(path, views):
 def calibrate(views, args, folder):
     cache = os.path.join(folder, "corners.vnl")
     write_corners(cache, views)
-    subprocess.run(["/usr/bin/mrcal-calibrate-cameras", "--corners-cache", cache, "--imagersize",
-                    str(args.imagersize[0]), str(args.imagersize[1]), "--lensmodel", args.lensmodel,
+    subprocess.run([sys.executable, "/usr/bin/mrcal-calibrate-cameras", "--corners-cache", cache,
+                    "--imagersize", str(args.imagersize[0]), str(args.imagersize[1]),
+                    "--lensmodel", args.lensmodel,
                     "--focal", str(args.focal), "--object-spacing", str(args.object_spacing),
                     "--object-width-n", str(args.object_width_n), "--object-height-n",
                     str(args.object_height_n), "--outdir", folder, "*"],
