@@ -390,6 +390,50 @@ void run_calibrate(CalibrateOptions o) {
   print_written(o, outcome, folder, write_report(folder, outcome));
 }
 
+// The options that say what to calibrate from, and how they go together.
+struct InputOptions {
+  CLI::Option *camera, *images, *mirror, *image_size, *targets, *observations, *corners, *board,
+      *spacing, *width_n, *height_n;
+};
+
+// What CLI11 checks itself: options that need or exclude others.
+void relate(const InputOptions& in) {
+  in.camera->excludes(in.mirror);
+  in.mirror->excludes(in.camera);
+  in.images->excludes(in.corners)->excludes(in.targets)->needs(in.spacing);
+  in.corners->excludes(in.images);
+  in.image_size->needs(in.mirror)->needs(in.corners);
+  in.targets->needs(in.observations);
+  in.observations->needs(in.targets);
+  in.targets->excludes(in.corners);
+  in.corners->excludes(in.targets);
+  in.board->needs(in.corners);
+  in.spacing->needs(in.width_n)->needs(in.height_n);
+  in.width_n->needs(in.spacing);
+  in.height_n->needs(in.spacing);
+  in.board->excludes(in.spacing);
+  in.spacing->excludes(in.board);
+}
+
+// What it cannot: one of several alternatives given, and combinations with no start.
+void check_given(const InputOptions& in) {
+  if (in.targets->count() == 0 && in.corners->count() == 0 && in.images->count() == 0)
+    throw CLI::ValidationError("calibrate",
+                               "give --targets with --observations, --corners with --board, "
+                               "or --images with --object-spacing");
+  if (in.camera->count() == 0 && in.mirror->count() == 0)
+    throw CLI::ValidationError("calibrate", "give a starting --camera, or --mirror");
+  if (in.mirror->count() > 0 && in.corners->count() > 0 && in.image_size->count() == 0)
+    throw CLI::ValidationError("--mirror", "with --corners needs --image-size");
+  if (in.mirror->count() > 0 && in.targets->count() > 0)
+    throw CLI::ValidationError("--mirror", "surveyed targets need a starting --camera");
+  if (in.spacing->count() > 0 && in.corners->count() == 0 && in.images->count() == 0)
+    throw CLI::ValidationError("--object-spacing", "needs --corners or --images");
+  if (in.corners->count() > 0 && in.board->count() == 0 && in.spacing->count() == 0)
+    throw CLI::ValidationError("--corners", "needs --board, or --object-spacing with "
+                                            "--object-width-n and --object-height-n");
+}
+
 }  // namespace
 
 void add_calibrate_verb(CLI::App& app) {
@@ -398,8 +442,8 @@ void add_calibrate_verb(CLI::App& app) {
       "calibrate",
       "Calibrate from surveyed targets (the mirror-to-camera transform, the paper's method) or "
       "checkerboards (any camera parameters: their corners, or their raw images with --images, "
-      "and from a starting --camera file or, with --mirror, from none); writes the camera file with its covariance and a "
-      "report folder OUT-stem.report/ beside it. A solve that does not converge exits 1 and "
+      "and from a starting --camera file or, with --mirror, from none); writes the camera file "
+      "with its covariance and a report folder OUT-stem.report/ beside it. A solve that does not converge exits 1 and "
       "writes no camera file, but still writes its report folder (replacing an earlier one "
       "whole; status: NOT CONVERGED), to show why");
   auto* camera = verb->add_option("--camera", o->camera,
@@ -468,39 +512,12 @@ void add_calibrate_verb(CLI::App& app) {
       ->capture_default_str()
       ->check(positive_number());
 
-  camera->excludes(mirror);
-  mirror->excludes(camera);
-  images->excludes(corners)->excludes(targets)->needs(spacing);
-  corners->excludes(images);
-  image_size->needs(mirror)->needs(corners);
-  targets->needs(observations);
-  observations->needs(targets);
-  targets->excludes(corners);
-  corners->excludes(targets);
-  board->needs(corners);
-  spacing->needs(width_n)->needs(height_n);
-  width_n->needs(spacing);
-  height_n->needs(spacing);
-  board->excludes(spacing);
-  spacing->excludes(board);
-  verb->callback([o, corners, targets, board, spacing, camera, mirror, images, image_size,
-                  estimate] {
-    if (targets->count() == 0 && corners->count() == 0 && images->count() == 0)
-      throw CLI::ValidationError("calibrate",
-                                 "give --targets with --observations, --corners with --board, "
-                                 "or --images with --object-spacing");
-    if (camera->count() == 0 && mirror->count() == 0)
-      throw CLI::ValidationError("calibrate", "give a starting --camera, or --mirror");
-    if (mirror->count() > 0 && corners->count() > 0 && image_size->count() == 0)
-      throw CLI::ValidationError("--mirror", "with --corners needs --image-size");
-    if (mirror->count() > 0 && targets->count() > 0)
-      throw CLI::ValidationError("--mirror", "surveyed targets need a starting --camera");
-    if (spacing->count() > 0 && corners->count() == 0 && images->count() == 0)
-      throw CLI::ValidationError("--object-spacing", "needs --corners or --images");
+  const InputOptions inputs{camera, images, mirror, image_size, targets, observations, corners,
+                            board, spacing, width_n, height_n};
+  relate(inputs);
+  verb->callback([o, inputs, estimate] {
+    check_given(inputs);
     o->estimate_given = estimate->count() > 0;
-    if (corners->count() > 0 && board->count() == 0 && spacing->count() == 0)
-      throw CLI::ValidationError("--corners", "needs --board, or --object-spacing with "
-                                              "--object-width-n and --object-height-n");
     run_calibrate(*o);
   });
 }
