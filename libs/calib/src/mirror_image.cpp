@@ -1,12 +1,12 @@
 #include "omnisfm/calib/mirror_image.h"
 
-#include <vector>
-#include <algorithm>
-#include <cstdint>
-#include <cmath>
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <vector>
 
 namespace omnisfm::calib {
 
@@ -123,10 +123,6 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
   const cv::Vec3f rim = rims.front();
   MirrorImage mirror;
   mirror.centre = Eigen::Vector2d(rim[0], rim[1]);
-  // The strongest circle may be the mount's rather than the mirror's own edge: the picture ends
-  // where the grey falls most steeply, a little inside that (the edge is blurred).
-  mirror.outer_radius = 0.98 * steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2],
-                                             false);
   // The reflection's radius from the radial profile, where Hough's votes favour big circles;
   // then its centre from a circle of about that radius.
   const double self_radius =
@@ -144,6 +140,11 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
     mirror.centre = centre;
     mirror.inner_radius = radius;
   }
+  // About that centre: the strongest circle may be the mount's rather than the mirror's own edge,
+  // and the picture ends where the grey falls most steeply, a little inside that (the edge is
+  // blurred).
+  mirror.outer_radius = 0.98 * steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2],
+                                             false);
   return mirror;
 }
 
