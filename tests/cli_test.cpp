@@ -19,6 +19,7 @@
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "omnisfm/core/mahalanobis.h"
 #include "omnisfm/io/camera_covariance.h"
@@ -1056,6 +1057,31 @@ TEST_F(CliTest, CalibrateStartsFromTheImagesWithoutACameraFile) {
             0u)
       << few.err;
   EXPECT_FALSE(fs::exists(dir_ / "x.corners.vnl"));
+}
+
+// A video of the boards: its frames named by the video and their index.
+TEST_F(CliTest, DetectCornersReadsAVideo) {
+  const fs::path data = real_data_folder();
+  if (!fs::is_directory(data)) GTEST_SKIP() << "no real data at " << data;
+  const std::string video = (dir_ / "boards.avi").string();
+  {
+    cv::VideoWriter writer(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 5, {1024, 768},
+                           false);
+    ASSERT_TRUE(writer.isOpened());
+    // All ten: the mirror is found on their mean, where a few images leave the scene's edges.
+    for (int k = 0; k < 10; ++k)
+      writer.write(cv::imread((data / "vmr" / ("VMRImage" + std::to_string(k) + ".jpg")).string(),
+                              cv::IMREAD_GRAYSCALE));
+  }
+  const Outcome run = omnisfm("detect-corners --images boards.avi --object-width-n 6 "
+                              "--object-height-n 7 --out corners.vnl");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("found a 6x7 board in 10 of 10 images"), std::string::npos) << run.out;
+  const auto images = omnisfm::io::read_corners((dir_ / "corners.vnl").string());
+  ASSERT_EQ(images.size(), 10u);
+  EXPECT_EQ(images[0].filename, "boards-000000");
+  EXPECT_EQ(images[9].filename, "boards-000009");
+  EXPECT_TRUE(fs::exists(dir_ / "corners.report/boards-000001.png"));
 }
 
 TEST_F(CliTest, DetectCornersRejectsBadInputAndWritesNothing) {
