@@ -83,11 +83,8 @@ Found detect_all(const DetectCornersOptions& o, const std::optional<calib::Mirro
 
 void run_detect_corners(const DetectCornersOptions& o) {
   const fs::path out = fs::absolute(o.out).lexically_normal();
-  if (fs::is_directory(out)) throw io::InputError(o.out, 0, "is a folder; give the corners file's name");
-  // The corners file's folder is made when missing (and goes again on failure), as track makes
-  // its tracks file's.
+  check_output_file(o.out, out);
   const fs::path folder = out.parent_path();
-  require_writable_folder(o.out, fs::exists(folder) ? folder : folder.parent_path());
   std::optional<calib::MirrorImage> mirror;
   std::unique_ptr<calib::BoardDetector> detector;
   const cv::Size grid(o.width_n, o.height_n);
@@ -103,17 +100,12 @@ void run_detect_corners(const DetectCornersOptions& o) {
   }
   const std::string report = (folder / (out.stem().string() + ".report")).string();
   Found found;
-  const bool made = fs::create_directory(folder);
-  try {
+  in_folder_made_if_missing(folder, [&] {
     io::write_folder_atomically(report, [&](const std::string& dir) {
       found = detect_all(o, mirror, detector.get(), dir);
     });
     io::write_corners(out.string(), found.corners);
-  } catch (...) {
-    std::error_code ignored;
-    if (made) fs::remove_all(folder, ignored);
-    throw;
-  }
+  });
   if (mirror)
     std::printf("mirror: centre (%.1f, %.1f), its picture %.0f-%.0f px from it\n",
                 mirror->centre.x(), mirror->centre.y(), mirror->inner_radius,

@@ -58,28 +58,14 @@ track::TrackedSequence track_rawlog(const std::string& path, const std::string& 
 #endif
 }
 
-// The tracks file's folder is made when missing, as sfm makes its --out folder: that folder's
-// parent must then be a writable folder.
-void check_tracks_file(const std::string& given, const fs::path& out) {
-  if (fs::is_directory(out))
-    throw io::InputError(given, 0, "is a folder; give the tracks file's name");
-  const fs::path folder = out.parent_path();
-  require_writable_folder(given, fs::exists(folder) ? folder : folder.parent_path());
-}
-
 // frames.vnl first: a complete tracks.vnl is the sign that both are written. A folder made for
 // them goes again when writing fails.
 void write_tracks_and_frames(const fs::path& out, const track::TrackedSequence& result) {
   const fs::path folder = out.parent_path();
-  const bool made = fs::create_directory(folder);
-  try {
+  in_folder_made_if_missing(folder, [&] {
     track::write_frames_file((folder / "frames.vnl").string(), result.frames);
     io::write_tracks(out.string(), result.observations);
-  } catch (...) {
-    std::error_code ignored;
-    if (made) fs::remove_all(folder, ignored);
-    throw;
-  }
+  });
 }
 
 }  // namespace
@@ -123,7 +109,7 @@ void add_track_verb(CLI::App& app) {
       throw io::InputError(o->timestamps, 0,
                            "a rawlog's images carry their own times: leave out --timestamps");
     const fs::path out = fs::absolute(o->out).lexically_normal();
-    check_tracks_file(o->out, out);
+    check_output_file(o->out, out);
     const auto timestamps = o->timestamps.empty() ? std::map<std::string, double>()
                                                   : track::read_image_timestamps(o->timestamps);
 

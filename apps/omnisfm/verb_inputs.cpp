@@ -104,3 +104,27 @@ void require_writable_folder_of(const std::string& path) {
 }
 
 }  // namespace omnisfm::app
+
+namespace omnisfm::app {
+
+void check_output_file(const std::string& given, const std::filesystem::path& out) {
+  if (std::filesystem::is_directory(out))
+    throw io::InputError(given, 0, "is a folder; give the file's name");
+  const std::filesystem::path folder = out.parent_path();
+  require_writable_folder(given,
+                          std::filesystem::exists(folder) ? folder : folder.parent_path());
+}
+
+void in_folder_made_if_missing(const std::filesystem::path& folder,
+                               const std::function<void()>& write) {
+  const bool made = std::filesystem::create_directory(folder);
+  try {
+    write();
+  } catch (...) {
+    std::error_code ignored;
+    if (made) std::filesystem::remove_all(folder, ignored);
+    throw;
+  }
+}
+
+}  // namespace omnisfm::app

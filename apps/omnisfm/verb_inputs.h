@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <climits>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "omnisfm/camera/catadioptric_camera.h"
@@ -34,6 +35,14 @@ void finish_stdout();
 void require_writable_folder(const std::string& path, const std::filesystem::path& folder);
 // The same for the folder that holds `path` (a file, or a folder to be made).
 void require_writable_folder_of(const std::string& path);
+
+// A file the verb writes into a folder that is made when missing, as sfm makes its --out folder:
+// throws io::InputError naming `given` when `out` is a folder, or when the folder's (or, when it
+// is missing, its parent's) is not a writable folder.
+void check_output_file(const std::string& given, const std::filesystem::path& out);
+// Runs `write` with `folder` made when missing; a folder made here goes again when `write` throws.
+void in_folder_made_if_missing(const std::filesystem::path& folder,
+                               const std::function<void()>& write);
 
 // Option checks that say what is wanted as a person would (CLI11's ranges print their bounds with
 // six decimals, and the largest double in 309 digits): "must be a number from 0 to 1, not '2'".
