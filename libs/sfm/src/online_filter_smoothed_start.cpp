@@ -1,21 +1,34 @@
 // The filter's smoothed start (online_filter.h): its own model over the first frames solved by
-// Levenberg-Marquardt, and the filter restarted from the solution.
+// Levenberg-Marquardt (Ceres), and the filter restarted from the solution.
+
+#include <ceres/normal_prior.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 
-#include "motion_prior_residual.h"
 #include "omnisfm/sfm/online_filter.h"
-#include "so3.h"
+#include "start_window_costs.h"
 
 namespace omnisfm::sfm {
 namespace {
 
-constexpr int kMaxIterations = 50;
-// A step that lowers chi-square by less than this moves the estimate by a small fraction of its
-// standard deviation (as the batch's stopping rule).
-constexpr double kChiSquareTolerance = 0.01;
+// A window of twenty frames and a hundred points: one thread (a filter runs frame by frame),
+// the points eliminated. Levenberg-Marquardt starting nearly as Gauss-Newton, from the filter's
+// own estimate; stopping once a step lowers the cost by a small fraction of what is left.
+ceres::Solver::Options start_solver_options() {
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  options.num_threads = 1;
+  options.max_num_iterations = 50;
+  options.initial_trust_region_radius = 1e6;
+  options.function_tolerance = 1e-8;
+  options.logging_type = ceres::SILENT;
+  return options;
+}
 // Variances below this (a walk sigma of 0: the pose cannot move) are held at it, so that the
 // normal equations stay factorable.
 constexpr double kMinVariance = 1e-12;
@@ -69,15 +82,19 @@ struct OnlineFilter::StartWindow {
     double pixels = 0;
     int track = -1, frame = 0;
   };
-  // chi-square at x, and with `A` the normal equations' matrix and gradient there. Infinite where
-  // a point does not project.
-  double evaluate(const OnlineFilter& filter, const StartEstimate& x, Eigen::MatrixXd* A,
-                  Eigen::VectorXd* g, Worst* worst) const;
+  // The window's terms at x into `problem`: the poses of frames 1.. as `poses` (zero rotation
+  // about x's, x's translations), the sensors' offset and the points as x's own storage.
+  void add_terms(const OnlineFilter& filter, StartEstimate* x, std::vector<PoseBlock>* poses,
+                 ceres::Problem* problem) const;
+  // The unknowns' blocks in the order of the columns below.
+  std::vector<double*> blocks(StartEstimate* x, std::vector<PoseBlock>* poses) const;
+  // The normal equations' matrix J^T J at x.
+  Eigen::MatrixXd normal_equations(const OnlineFilter& filter, StartEstimate* x) const;
+  // The measurement farthest from its prediction at x.
+  Worst worst_pixel(const OnlineFilter& filter, const StartEstimate& x) const;
   // J_x^T W J_c at x over the measurements, J_c their Jacobians in the considered camera
   // parameters (size() x FilterState::num_camera_params()).
   Eigen::MatrixXd camera_coupling(const OnlineFilter& filter, const StartEstimate& x) const;
-  // x moved by a step in the unknowns' columns.
-  StartEstimate moved(const StartEstimate& x, const Eigen::VectorXd& step) const;
 };
 
 OnlineFilter::StartWindow OnlineFilter::start_window(StartEstimate* x) {
@@ -159,85 +176,105 @@ OnlineFilter::StartWindow OnlineFilter::start_window(StartEstimate* x) {
   return w;
 }
 
-double OnlineFilter::StartWindow::evaluate(const OnlineFilter& filter, const StartEstimate& x,
-                                           Eigen::MatrixXd* A, Eigen::VectorXd* g,
-                                           Worst* worst) const {
-  const std::vector<Eigen::Matrix3d>& Rs = x.R;
-  const std::vector<Eigen::Vector3d>& ts = x.t;
-  const Eigen::Vector4d& sensors = x.sensors;
-  const int sensor_column = this->sensor_column();
-  double cost = sensors.dot(sensor_prior_weight.cwiseProduct(sensors));
-  if (A) {
-    A->block<4, 4>(sensor_column, sensor_column).diagonal() += sensor_prior_weight;
-    g->segment<4>(sensor_column) += sensor_prior_weight.cwiseProduct(sensors);
+void OnlineFilter::StartWindow::add_terms(const OnlineFilter& filter, StartEstimate* x,
+                                          std::vector<PoseBlock>* poses,
+                                          ceres::Problem* problem) const {
+  poses->assign(num_frames(), PoseBlock::Zero());
+  for (int i = 1; i < num_frames(); ++i) (*poses)[i].tail<3>() = x->t[i];
+  const auto pose_block = [&](int i) { return i == 0 ? nullptr : (*poses)[i].data(); };
+  const auto fixed_t = [&](int i) { return i == 0 ? &x->t[0] : nullptr; };
+  const double pixel_sigma = 1 / std::sqrt(pixel_weight);
+  for (int i = 0; i < num_frames(); ++i)
+    for (const auto& o : frames[i].observations) {
+      if (!index.count(o.track)) continue;
+      const PointAnchor& anchor = anchors.at(o.track);
+      PixelModel model = [&filter, &anchor](const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                                            const Eigen::Vector3d& point, bool jacobians,
+                                            PixelPrediction* out) {
+        Linearisation lin;
+        if (!filter.linearise(anchor, R, t, at_placed_origin(point), jacobians, &lin)) return false;
+        out->pixel = lin.pixel;
+        if (jacobians) {
+          out->pose = lin.pose;
+          out->point = lin.point.leftCols<3>();
+        }
+        return true;
+      };
+      auto* cost = new StartPixelCost(std::move(model), &x->R[i], fixed_t(i), o.pixel, pixel_sigma);
+      double* point = x->points.at(o.track).data();
+      if (i == 0)
+        problem->AddResidualBlock(cost, nullptr, point);
+      else
+        problem->AddResidualBlock(cost, nullptr, pose_block(i), point);
+    }
+  for (int i = 1; i < num_frames(); ++i) {
+    auto* cost = new StartMotionCost({&x->R[i - 1], fixed_t(i - 1)}, {&x->R[i], nullptr},
+                                     frames[i].random_walk ? nullptr : &frames[i].motion,
+                                     motion_weight[i], sensor_jacobian[i],
+                                     prior_sensors - predicted_at[i]);
+    std::vector<double*> blocks;
+    if (i > 1) blocks.push_back(pose_block(i - 1));
+    blocks.push_back(pose_block(i));
+    blocks.push_back(x->sensors.data());
+    problem->AddResidualBlock(cost, nullptr, blocks);
   }
+  problem->AddResidualBlock(
+      new ceres::NormalPrior(Eigen::Matrix4d(sensor_prior_weight.cwiseSqrt().asDiagonal()),
+                             Eigen::Vector4d::Zero()),
+      nullptr, x->sensors.data());
+  if (far_distance > 0)
+    problem->AddResidualBlock(new StartScaleCost(far_distance, 1 / std::sqrt(scale_weight)),
+                              nullptr, pose_block(far));
+  Eigen::Matrix<double, 1, 3> depth_row(0, 0, std::sqrt(depth_weight));
+  for (const auto& [track, column] : index) {
+    double* point = x->points.at(track).data();
+    problem->AddResidualBlock(
+        new ceres::NormalPrior(depth_row, Eigen::Vector3d(0, 0, prior_depth)), nullptr, point);
+    problem->SetParameterLowerBound(point, 2, kMinInverseDepth);
+  }
+}
+
+std::vector<double*> OnlineFilter::StartWindow::blocks(StartEstimate* x,
+                                                      std::vector<PoseBlock>* poses) const {
+  std::vector<double*> blocks;
+  for (int i = 1; i < num_frames(); ++i) blocks.push_back((*poses)[i].data());
+  blocks.push_back(x->sensors.data());
+  std::vector<double*> points(index.size());
+  for (const auto& [track, column] : index) points[column] = x->points.at(track).data();
+  blocks.insert(blocks.end(), points.begin(), points.end());
+  return blocks;
+}
+
+Eigen::MatrixXd OnlineFilter::StartWindow::normal_equations(const OnlineFilter& filter,
+                                                            StartEstimate* x) const {
+  ceres::Problem problem;
+  std::vector<PoseBlock> poses;
+  add_terms(filter, x, &poses, &problem);
+  ceres::Problem::EvaluateOptions options;
+  options.parameter_blocks = blocks(x, &poses);
+  ceres::CRSMatrix crs;
+  if (!problem.Evaluate(options, nullptr, nullptr, nullptr, &crs)) return {};
+  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> J(
+      crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()), crs.rows.data(),
+      crs.cols.data(), crs.values.data());
+  return Eigen::MatrixXd(J.transpose() * J);
+}
+
+OnlineFilter::StartWindow::Worst OnlineFilter::StartWindow::worst_pixel(
+    const OnlineFilter& filter, const StartEstimate& x) const {
+  Worst worst;
   for (int i = 0; i < num_frames(); ++i)
     for (const auto& o : frames[i].observations) {
       if (!index.count(o.track)) continue;
       Linearisation lin;
-      if (!filter.linearise(anchors.at(o.track), Rs[i], ts[i], at_placed_origin(x.points.at(o.track)),
-                            A != nullptr, &lin))
-        return INFINITY;
-      const Eigen::Matrix<double, 2, 3> J_point = lin.point.leftCols<3>();
-      const Eigen::Vector2d f = lin.pixel - o.pixel;
-      cost += pixel_weight * f.squaredNorm();
-      if (worst && f.norm() > worst->pixels) *worst = {f.norm(), o.track, frames[i].frame};
-      if (!A) continue;
-      const int c = point_column(o.track);
-      A->block<3, 3>(c, c) += pixel_weight * J_point.transpose() * J_point;
-      g->segment<3>(c) += pixel_weight * J_point.transpose() * f;
-      if (i == 0) continue;
-      const int p = pose_column(i);
-      A->block<6, 6>(p, p) += pixel_weight * lin.pose.transpose() * lin.pose;
-      A->block<6, 3>(p, c) += pixel_weight * lin.pose.transpose() * J_point;
-      A->block<3, 6>(c, p) = A->block<6, 3>(p, c).transpose();
-      g->segment<6>(p) += pixel_weight * lin.pose.transpose() * f;
+      if (!filter.linearise(anchors.at(o.track), x.R[i], x.t[i],
+                            at_placed_origin(x.points.at(o.track)), false, &lin))
+        continue;
+      const double pixels = (lin.pixel - o.pixel).norm();
+      if (pixels > worst.pixels) worst = {pixels, o.track, frames[i].frame};
     }
-  for (int i = 1; i < num_frames(); ++i) {
-    MotionPriorResidual r = motion_prior_residual(
-        Rs[i - 1], ts[i - 1], Rs[i], ts[i], frames[i].random_walk ? nullptr : &frames[i].motion);
-    const Eigen::Matrix<double, 6, 4>& C = sensor_jacobian[i];
-    r.e -= C * (prior_sensors + sensors - predicted_at[i]);
-    const Eigen::Matrix<double, 6, 6>& W = motion_weight[i];
-    cost += r.e.dot(W * r.e);
-    if (!A) continue;
-    const int p = pose_column(i);
-    const int c = sensor_column;
-    A->block<6, 6>(p, p) += r.J_current.transpose() * W * r.J_current;
-    g->segment<6>(p) += r.J_current.transpose() * W * r.e;
-    A->block<4, 4>(c, c) += C.transpose() * W * C;
-    g->segment<4>(c) -= C.transpose() * W * r.e;
-    A->block<4, 6>(c, p) -= C.transpose() * W * r.J_current;
-    A->block<6, 4>(p, c) = A->block<4, 6>(c, p).transpose();
-    if (i == 1) continue;
-    const int q = pose_column(i - 1);
-    A->block<6, 6>(q, q) += r.J_previous.transpose() * W * r.J_previous;
-    A->block<6, 6>(q, p) += r.J_previous.transpose() * W * r.J_current;
-    A->block<6, 6>(p, q) = A->block<6, 6>(q, p).transpose();
-    g->segment<6>(q) += r.J_previous.transpose() * W * r.e;
-    A->block<4, 6>(c, q) -= C.transpose() * W * r.J_previous;
-    A->block<6, 4>(q, c) = A->block<4, 6>(c, q).transpose();
-  }
-  if (far_distance > 0) {
-    const double f = ts[far].norm() - far_distance;
-    cost += scale_weight * f * f;
-    if (A) {
-      const Eigen::Vector3d J = ts[far] / ts[far].norm();
-      const int p = pose_column(far) + 3;
-      A->block<3, 3>(p, p) += scale_weight * J * J.transpose();
-      g->segment<3>(p) += scale_weight * J * f;
-    }
-  }
-  for (const auto& [track, column] : index) {
-    const double f = x.points.at(track).z() - prior_depth;
-    cost += depth_weight * f * f;
-    if (!A) continue;
-    (*A)(point_column(track) + 2, point_column(track) + 2) += depth_weight;
-    (*g)(point_column(track) + 2) += depth_weight * f;
-  }
-  return cost;
+  return worst;
 }
-
 Eigen::MatrixXd OnlineFilter::StartWindow::camera_coupling(const OnlineFilter& filter,
                                                           const StartEstimate& x) const {
   Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(size(), filter.state_.num_camera_params());
@@ -256,63 +293,30 @@ Eigen::MatrixXd OnlineFilter::StartWindow::camera_coupling(const OnlineFilter& f
   return coupling;
 }
 
-OnlineFilter::StartEstimate OnlineFilter::StartWindow::moved(const StartEstimate& x,
-                                                             const Eigen::VectorXd& step) const {
-  StartEstimate next = x;
-  next.sensors = x.sensors + step.segment<4>(sensor_column());
-  for (int i = 1; i < num_frames(); ++i) {
-    next.R[i] = so3::exp(step.segment<3>(pose_column(i))) * x.R[i];
-    next.t[i] += step.segment<3>(pose_column(i) + 3);
-  }
-  for (const auto& [track, column] : index) {
-    Eigen::Vector3d& p = next.points[track];
-    p += step.segment<3>(point_column(track));
-    p.z() = std::max(p.z(), kMinInverseDepth);
-  }
-  return next;
-}
-
 bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::MatrixXd* A) {
-  Eigen::VectorXd g;
-  auto normal_equations = [&]() {
-    const int n = w->size();
-    *A = Eigen::MatrixXd::Zero(n, n);
-    g = Eigen::VectorXd::Zero(n);
-    return w->evaluate(*this, *x, A, &g, nullptr);
-  };
   // Levenberg-Marquardt, then the paper's rejection on the window: while the worst residual
   // exceeds the threshold, that track goes and the rest is solved again.
   for (;;) {
     w->index.clear();
     for (const auto& [track, p] : x->points)
       if (!excluded_.count(track)) w->index.emplace(track, static_cast<int>(w->index.size()));
-    double cost = normal_equations();
-    if (!std::isfinite(cost)) return false;  // the filter's own estimate does not project
-    double lambda = 1e-6;
-    for (int iteration = 0; iteration < kMaxIterations && lambda < 1e8; ++iteration) {
-      Eigen::MatrixXd damped = *A;
-      damped.diagonal() *= 1 + lambda;
-      const Eigen::LLT<Eigen::MatrixXd> llt(damped);
-      if (llt.info() != Eigen::Success) {
-        lambda *= 10;
-        continue;
-      }
-      const Eigen::VectorXd step = -llt.solve(g);
-      StartEstimate next = w->moved(*x, step);
-      const double next_cost = w->evaluate(*this, next, nullptr, nullptr, nullptr);
-      if (!(next_cost < cost)) {
-        lambda *= 10;
-        continue;
-      }
-      std::swap(*x, next);
-      lambda = std::max(lambda / 10, 1e-9);
-      const double decrease = cost - next_cost;
-      cost = normal_equations();
-      if (decrease < kChiSquareTolerance) break;
+    ceres::Problem problem;
+    std::vector<PoseBlock> poses;
+    w->add_terms(*this, x, &poses, &problem);
+    double cost = 0;
+    // The filter's own estimate not projecting there, it is kept.
+    if (!problem.Evaluate({}, &cost, nullptr, nullptr, nullptr)) return false;
+    ceres::Solver::Summary summary;
+    ceres::Solve(start_solver_options(), &problem, &summary);
+    for (int i = 1; i < w->num_frames(); ++i) {
+      x->R[i] = rotation_of(poses[i].data(), x->R[i]);
+      x->t[i] = poses[i].tail<3>();
     }
-    StartWindow::Worst worst;
-    w->evaluate(*this, *x, nullptr, nullptr, &worst);
-    if (!(worst.pixels > settings_.residual_limit_px())) return true;
+    const StartWindow::Worst worst = w->worst_pixel(*this, *x);
+    if (!(worst.pixels > settings_.residual_limit_px())) {
+      *A = w->normal_equations(*this, x);
+      return A->size() > 0;
+    }
     reject(worst.track, worst.frame);
   }
 }

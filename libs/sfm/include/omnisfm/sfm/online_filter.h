@@ -27,8 +27,8 @@
 // The smoothed start: while every depth is still the initialisation's guess, each update
 // linearises far from the truth, and an EKF keeps those errors (the first frames' poses and the
 // points' covariances). After the first smoothed_start_frames frames, the filter solves its own
-// model over them exactly (Gauss-Newton over all their poses and points: the measurements, the
-// depth priors and the motion priors) and restarts from that solution, its covariance the
+// model over them exactly (Ceres' Levenberg-Marquardt over all their poses and points: the
+// measurements, the depth priors and the motion priors) and restarts from that solution, its covariance the
 // information's inverse marginalised onto the current pose and the live points.
 
 #include <Eigen/Geometry>
