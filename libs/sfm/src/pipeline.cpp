@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "omnisfm/sfm/track_triangulation.h"
@@ -110,6 +112,23 @@ std::map<int, Eigen::Vector3d> explained_rejections(
   return explained;
 }
 
+// Why the batch's solution cannot judge the tracks, or empty: a solve that failed, or one whose
+// residuals are on average beyond what a single pixel may reach (a start too far off leaves the
+// solve in a minimum that explains few tracks, and re-testing against it would reject the rest).
+std::string retest_problem(const BatchResult& batch, std::size_t num_frames, double threshold) {
+  if (batch.cam_from_world.size() < num_frames) return "the batch failed";
+  if (!std::isfinite(batch.final_rms_px))
+    return "the batch's solve ended without a usable solution";
+  if (batch.final_rms_px > threshold) {
+    std::ostringstream why;
+    why << "the batch's solution fits the tracks only to " << batch.final_rms_px
+        << " px per coordinate, beyond the " << threshold
+        << " px a pixel may be off (its start, the filter's, was too far off)";
+    return why.str();
+  }
+  return "";
+}
+
 }  // namespace
 
 void adjust_on_inliers(const camera::CatadioptricCamera& camera,
@@ -134,8 +153,10 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
       batch_adjust(camera, inliers, result->online_cam_from_world, result->online_points, batch,
                    extra);
   const double threshold = settings.batch_residual_limit_px();
-  if (threshold <= 0 || result->batch.cam_from_world.size() < result->online_cam_from_world.size())
-    return;  // off, or the batch failed
+  if (threshold <= 0) return;
+  result->retest_skipped = retest_problem(result->batch, result->online_cam_from_world.size(),
+                                          threshold);
+  if (!result->retest_skipped.empty()) return;
 
   // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail,
   // with the camera as the batch left it.

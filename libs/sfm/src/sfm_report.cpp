@@ -32,6 +32,8 @@ std::string outliers_phrase(const SfmResult& result) {
   if (result.taken_back > 0)
     phrase += " (the batch took back " + std::to_string(result.taken_back) +
               " that the filter had rejected)";
+  if (!result.retest_skipped.empty())
+    phrase += " (the filter's; not re-tested by the batch: " + result.retest_skipped + ")";
   return phrase;
 }
 

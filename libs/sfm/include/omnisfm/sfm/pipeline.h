@@ -43,6 +43,9 @@ struct SfmResult {
   // The filter's, less those the batch took back, then the batch's.
   std::vector<RejectedTrack> outliers;
   int taken_back = 0;  // tracks the filter rejected that the batch's solution explains
+  // Why the batch did not re-test the tracks against its solution (empty when it did, or when
+  // batch_outliers is off): a solution that does not fit the tracks would reject good ones.
+  std::string retest_skipped;
   double online_seconds = 0;
   BatchResult batch;
   // With the vehicle's motion sensors (run_fused_sfm, fused_pipeline.h):

@@ -1,0 +1,55 @@
+// The batch re-tests the tracks against its solution only when that solution fits them: a solve
+// left far from a fit (a start too far off) would reject good tracks by the hundred.
+
+#include <gtest/gtest.h>
+
+#include "../src/pipeline_steps.h"
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sim/scenario.h"
+
+namespace omnisfm::sfm {
+namespace {
+
+struct Rover {
+  sim::Dataset data;
+  SfmSettings settings;
+  SfmResult filtered;  // the filter's estimate, no batch yet
+};
+
+Rover rover_filtered() {
+  sim::SimulationOptions options;
+  options.scenario = "rover";
+  options.seed = 1;
+  Rover r{sim::simulate(options), SfmSettings(), SfmResult()};
+  r.settings.run_batch = false;
+  r.filtered = run_sfm(r.data.camera, r.data.observations, r.settings);
+  return r;
+}
+
+TEST(BatchRetest, ASolutionThatDoesNotFitTheTracksRejectsNone) {
+  const Rover r = rover_filtered();
+  SfmSettings settings = r.settings;
+  settings.batch.max_iterations = 1;  // stopped far from a fit
+  SfmResult result = r.filtered;
+  // Every point three times as far from the first camera as the filter has it.
+  const Eigen::Vector3d first = result.online_cam_from_world[0].inverse().translation();
+  for (auto& [track, point] : result.online_points) point = first + 3 * (point - first);
+  const std::size_t filter_outliers = result.outliers.size();
+  adjust_on_inliers(r.data.camera, r.data.observations, settings, nullptr, &result);
+
+  EXPECT_GT(result.batch.final_rms_px, settings.batch_residual_limit_px());
+  EXPECT_EQ(result.outliers.size(), filter_outliers);
+  EXPECT_NE(result.retest_skipped.find("fits the tracks only to"), std::string::npos)
+      << result.retest_skipped;
+}
+
+TEST(BatchRetest, ASolutionThatFitsRetestsAsBefore) {
+  const Rover r = rover_filtered();
+  SfmResult result = r.filtered;
+  adjust_on_inliers(r.data.camera, r.data.observations, r.settings, nullptr, &result);
+  EXPECT_LT(result.batch.final_rms_px, 0.3);
+  EXPECT_TRUE(result.retest_skipped.empty()) << result.retest_skipped;
+}
+
+}  // namespace
+}  // namespace omnisfm::sfm
