@@ -176,7 +176,7 @@ bool is_inside(const std::string& file, const std::string& folder) {
 // renamed). Returns the report's line.
 std::string write_slam_rawlog(const std::string& file, const std::string& path,
                               const mrpt_plugin::ReplayInput& in, const sfm::SfmResult& result) {
-  if (result.batch.pose_covariances.empty())
+  if (result.batch.cam_from_world_covariances.empty())
     throw std::runtime_error(path + ": not written: the batch computed no covariances");
   const mrpt_plugin::SlamRawlogSummary summary = mrpt_plugin::write_slam_rawlog(
       file, *in.camera, in.tracks, result.batch, in.frame_times, in.sensors.body_from_cam,
@@ -245,7 +245,7 @@ RunSettings run_settings_of(const RunVerbOptions& o) {
                          "--slam-rawlog needs the batch's covariances: [sfm] covariances = "
                          "false leaves none");
   // The points' uncertainty as the cameras see them (the measurements' ranges).
-  settings.sfm.batch.point_pose_covariances = true;
+  settings.sfm.batch.point_cam_from_world_covariances = true;
   return settings;
 }
 

@@ -80,7 +80,7 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
   if (batch_ran)
     io::write_tum_trajectory(dir + "/batch.tum", trajectory(result.batch.cam_from_world, times));
 #ifdef OMNISFM_WITH_MRPT_PLUGIN
-  if (batch_ran && !result.batch.pose_covariances.empty()) {
+  if (batch_ran && !result.batch.cam_from_world_covariances.empty()) {
     // The graph is a view of the batch for MRPT's tools: without it the results still stand.
     try {
       mrpt_plugin::write_pose_graph(dir + "/batch.graph", result.batch);

@@ -378,7 +378,7 @@ void take_estimates(const ceres::Problem& problem, const std::vector<PoseVector>
                     const std::map<int, Eigen::Vector3d>& points, BatchResult* result) {
   for (const auto& v : poses) {
     result->cam_from_world.push_back(isometry_of(v));
-    result->pose_parameters.push_back(v);
+    result->cam_from_world_parameters.push_back(v);
   }
   for (const auto& [track, p] : points)
     if (problem.HasParameterBlock(p.data())) result->points[track] = p;
@@ -410,7 +410,7 @@ void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>&
   for (const auto& [track, p] : points)
     if (problem->HasParameterBlock(p.data())) blocks.emplace_back(p.data(), p.data());
   std::set<std::pair<int, int>> seen_from;  // (track, frame)
-  if (settings.point_pose_covariances)
+  if (settings.point_cam_from_world_covariances)
     for (const auto& o : used_observations) {
       const auto point = points.find(o.track);
       if (point == points.end() || !problem->HasParameterBlock(point->second.data()) ||
@@ -431,17 +431,17 @@ void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>&
     // the sensors' terms every residual is whitened by its stated noise model, which is taken
     // as it is (the pixels' from pixel_sigma).
     const double variance = extra ? 1 : result->variance_factor;
-    result->pose_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
-    result->consecutive_pose_covariances.assign(poses.empty() ? 0 : poses.size() - 1,
-                                               Eigen::Matrix<double, 6, 6>::Zero());
+    result->cam_from_world_covariances.assign(poses.size(), Eigen::Matrix<double, 6, 6>::Zero());
+    result->consecutive_cam_from_world_covariances.assign(poses.empty() ? 0 : poses.size() - 1,
+                                                          Eigen::Matrix<double, 6, 6>::Zero());
     for (size_t f = 0; f < poses.size(); ++f) {
       if (!variable(poses[f])) continue;
       Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
       covariance.GetCovarianceBlock(poses[f].data(), poses[f].data(), c.data());
-      result->pose_covariances[f] = variance * c;
+      result->cam_from_world_covariances[f] = variance * c;
       if (f + 1 < poses.size() && variable(poses[f + 1])) {
         covariance.GetCovarianceBlock(poses[f].data(), poses[f + 1].data(), c.data());
-        result->consecutive_pose_covariances[f] = variance * c;
+        result->consecutive_cam_from_world_covariances[f] = variance * c;
       }
     }
     for (const auto& [track, p] : points) {
@@ -453,7 +453,7 @@ void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>&
     for (const auto& [track, frame] : seen_from) {
       Eigen::Matrix<double, 3, 6, Eigen::RowMajor> c;
       covariance.GetCovarianceBlock(points.at(track).data(), poses[frame].data(), c.data());
-      result->point_pose_covariances[{track, frame}] = variance * c;
+      result->point_cam_from_world_covariances[{track, frame}] = variance * c;
     }
     if (camera_block) {
       const int size = problem->ParameterBlockSize(camera_block);
@@ -731,10 +731,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                         result.camera_refined ? b.camera_block.data() : nullptr, threads, &result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
-}
-
-Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters) {
-  return isometry_of(parameters);
 }
 
 ceres::CostFunction* make_projection_cost(const camera::CatadioptricCamera* camera,

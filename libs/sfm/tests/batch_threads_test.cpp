@@ -50,15 +50,15 @@ TEST(BatchThreads, TakenFromTheSettingsWithTheSameAnswerAndGlogLeftAlone) {
   // also moves): a thousandth of each position's own standard deviation.
   EXPECT_NEAR(one.final_rms_px, two.final_rms_px, 1e-9 * one.final_rms_px);
   ASSERT_EQ(one.cam_from_world.size(), two.cam_from_world.size());
-  ASSERT_EQ(one.pose_covariances.size(), one.cam_from_world.size());
+  ASSERT_EQ(one.cam_from_world_covariances.size(), one.cam_from_world.size());
   for (size_t f = 1; f < one.cam_from_world.size(); ++f)
     EXPECT_LT((one.cam_from_world[f].translation() - two.cam_from_world[f].translation()).norm(),
-              1e-3 * std::sqrt(one.pose_covariances[f].bottomRightCorner<3, 3>().trace()))
+              1e-3 * std::sqrt(one.cam_from_world_covariances[f].bottomRightCorner<3, 3>().trace()))
         << "frame " << f;
-  ASSERT_EQ(one.pose_covariances.size(), two.pose_covariances.size());
-  for (size_t f = 0; f < one.pose_covariances.size(); ++f)
-    EXPECT_LT((one.pose_covariances[f] - two.pose_covariances[f]).norm(),
-              1e-6 * one.pose_covariances[f].norm() + 1e-15)
+  ASSERT_EQ(one.cam_from_world_covariances.size(), two.cam_from_world_covariances.size());
+  for (size_t f = 0; f < one.cam_from_world_covariances.size(); ++f)
+    EXPECT_LT((one.cam_from_world_covariances[f] - two.cam_from_world_covariances[f]).norm(),
+              1e-6 * one.cam_from_world_covariances[f].norm() + 1e-15)
         << "frame " << f;
 }
 

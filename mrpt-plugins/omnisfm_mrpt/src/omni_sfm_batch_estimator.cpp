@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "eigen_poses.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
 #include "omnisfm/sfm/fused_pipeline.h"
@@ -63,20 +64,22 @@ OmniSfmBatchResult OmniSfmBatchEstimator::estimate(ReplayInput in,
   const Eigen::Isometry3d map_from_world =
       out.map_is_enu ? Eigen::Isometry3d::Identity()
                      : Eigen::Isometry3d(body_from_cam * batch.cam_from_world.front());
-  const bool uncertain = batch.pose_covariances.size() == batch.cam_from_world.size() &&
-                         batch.pose_parameters.size() == batch.cam_from_world.size();
+  const bool uncertain = batch.cam_from_world_covariances.size() == batch.cam_from_world.size() &&
+                         batch.cam_from_world_parameters.size() == batch.cam_from_world.size();
   for (size_t f = 0; f < batch.cam_from_world.size(); ++f) {
     out.timestamps.push_back(mrpt::Clock::fromDouble(in.frame_times[f]));
     mrpt::poses::CPose3DPDFGaussian pdf;
     pdf.mean = pose_of(map_from_world * batch.cam_from_world[f].inverse() * body_from_cam.inverse());
     if (uncertain) {
-      const auto robot_pose = [&](const Eigen::Matrix<double, 6, 1>& parameters) {
-        return pose_of(map_from_world * sfm::pose_of_parameters(parameters).inverse() *
+      // The parameters are cam_from_world, as the covariance's coordinates.
+      const auto robot_pose = [&](const core::PoseVector& parameters) {
+        return pose_of(map_from_world * core::isometry_of(parameters).inverse() *
                        body_from_cam.inverse());
       };
       const Eigen::Matrix<double, 6, 6> J =
-          mrpt_parameters_jacobian<6>(robot_pose, batch.pose_parameters[f]);
-      const Eigen::Matrix<double, 6, 6> covariance = J * batch.pose_covariances[f] * J.transpose();
+          mrpt_parameters_jacobian<6>(robot_pose, batch.cam_from_world_parameters[f]);
+      const Eigen::Matrix<double, 6, 6> covariance =
+          J * batch.cam_from_world_covariances[f] * J.transpose();
       pdf.cov = mrpt::math::CMatrixDouble66(
           Eigen::Matrix<double, 6, 6>(0.5 * (covariance + covariance.transpose())));
     } else {

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "eigen_poses.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/io/atomic_write.h"
 
 namespace omnisfm::mrpt_plugin {
@@ -24,10 +25,10 @@ using Vector12 = Eigen::Matrix<double, 12, 1>;
 constexpr double kUnknownScaleSigma = 10;
 
 // The relative pose of frame g's body in frame f's from both frames' batch parameters
-// (BatchResult::pose_parameters).
+// (BatchResult::cam_from_world_parameters).
 Eigen::Isometry3d relative_pose(const Vector12& fg, const Eigen::Isometry3d& body_from_cam) {
-  return body_from_cam * sfm::pose_of_parameters(fg.head<6>()) *
-         sfm::pose_of_parameters(fg.tail<6>()).inverse() * body_from_cam.inverse();
+  return body_from_cam * core::isometry_of(fg.data()) * core::isometry_of(fg.data() + 6).inverse() *
+         body_from_cam.inverse();
 }
 
 }  // namespace
@@ -35,17 +36,18 @@ Eigen::Isometry3d relative_pose(const Vector12& fg, const Eigen::Isometry3d& bod
 std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch,
                                              const Eigen::Isometry3d& body_from_cam) {
   const size_t frames = batch.cam_from_world.size();
-  if (frames > 0 && (batch.pose_covariances.size() != frames ||
-                     batch.pose_parameters.size() != frames ||
-                     batch.consecutive_pose_covariances.size() != frames - 1))
+  if (frames > 0 && (batch.cam_from_world_covariances.size() != frames ||
+                     batch.cam_from_world_parameters.size() != frames ||
+                     batch.consecutive_cam_from_world_covariances.size() != frames - 1))
     throw std::invalid_argument("consecutive_edges: the batch has no pose covariances");
   std::vector<PoseGraphEdge> edges;
   for (size_t f = 0; f + 1 < frames; ++f) {
     Vector12 fg;
-    fg << batch.pose_parameters[f], batch.pose_parameters[f + 1];
+    fg << batch.cam_from_world_parameters[f], batch.cam_from_world_parameters[f + 1];
     Eigen::Matrix<double, 12, 12> joint;
-    joint << batch.pose_covariances[f], batch.consecutive_pose_covariances[f],
-        batch.consecutive_pose_covariances[f].transpose(), batch.pose_covariances[f + 1];
+    joint << batch.cam_from_world_covariances[f], batch.consecutive_cam_from_world_covariances[f],
+        batch.consecutive_cam_from_world_covariances[f].transpose(),
+        batch.cam_from_world_covariances[f + 1];
     const auto relative_of = [&](const Vector12& x) {
       return pose_of(relative_pose(x, body_from_cam));
     };

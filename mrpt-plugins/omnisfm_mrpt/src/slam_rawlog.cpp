@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "eigen_poses.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/mrpt_plugin/pose_graph_file.h"
 
@@ -38,7 +39,7 @@ Eigen::Matrix3d point_in_camera_covariance(const sfm::BatchResult& batch, int fr
                                            bool pose_uncertain) {
   const Eigen::Matrix3d R = batch.cam_from_world[static_cast<size_t>(frame)].linear();
   if (!pose_uncertain) return R * point_covariance * R.transpose();
-  const Eigen::Matrix<double, 6, 1>& pose = batch.pose_parameters[static_cast<size_t>(frame)];
+  const core::PoseVector& pose = batch.cam_from_world_parameters[static_cast<size_t>(frame)];
   Eigen::Matrix<double, 3, 9> J;  // d (cam_from_world * point) / d (point, pose parameters)
   J.leftCols<3>() = R;
   constexpr double kStep = 1e-6;
@@ -46,14 +47,14 @@ Eigen::Matrix3d point_in_camera_covariance(const sfm::BatchResult& batch, int fr
     Eigen::Matrix<double, 6, 1> plus = pose, minus = pose;
     plus[i] += kStep;
     minus[i] -= kStep;
-    J.col(3 + i) = (sfm::pose_of_parameters(plus) * point - sfm::pose_of_parameters(minus) * point) /
-                   (2 * kStep);
+    J.col(3 + i) =
+        (core::isometry_of(plus) * point - core::isometry_of(minus) * point) / (2 * kStep);
   }
   Eigen::Matrix<double, 9, 9> joint = Eigen::Matrix<double, 9, 9>::Zero();
   joint.topLeftCorner<3, 3>() = point_covariance;
-  joint.bottomRightCorner<6, 6>() = batch.pose_covariances[static_cast<size_t>(frame)];
-  const auto cross = batch.point_pose_covariances.find({track, frame});
-  if (cross != batch.point_pose_covariances.end()) {
+  joint.bottomRightCorner<6, 6>() = batch.cam_from_world_covariances[static_cast<size_t>(frame)];
+  const auto cross = batch.point_cam_from_world_covariances.find({track, frame});
+  if (cross != batch.point_cam_from_world_covariances.end()) {
     joint.topRightCorner<3, 6>() = cross->second;
     joint.bottomLeftCorner<6, 3>() = cross->second.transpose();
   }
@@ -93,8 +94,9 @@ std::vector<BearingRange> bearing_range_measurements(
     const camera::CatadioptricCamera& camera, const sfm::BatchResult& batch, int frame,
     const std::vector<core::TrackObservation>& frame_observations, double pixel_sigma) {
   const Eigen::Isometry3d& cam_from_world = batch.cam_from_world.at(static_cast<size_t>(frame));
-  const bool pose_uncertain = batch.pose_covariances.size() == batch.cam_from_world.size() &&
-                              batch.pose_parameters.size() == batch.cam_from_world.size();
+  const bool pose_uncertain =
+      batch.cam_from_world_covariances.size() == batch.cam_from_world.size() &&
+      batch.cam_from_world_parameters.size() == batch.cam_from_world.size();
   std::vector<BearingRange> measurements;
   for (const core::TrackObservation& o : frame_observations) {
     const auto point = batch.points.find(o.track);

@@ -15,6 +15,7 @@
 #include <random>
 
 #include "eigen_poses.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/mrpt_plugin/pose_graph_file.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
@@ -115,14 +116,15 @@ TEST(PoseGraphFile, EdgeCovarianceIsThatOfSampledRelativePoses) {
   sfm::BatchResult batch;
   const Vector6 a = (Vector6() << 0.3, -2.9, 0.4, 1.0, -0.5, 2.0).finished();  // angle near pi
   const Vector6 b = (Vector6() << 0.35, -2.85, 0.42, 1.1, -0.45, 2.05).finished();
-  batch.pose_parameters = {a, b};
-  batch.cam_from_world = {sfm::pose_of_parameters(a), sfm::pose_of_parameters(b)};
+  batch.cam_from_world_parameters = {a, b};
+  batch.cam_from_world = {core::isometry_of(a), core::isometry_of(b)};
   Eigen::Matrix<double, 12, 12> L = Eigen::Matrix<double, 12, 12>::Zero();
   for (int r = 0; r < 12; ++r)
     for (int c = 0; c <= r; ++c) L(r, c) = (r == c ? 1.0 : 0.3 * normal(rng)) * 1e-3;
   const Eigen::Matrix<double, 12, 12> joint = L * L.transpose();
-  batch.pose_covariances = {joint.topLeftCorner<6, 6>(), joint.bottomRightCorner<6, 6>()};
-  batch.consecutive_pose_covariances = {joint.topRightCorner<6, 6>()};
+  batch.cam_from_world_covariances = {joint.topLeftCorner<6, 6>(),
+                                      joint.bottomRightCorner<6, 6>()};
+  batch.consecutive_cam_from_world_covariances = {joint.topRightCorner<6, 6>()};
   const std::vector<PoseGraphEdge> edges = consecutive_edges(batch);
   ASSERT_EQ(edges.size(), 1u);
   const Vector6 mean = mrpt_parameters(edges[0].relative);
@@ -135,7 +137,7 @@ TEST(PoseGraphFile, EdgeCovarianceIsThatOfSampledRelativePoses) {
     const Eigen::Matrix<double, 12, 1> x =
         (Eigen::Matrix<double, 12, 1>() << a, b).finished() + L * z;
     const Eigen::Isometry3d relative =
-        sfm::pose_of_parameters(x.head<6>()) * sfm::pose_of_parameters(x.tail<6>()).inverse();
+        core::isometry_of(x.data()) * core::isometry_of(x.data() + 6).inverse();
     const Vector6 e = difference(mrpt_parameters(relative), mean);
     sampled += e * e.transpose() / kDraws;
   }
@@ -150,7 +152,7 @@ TEST(PoseGraphFile, EdgeCovarianceIsThatOfSampledRelativePoses) {
 TEST(PoseGraphFile, NoCovariancesNoGraph) {
   sfm::BatchResult batch;
   batch.cam_from_world.resize(3, Eigen::Isometry3d::Identity());
-  batch.pose_parameters.resize(3, Vector6::Zero());
+  batch.cam_from_world_parameters.resize(3, Vector6::Zero());
   EXPECT_THROW(consecutive_edges(batch), std::invalid_argument);
 }
 

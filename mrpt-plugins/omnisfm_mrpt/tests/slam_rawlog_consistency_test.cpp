@@ -24,7 +24,7 @@ NeesTally measurements_against_truth(const std::string& scenario, std::uint64_t 
     options.seed = seed;
     const sim::Dataset d = sim::simulate(options);
     sfm::SfmSettings settings;
-    settings.batch.point_pose_covariances = true;
+    settings.batch.point_cam_from_world_covariances = true;
     const sfm::SfmResult r = sfm::run_sfm(d.camera, d.observations, settings);
     EXPECT_TRUE(r.batch.converged) << scenario << " " << seed;
     for (size_t f = 0; f < r.batch.cam_from_world.size(); ++f) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/core/track_observation.h"
 #include "omnisfm/sfm/camera_prior.h"
 
@@ -34,7 +35,7 @@ struct BatchSettings {
   bool covariances = true;    // pose and point covariances (dense, for problems of moderate size)
   // With covariances, also each observation's point with its frame's pose: what a point's
   // uncertainty as seen from a camera needs (the scale, shared by both, mostly cancels in it).
-  bool point_pose_covariances = false;
+  bool point_cam_from_world_covariances = false;
   // Solve with the scene's inverse scale as a parameter of its own first: the scale is weakly
   // observed and the filter's can be far off, which the plain problem takes many iterations to
   // walk. Not with motion sensors' terms that fix the scale themselves (odometry, GPS).
@@ -101,23 +102,24 @@ struct BatchResult {
   // decided that the images fix the scale. NaN otherwise.
   double scale_sigma_relative_camera_held = NAN;
   std::vector<Eigen::Isometry3d> cam_from_world;  // per frame
-  // The same as the batch's parameters, the coordinates of pose_covariances: cam_from_world's
-  // rotation as an angle-axis vector (its angle may pass pi a little), then its translation.
-  std::vector<Eigen::Matrix<double, 6, 1>> pose_parameters;
+  // The same as the batch's parameters, the coordinates of the covariances below: cam_from_world's
+  // rotation as an angle-axis vector (its angle may pass pi a little), then its translation
+  // (core::isometry_of turns one into its cam_from_world).
+  std::vector<core::PoseVector> cam_from_world_parameters;
   // Per track the problem held: a start point none of whose observations could be projected
   // (or whose track was left out) has none.
   std::map<int, Eigen::Vector3d> points;
-  // 6x6 per frame (rotation as angle-axis, then translation; frame 0 is fixed: zero) and 3x3 per
+  // 6x6 per frame (in cam_from_world_parameters' coordinates; frame 0 is fixed: zero) and 3x3 per
   // point, when asked for and computable; with a held scale, the scale held.
-  std::vector<Eigen::Matrix<double, 6, 6>> pose_covariances;
+  std::vector<Eigen::Matrix<double, 6, 6>> cam_from_world_covariances;
   // The covariance of frame f's pose with frame f + 1's (rows f, columns f + 1), per frame but the
-  // last; with pose_covariances, what relative poses' uncertainties need.
-  std::vector<Eigen::Matrix<double, 6, 6>> consecutive_pose_covariances;
+  // last; with cam_from_world_covariances, what relative poses' uncertainties need.
+  std::vector<Eigen::Matrix<double, 6, 6>> consecutive_cam_from_world_covariances;
   std::map<int, Eigen::Matrix3d> point_covariances;
-  // With BatchSettings::point_pose_covariances: keyed (track, frame), per observation used whose
-  // frame is not the fixed first, the covariance of the point (rows) with the frame's pose
-  // parameters (columns, as pose_covariances').
-  std::map<std::pair<int, int>, Eigen::Matrix<double, 3, 6>> point_pose_covariances;
+  // With BatchSettings::point_cam_from_world_covariances: keyed (track, frame), per observation
+  // used whose frame is not the fixed first, the covariance of the point (rows) with the frame's
+  // pose parameters (columns, as cam_from_world_covariances').
+  std::map<std::pair<int, int>, Eigen::Matrix<double, 3, 6>> point_cam_from_world_covariances;
   // With BatchSettings::camera_prior, whether the camera was refined: not where the scale was
   // held at the start's or nothing moved, nor when the refining solve failed (the result is then
   // the one before it). Refined, the camera's params() (all of them) and, with the covariances,
@@ -135,9 +137,6 @@ BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<Eigen::Isometry3d>& cam_from_world,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);
-
-// The pose of the batch's parameters (BatchResult::pose_parameters): cam_from_world.
-Eigen::Isometry3d pose_of_parameters(const Eigen::Matrix<double, 6, 1>& parameters);
 
 // The camera the batch optimises with: `camera` with its mirror's valid patch widened by a tenth
 // of its width each way, where the profile allows. A step that carries a point's reflection just

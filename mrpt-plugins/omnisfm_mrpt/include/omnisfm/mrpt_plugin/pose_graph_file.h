@@ -3,12 +3,13 @@
 // format, which stock `graph-slam --3d` reads: a VERTEX3 per frame, the camera's pose in the
 // batch's world (world_from_cam), and an EDGE3 from each frame to the next, their relative pose
 // with its information matrix. That matrix inverts the relative pose's covariance, propagated
-// from the batch's joint covariance of the two poses (BatchResult::pose_covariances and
-// consecutive_pose_covariances, over pose_parameters) into MRPT's parameters (x y z yaw pitch
-// roll), so the edges are as certain as the batch is, correlations included. Frame 0 holds the
-// gauge: its covariance is zero. Where the batch held the scale at the filter's (its covariance
-// then conditional on that scale), each edge's translation also carries the scale's uncertainty
-// as the images give it (BatchResult::scale_sigma_relative, at most 10). MRPT-free: the omnisfm command links it without seeing MRPT.
+// from the batch's joint covariance of the two poses (BatchResult::cam_from_world_covariances
+// and consecutive_cam_from_world_covariances, over cam_from_world_parameters) into MRPT's
+// parameters (x y z yaw pitch roll), so the edges are as certain as the batch is, correlations
+// included. Frame 0 holds the gauge: its covariance is zero. Where the batch held the scale at the
+// filter's (its covariance then conditional on that scale), each edge's translation also carries
+// the scale's uncertainty as the images give it (BatchResult::scale_sigma_relative, at most 10).
+// MRPT-free: the omnisfm command links it without seeing MRPT.
 
 #include <Eigen/Geometry>
 #include <string>

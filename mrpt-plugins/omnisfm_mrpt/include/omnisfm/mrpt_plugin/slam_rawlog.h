@@ -46,11 +46,11 @@ Eigen::Vector3d spherical_coordinates(const Eigen::Vector3d& point,
 // The measurements of the observations of `frame` (`frame_observations`, all of that frame) whose
 // tracks the batch kept (batch.points): `pixel_sigma` is the pixels' noise per coordinate. The
 // range's uncertainty is the point's as seen from the camera, from the batch's covariances of the
-// point, the frame's pose and, with BatchSettings::point_pose_covariances, the two together
-// (without it they are taken as independent, which overstates it where they share the scale);
-// without point covariances the range carries only the pixel's noise. Observations whose ray does
-// not reach the point (it lies behind the mirror) or whose pixel the camera cannot unproject are
-// left out.
+// point, the frame's pose and, with BatchSettings::point_cam_from_world_covariances, the two
+// together (without it they are taken as independent, which overstates it where they share the
+// scale); without point covariances the range carries only the pixel's noise. Observations whose
+// ray does not reach the point (it lies behind the mirror) or whose pixel the camera cannot
+// unproject are left out.
 std::vector<BearingRange> bearing_range_measurements(
     const camera::CatadioptricCamera& camera, const sfm::BatchResult& batch, int frame,
     const std::vector<core::TrackObservation>& frame_observations, double pixel_sigma);
