@@ -22,16 +22,9 @@ namespace {
 
 using namespace omnisfm;
 
-std::vector<Eigen::Isometry3d> inverted(const std::vector<Eigen::Isometry3d>& poses) {
-  std::vector<Eigen::Isometry3d> out;
-  for (const auto& T : poses) out.push_back(T.inverse());
-  return out;
-}
-
 // Estimated length per true length.
-double scale_of(const std::vector<Eigen::Isometry3d>& cam_from_world, const sim::Dataset& d) {
-  return 1 / eval::trajectory_errors(inverted(cam_from_world), d.world_from_cam, true)
-                 .alignment.scale;
+double scale_of(const std::vector<Eigen::Isometry3d>& world_from_cam, const sim::Dataset& d) {
+  return 1 / eval::trajectory_errors(world_from_cam, d.world_from_cam, true).alignment.scale;
 }
 
 const char* name_of(sfm::BatchScale scale) {
@@ -69,9 +62,9 @@ int main(int argc, char** argv) {
       free_settings.batch.max_free_scale_sigma = std::numeric_limits<double>::infinity();
       const sfm::SfmResult before = sfm::run_sfm(d.camera, d.observations, free_settings);
 
-      const double filter = scale_of(r.online_cam_from_world, d);
-      const double scale = scale_of(r.batch.cam_from_world, d);
-      const double free_scale = scale_of(before.batch.cam_from_world, d);
+      const double filter = scale_of(r.online_world_from_cam, d);
+      const double scale = scale_of(r.batch.world_from_cam, d);
+      const double free_scale = scale_of(before.batch.world_from_cam, d);
       const double factor = std::max(scale, 1 / scale);
       const double before_factor = std::max(free_scale, 1 / free_scale);
       worst_before = std::max(worst_before, before_factor);

@@ -37,9 +37,7 @@ sfm::SfmResult solved(const camera::CatadioptricCamera& camera, const sim::Datas
 }
 
 eval::TrajectoryErrors errors(const sfm::SfmResult& r, const sim::Dataset& d) {
-  std::vector<Eigen::Isometry3d> world_from_cam;
-  for (const auto& T : r.batch.cam_from_world) world_from_cam.push_back(T.inverse());
-  return eval::trajectory_errors(world_from_cam, d.world_from_cam, true);
+  return eval::trajectory_errors(r.batch.world_from_cam, d.world_from_cam, true);
 }
 
 double median(const std::vector<double>& v) { return v.empty() ? NAN : core::percentile(v, 0.5); }

@@ -31,8 +31,7 @@ int main(int argc, char** argv) {
   std::vector<core::TrackObservation> exact;
   for (const auto& o : d.observations)
     if (!outliers.count(o.track)) exact.push_back({o.frame, o.track, o.pixel});
-  std::vector<Eigen::Isometry3d> truth;
-  for (const auto& T : d.world_from_cam) truth.push_back(T.inverse());
+  const std::vector<Eigen::Isometry3d>& truth = d.world_from_cam;
   std::map<int, Eigen::Vector3d> points;
   for (const auto& o : exact) points[o.track] = d.track_points[o.track];
 
@@ -50,8 +49,8 @@ int main(int argc, char** argv) {
     const auto result = sfm::batch_adjust(d.camera, noisy, truth, points, settings);
     std::vector<Eigen::Vector3d> estimated, true_centres;
     for (size_t f = 1; f < truth.size(); ++f) {
-      estimated.push_back(result.cam_from_world[f].inverse().translation());
-      true_centres.push_back(truth[f].inverse().translation());
+      estimated.push_back(result.world_from_cam[f].translation());
+      true_centres.push_back(truth[f].translation());
       error2 += (estimated.back() - true_centres.back()).squaredNorm();
       ++count;
     }

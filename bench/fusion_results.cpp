@@ -29,12 +29,6 @@ namespace {
 using namespace omnisfm;
 using Poses = std::vector<Eigen::Isometry3d>;
 
-Poses inverted(const Poses& poses) {
-  Poses out;
-  for (const auto& T : poses) out.push_back(T.inverse());
-  return out;
-}
-
 // world_from_cam by dead reckoning: the odometry's increments between frames, turned by the
 // odometry's own heading or by the integrated gyro (its bias not known).
 Poses dead_reckoning(const sfm::MotionSensors& sensors, const std::vector<double>& times,
@@ -122,10 +116,10 @@ int main(int argc, char** argv) {
     rows[0].runs.push_back(figures(dead_reckoning(sensors, d.timestamps, false), truth));
     rows[1].runs.push_back(figures(dead_reckoning(sensors, d.timestamps, true), truth));
     const auto vision = sfm::run_sfm(d.camera, d.observations, settings);
-    rows[2].runs.push_back(figures(inverted(vision.batch.cam_from_world), truth));
+    rows[2].runs.push_back(figures(vision.batch.world_from_cam, truth));
     const auto fused = sfm::run_fused_sfm(d.camera, d.observations, d.timestamps, sensors, settings);
-    rows[3].runs.push_back(figures(inverted(fused.online_cam_from_world), truth));
-    rows[4].runs.push_back(figures(inverted(fused.batch.cam_from_world), truth));
+    rows[3].runs.push_back(figures(fused.online_world_from_cam, truth));
+    rows[4].runs.push_back(figures(fused.batch.world_from_cam, truth));
     // The fused scale errs with the wheel whichever way the wheel errs.
     sim::DeadReckoningOptions short_options = dr_options;
     short_options.odometry_scale_error = -dr_options.odometry_scale_error;
@@ -133,22 +127,22 @@ int main(int argc, char** argv) {
     const auto short_fused = sfm::run_fused_sfm(d.camera, d.observations, d.timestamps,
                                                 eval::motion_sensors(&short_dr, short_options, nullptr),
                                                 settings);
-    rows[5].runs.push_back(figures(inverted(short_fused.batch.cam_from_world), truth));
+    rows[5].runs.push_back(figures(short_fused.batch.world_from_cam, truth));
     // What the camera alone says of the scale once the motion sensors hold the shape.
     sfm::MotionSensors free_scale = sensors;
     free_scale.odometry_noise.scale_sigma = 1e3;
     const auto free_fused =
         sfm::run_fused_sfm(d.camera, d.observations, d.timestamps, free_scale, settings);
-    rows[6].runs.push_back(figures(inverted(free_fused.batch.cam_from_world), truth));
+    rows[6].runs.push_back(figures(free_fused.batch.world_from_cam, truth));
 
     const sfm::MotionSensors with_gps = eval::motion_sensors(&dr, dr_options, &gps);
     const auto enu = sfm::run_fused_sfm(d.camera, d.observations, d.timestamps, with_gps, settings);
     Poses truth_enu;
     for (const auto& T : truth) truth_enu.push_back(gps.enu_from_world * T);
-    Figures f = figures(inverted(enu.batch.cam_from_world), truth_enu);
+    Figures f = figures(enu.batch.world_from_cam, truth_enu);
     f.enu_m = 0;
     for (size_t k = 0; k < truth.size(); ++k)
-      f.enu_m += (enu.batch.cam_from_world[k].inverse().translation() - truth_enu[k].translation()).norm() /
+      f.enu_m += (enu.batch.world_from_cam[k].translation() - truth_enu[k].translation()).norm() /
                  truth.size();
     rows[7].runs.push_back(f);
 
@@ -163,7 +157,7 @@ int main(int argc, char** argv) {
     calibrated.odometry_scale = enu.odometry_scale;
     calibrated.odometry_noise.scale_sigma = 0.003;
     const auto later = sfm::run_fused_sfm(next.camera, next.observations, next.timestamps, calibrated, settings);
-    rows[8].runs.push_back(figures(inverted(later.batch.cam_from_world), next.world_from_cam));
+    rows[8].runs.push_back(figures(later.batch.world_from_cam, next.world_from_cam));
     std::fprintf(stderr, "seed %d: odometry scale from GPS %.5f (truth %.5f)\n", seed,
                  enu.odometry_scale, 1 / (1 + dr_options.odometry_scale_error));
   }

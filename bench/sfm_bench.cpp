@@ -146,7 +146,7 @@ void BM_BatchRover(benchmark::State& state) {
   int iterations = 0;
   double solve_seconds = 0;
   for (auto _ : state) {
-    const auto result = sfm::batch_adjust(b.camera, b.tracks, b.start.online_cam_from_world,
+    const auto result = sfm::batch_adjust(b.camera, b.tracks, b.start.online_world_from_cam,
                                           b.start.online_points, settings);
     iterations = result.iterations;
     solve_seconds += result.solve_seconds;
@@ -196,7 +196,7 @@ BENCHMARK(BM_FusedRover)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 // with centimetre errors, as a filter would give.
 struct ScaledProblem {
   sim::Dataset drive;
-  std::vector<Eigen::Isometry3d> start_cam_from_world;
+  std::vector<Eigen::Isometry3d> start_world_from_cam;
   std::map<int, Eigen::Vector3d> start_points;
 };
 
@@ -211,13 +211,13 @@ ScaledProblem scaled_problem(int images) {
     problem.start_points[static_cast<int>(track)] =
         problem.drive.track_points[track] + 0.03 * normal3();
   for (int f = 0; f < images; ++f) {
-    Eigen::Isometry3d T = problem.drive.world_from_cam[f].inverse();
+    Eigen::Isometry3d T = problem.drive.world_from_cam[f];
     if (f > 0) {
       const Eigen::Vector3d w = 0.005 * normal3();
       T.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * T.linear();
       T.translation() += 0.01 * normal3();
     }
-    problem.start_cam_from_world.push_back(T);
+    problem.start_world_from_cam.push_back(T);
   }
   return problem;
 }
@@ -231,7 +231,7 @@ void BM_BatchScaled(benchmark::State& state) {
   sfm::BatchResult result;
   for (auto _ : state)
     result = sfm::batch_adjust(problem.drive.camera, problem.drive.observations,
-                               problem.start_cam_from_world, problem.start_points, settings);
+                               problem.start_world_from_cam, problem.start_points, settings);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   state.counters["lm_iterations"] = result.iterations;
@@ -272,9 +272,9 @@ struct RoverProblem {
       std::make_shared<ceres::ParameterBlockOrdering>();
 
   RoverProblem(const BatchInput& b, bool numeric) : points(b.start.online_points) {
-    for (const auto& T : b.start.online_cam_from_world) {
-      poses.push_back(omnisfm::core::pose_vector_of(T));
-    }
+    // The batch's parameters: cam_from_world.
+    for (const auto& T : b.start.online_world_from_cam)
+      poses.push_back(omnisfm::core::pose_vector_of(T.inverse()));
     for (const auto& o : b.tracks) {
       auto p = points.find(o.track);
       if (p == points.end()) continue;

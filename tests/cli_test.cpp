@@ -502,9 +502,9 @@ TEST_F(CliTest, SfmStreamsTheFilterAloneOnADrive) {
   const omnisfm::sfm::SfmResult held = omnisfm::sfm::run_sfm(
       camera, omnisfm::io::read_tracks((dir_ / "drive/tracks.vnl").string()), settings);
   const auto streamed = omnisfm::io::read_tum_trajectory((dir_ / "result/online.tum").string());
-  ASSERT_EQ(streamed.size(), held.online_cam_from_world.size());
+  ASSERT_EQ(streamed.size(), held.online_world_from_cam.size());
   for (size_t f = 0; f < streamed.size(); ++f) {
-    const Eigen::Isometry3d expected = held.online_cam_from_world[f].inverse();
+    const Eigen::Isometry3d& expected = held.online_world_from_cam[f];
     EXPECT_LT((streamed[f].world_from_cam.translation() - expected.translation()).norm(), 1e-9);
     EXPECT_LT((streamed[f].world_from_cam.linear() - expected.linear()).norm(), 1e-9);
   }
@@ -1414,11 +1414,11 @@ TEST_F(CliTest, RunStreamsTheOnlineEstimatorOnADriveRawlog) {
       omnisfm::sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings);
   const auto streamed = omnisfm::io::read_tum_trajectory((dir_ / "result/online.tum").string());
   ASSERT_EQ(streamed.size(), 300u);
-  ASSERT_EQ(held.online_cam_from_world.size(), 300u);
+  ASSERT_EQ(held.online_world_from_cam.size(), 300u);
   double worst = 0;
   for (size_t f = 0; f < streamed.size(); ++f) {
     EXPECT_NEAR(streamed[f].timestamp, in.frame_times[f], 1e-6);
-    const Eigen::Isometry3d expected = held.online_cam_from_world[f].inverse();
+    const Eigen::Isometry3d& expected = held.online_world_from_cam[f];
     worst = std::max(worst,
                      (streamed[f].world_from_cam.translation() - expected.translation()).norm());
   }

@@ -121,15 +121,13 @@ ExperimentRows run_experiment(const PaperFigures& paper, std::uint64_t seed,
   // tracking costs.
   const sfm::SfmResult simulated =
       shape_from_motion(d, d.observations, step(paper.scenario, "filter on simulated tracks"));
-  const auto simulated_batch = eval::trajectory_errors(
-      world_from_cam(simulated.batch.cam_from_world), d.world_from_cam, true);
+  const auto simulated_batch =
+      eval::trajectory_errors(simulated.batch.world_from_cam, d.world_from_cam, true);
 
   const sfm::SfmResult r =
       shape_from_motion(d, tracked.observations, step(paper.scenario, "filter on tracked images"));
-  const auto online =
-      eval::trajectory_errors(world_from_cam(r.online_cam_from_world), d.world_from_cam, true);
-  const auto batch =
-      eval::trajectory_errors(world_from_cam(r.batch.cam_from_world), d.world_from_cam, true);
+  const auto online = eval::trajectory_errors(r.online_world_from_cam, d.world_from_cam, true);
+  const auto batch = eval::trajectory_errors(r.batch.world_from_cam, d.world_from_cam, true);
   // Outliers as shape-from-motion sees them: tracks that leave their point by more than its
   // 2-pixel rejection threshold.
   std::set<int> found;
@@ -147,8 +145,8 @@ ExperimentRows run_experiment(const PaperFigures& paper, std::uint64_t seed,
       write_residual_plots((dir / "sfm").string(), d.camera, tracked.observations, r, true);
   const bool trajectories_plotted = write_trajectory_plots(
       (dir / "sfm").string(), d.world_from_cam,
-      {{"online", world_from_cam(r.online_cam_from_world), online.alignment},
-       {"batch", world_from_cam(r.batch.cam_from_world), batch.alignment}});
+      {{"online", r.online_world_from_cam, online.alignment},
+       {"batch", r.batch.world_from_cam, batch.alignment}});
   const bool plotted = residuals_plotted && trajectories_plotted;
 
   ExperimentRows rows;

@@ -115,12 +115,13 @@ bool write_residual_plots(const std::string& dir, const camera::CatadioptricCame
     const auto online = result.online_points.find(track);
     if (online != result.online_points.end()) points.emplace(track, online->second);
   }
-  const auto& poses = batch_ran ? result.batch.cam_from_world : result.online_cam_from_world;
+  const auto& world_from_cam =
+      batch_ran ? result.batch.world_from_cam : result.online_world_from_cam;
   // The batch's residuals with the camera it optimised with (its patch reaches past the rim).
   const camera::CatadioptricCamera judged = batch_ran ? sfm::batch_camera(camera) : camera;
   return write_residual_plots(
       dir, camera.image_width(), camera.image_height(),
-      sfm::reprojection_residuals(judged, tracks, poses, points, outliers));
+      sfm::reprojection_residuals(judged, tracks, world_from_cam, points, outliers));
 }
 
 }  // namespace omnisfm::app

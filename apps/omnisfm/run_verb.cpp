@@ -83,9 +83,9 @@ std::string motion_estimates_line(const sfm::MotionSensors& sensors, const sfm::
 
 mrpt_plugin::SceneContents scene_of(const sfm::SfmResult& result, bool batch_ran) {
   mrpt_plugin::SceneContents scene;
-  scene.online_world_from_cam = world_from_cam(result.online_cam_from_world);
+  scene.online_world_from_cam = result.online_world_from_cam;
   if (batch_ran) {
-    scene.world_from_cam = world_from_cam(result.batch.cam_from_world);
+    scene.world_from_cam = result.batch.world_from_cam;
     scene.points = result.batch.points;
     scene.point_covariances = result.batch.point_covariances;
   } else {
@@ -291,17 +291,17 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
   }
   // Camera frames after the last one with tracks have no pose: their times go too.
   in.frame_times.resize(result.num_frames);
-  if (!result.batch.converged && result.batch.cam_from_world.empty())
+  if (!result.batch.converged && result.batch.world_from_cam.empty())
     throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
   std::ostringstream report;
   report << batch_run_report(o, settings, in, result);
-  const std::vector<Eigen::Isometry3d> trajectory = world_from_cam(result.batch.cam_from_world);
+  const std::vector<Eigen::Isometry3d>& trajectory = result.batch.world_from_cam;
   // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
   const bool geodetic = in.gps_origin && result.world_is_enu;
   if (geodetic) {
     const sfm::GpsResiduals gps =
-        sfm::gps_residuals(result.batch.cam_from_world, in.frame_times, in.sensors);
+        sfm::gps_residuals(result.batch.world_from_cam, in.frame_times, in.sensors);
     report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
            << " m against it\n";
   }

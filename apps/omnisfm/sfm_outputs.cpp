@@ -22,29 +22,22 @@
 namespace omnisfm::app {
 namespace {
 
-std::vector<io::StampedPose> trajectory(const std::vector<Eigen::Isometry3d>& cam_from_world,
+std::vector<io::StampedPose> trajectory(const std::vector<Eigen::Isometry3d>& world_from_cam,
                                         const std::vector<double>& times) {
   std::vector<io::StampedPose> out;
-  for (size_t f = 0; f < cam_from_world.size(); ++f)
-    out.push_back({times[f], cam_from_world[f].inverse()});
+  for (size_t f = 0; f < world_from_cam.size(); ++f) out.push_back({times[f], world_from_cam[f]});
   return out;
 }
 
 }  // namespace
-
-std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& poses) {
-  std::vector<Eigen::Isometry3d> out;
-  for (const auto& T : poses) out.push_back(T.inverse());
-  return out;
-}
 
 std::string compare_written_online_with_truth(const std::string& dir,
                                               const std::vector<io::StampedPose>& truth,
                                               const std::string& truth_file, bool rigid_too) {
   sfm::SfmResult result;
   for (const auto& p : io::read_tum_trajectory(dir + "/online.tum"))
-    result.online_cam_from_world.push_back(p.world_from_cam.inverse());
-  result.num_frames = static_cast<int>(result.online_cam_from_world.size());
+    result.online_world_from_cam.push_back(p.world_from_cam);
+  result.num_frames = static_cast<int>(result.online_world_from_cam.size());
   const eval::TruthComparison comparison =
       eval::compare_with_truth(result, false, truth, truth_file, rigid_too);
   std::ofstream report(dir + "/report.txt", std::ios::app);
@@ -75,10 +68,10 @@ void write_refined_camera(const std::string& dir, const camera::CatadioptricCame
 
 void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, bool batch_ran,
                        const std::vector<double>& times, const std::string& report) {
-  io::write_tum_trajectory(dir + "/online.tum", trajectory(result.online_cam_from_world, times));
+  io::write_tum_trajectory(dir + "/online.tum", trajectory(result.online_world_from_cam, times));
   const auto& points = batch_ran ? result.batch.points : result.online_points;
   if (batch_ran)
-    io::write_tum_trajectory(dir + "/batch.tum", trajectory(result.batch.cam_from_world, times));
+    io::write_tum_trajectory(dir + "/batch.tum", trajectory(result.batch.world_from_cam, times));
 #ifdef OMNISFM_WITH_MRPT_PLUGIN
   if (batch_ran && !result.batch.cam_from_world_covariances.empty()) {
     // The graph is a view of the batch for MRPT's tools: without it the results still stand.

@@ -22,9 +22,6 @@ void write_sfm_outputs(const std::string& dir, const sfm::SfmResult& result, boo
 void write_refined_camera(const std::string& dir, const camera::CatadioptricCamera& camera,
                           const sfm::BatchResult& batch, const sfm::BatchSettings& settings);
 
-// world_from_cam of cam_from_world poses.
-std::vector<Eigen::Isometry3d> world_from_cam(const std::vector<Eigen::Isometry3d>& cam_from_world);
-
 // For a streamed run: DIR/online.tum read back (the comparison needs the whole estimate) and
 // compared with the truth as eval::compare_with_truth does; its figures appended to DIR/report.txt and
 // returned, its trajectory plots written into DIR.

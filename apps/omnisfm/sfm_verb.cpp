@@ -161,7 +161,7 @@ void add_sfm_verb(CLI::App& app) {
     } catch (const std::invalid_argument& e) {
       throw io::InputError(o->tracks, 0, e.what());
     }
-    if (settings.run_batch && !result.batch.converged && result.batch.cam_from_world.empty())
+    if (settings.run_batch && !result.batch.converged && result.batch.world_from_cam.empty())
       throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
     FrameClock clock(o->tracks);

@@ -27,18 +27,16 @@ TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
   TruthComparison comparison;
   for (const auto& p : truth) comparison.truth.push_back(p.world_from_cam);
   const auto compare = [&](const std::string& name,
-                           const std::vector<Eigen::Isometry3d>& cam_from_world) {
-    std::vector<Eigen::Isometry3d> estimate;
-    for (const Eigen::Isometry3d& T : cam_from_world) estimate.push_back(T.inverse());
-    const TrajectoryErrors similar = trajectory_errors(estimate, comparison.truth, true);
+                           const std::vector<Eigen::Isometry3d>& world_from_cam) {
+    const TrajectoryErrors similar = trajectory_errors(world_from_cam, comparison.truth, true);
     comparison.report += figures_line(name, similar);
     if (rigid_too)
       comparison.report +=
-          figures_line(name + "/rigid", trajectory_errors(estimate, comparison.truth, false));
-    comparison.estimates.push_back({name, std::move(estimate), similar.alignment});
+          figures_line(name + "/rigid", trajectory_errors(world_from_cam, comparison.truth, false));
+    comparison.estimates.push_back({name, world_from_cam, similar.alignment});
   };
-  compare("online", result.online_cam_from_world);
-  if (batch_ran) compare("batch", result.batch.cam_from_world);
+  compare("online", result.online_world_from_cam);
+  if (batch_ran) compare("batch", result.batch.world_from_cam);
   return comparison;
 }
 

@@ -29,9 +29,9 @@ Fixture circle(int frames) {
     f.truth.push_back({static_cast<double>(k), world_from_cam});
     Eigen::Isometry3d in_estimate = estimate_from_world * world_from_cam;
     in_estimate.translation() *= 0.5;
-    f.result.online_cam_from_world.push_back(in_estimate.inverse());
+    f.result.online_world_from_cam.push_back(in_estimate);
   }
-  f.result.batch.cam_from_world = f.result.online_cam_from_world;
+  f.result.batch.world_from_cam = f.result.online_world_from_cam;
   f.result.num_frames = frames;
   return f;
 }

@@ -14,6 +14,7 @@
 #include "batch_terms.h"
 #include "camera_refinement.h"
 #include "marginal_variance.h"
+#include "omnisfm/core/pose_direction.h"
 #include "projection_cost.h"
 
 namespace omnisfm::sfm {
@@ -377,7 +378,7 @@ double degrees_of_freedom(const ceres::Problem& problem, bool gauge_fixed, int h
 void take_estimates(const ceres::Problem& problem, const std::vector<PoseVector>& poses,
                     const std::map<int, Eigen::Vector3d>& points, BatchResult* result) {
   for (const auto& v : poses) {
-    result->cam_from_world.push_back(isometry_of(v));
+    result->world_from_cam.push_back(isometry_of(v).inverse());
     result->cam_from_world_parameters.push_back(v);
   }
   for (const auto& [track, p] : points)
@@ -487,10 +488,11 @@ camera::CatadioptricCamera batch_camera(const camera::CatadioptricCamera& camera
 
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<core::TrackObservation>& observations,
-                         const std::vector<Eigen::Isometry3d>& cam_from_world,
+                         const std::vector<Eigen::Isometry3d>& start_world_from_cam,
                          const std::map<int, Eigen::Vector3d>& start_points,
                          const BatchSettings& settings) {
-  return batch_adjust(camera, observations, cam_from_world, start_points, settings, nullptr);
+  return batch_adjust_with_terms(camera, observations, core::inverted(start_world_from_cam),
+                                 start_points, settings, nullptr);
 }
 
 // The problem, its options, the solves and the covariances are steps of their own; the scale's
@@ -637,15 +639,15 @@ void take_solution(const BatchProblem& b, double initial_cost, double pixel_weig
 
 }  // namespace
 
-BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
-                         const std::vector<core::TrackObservation>& observations,
-                         const std::vector<Eigen::Isometry3d>& cam_from_world,
-                         const std::map<int, Eigen::Vector3d>& start_points,
-                         const BatchSettings& settings, ExtraTerms* extra) {
+BatchResult batch_adjust_with_terms(const camera::CatadioptricCamera& camera,
+                                    const std::vector<core::TrackObservation>& observations,
+                                    const std::vector<Eigen::Isometry3d>& start_cam_from_world,
+                                    const std::map<int, Eigen::Vector3d>& start_points,
+                                    const BatchSettings& settings, ExtraTerms* extra) {
   const auto started = std::chrono::steady_clock::now();
   BatchResult result;
   BatchProblem b;
-  for (const auto& T : cam_from_world) b.poses.push_back(pose_vector_of(T));
+  for (const auto& T : start_cam_from_world) b.poses.push_back(pose_vector_of(T));
   b.points = start_points;
   BatchStart start{b.poses, b.points, {}};
   if (settings.known_distance_m != 0 && !b.poses.empty()) {

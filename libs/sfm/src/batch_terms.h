@@ -31,12 +31,14 @@ class ExtraTerms {
   virtual void take_covariance(const double* /*block*/, const Eigen::MatrixXd& /*covariance*/) {}
 };
 
-// As the public batch_adjust, with `extra` (when not null) added to the problem. Points are then
-// always the eliminated group, as the extra residuals tie poses together.
-BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
-                         const std::vector<core::TrackObservation>& observations,
-                         const std::vector<Eigen::Isometry3d>& cam_from_world,
-                         const std::map<int, Eigen::Vector3d>& points, const BatchSettings& settings,
-                         ExtraTerms* extra);
+// As the public batch_adjust, started from the poses as its parameters hold them (the pipeline
+// passes the filter's own, unchanged by a round trip through world_from_cam), with `extra` (when
+// not null) added to the problem. Points are then always the eliminated group, as the extra
+// residuals tie poses together.
+BatchResult batch_adjust_with_terms(const camera::CatadioptricCamera& camera,
+                                    const std::vector<core::TrackObservation>& observations,
+                                    const std::vector<Eigen::Isometry3d>& start_cam_from_world,
+                                    const std::map<int, Eigen::Vector3d>& points,
+                                    const BatchSettings& settings, ExtraTerms* extra);
 
 }  // namespace omnisfm::sfm

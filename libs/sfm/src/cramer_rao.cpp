@@ -13,15 +13,15 @@ namespace omnisfm::sfm {
 
 PositionBound camera_position_bound(
     const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
-    const std::vector<Eigen::Isometry3d>& cam_from_world,
+    const std::vector<Eigen::Isometry3d>& world_from_cam,
     const std::map<int, Eigen::Vector3d>& points, double pixel_sigma) {
-  const int frames = static_cast<int>(cam_from_world.size());
+  const int frames = static_cast<int>(world_from_cam.size());
   std::map<int, int> point_index;
   for (const auto& [track, X] : points) point_index.emplace(track, static_cast<int>(point_index.size()));
   // Unknowns: poses 1.. (angle-axis, translation, as the batch holds them), then the points.
   const int n = 6 * (frames - 1) + 3 * static_cast<int>(points.size());
   std::vector<core::PoseVector> poses(frames);
-  for (int f = 0; f < frames; ++f) poses[f] = core::pose_vector_of(cam_from_world[f]);
+  for (int f = 0; f < frames; ++f) poses[f] = core::pose_vector_of(world_from_cam[f].inverse());
   Eigen::MatrixXd information = Eigen::MatrixXd::Zero(n, n);
   for (const auto& o : observations) {
     const auto point = points.find(o.track);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "omnisfm/core/pose_direction.h"
 #include "omnisfm/sfm/frame_motion.h"
 #include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/motion_residuals.h"
@@ -160,14 +161,16 @@ Eigen::Vector3d bias_from_filter(const std::vector<FrameMotion>& motions,
 }
 
 // Moves the filter's estimate into the GPS's ENU frame: the similarity (rigid when the scale is
-// metric already) that best maps its antenna positions at the fixes' times onto the fixes.
-void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times,
-                   bool metric, SfmResult* result) {
+// metric already) that best maps its antenna positions at the fixes' times onto the fixes. Its
+// poses are moved as the filter held them (online_cam_from_world, the batch's start), and
+// result's world_from_cam made from those.
+void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
+                   std::vector<Eigen::Isometry3d>* online_cam_from_world, SfmResult* result) {
   const std::vector<FixPlacement> placed = place_fixes(sensors.gps, times);
   const Eigen::Vector3d antenna = antenna_in_cam(sensors);
   Eigen::Matrix3Xd from(3, placed.size()), to(3, placed.size());
   for (size_t i = 0; i < placed.size(); ++i) {
-    from.col(i) = antenna_at(result->online_cam_from_world, placed[i], antenna);
+    from.col(i) = antenna_at(*online_cam_from_world, placed[i], antenna);
     to.col(i) = placed[i].fix->enu;
   }
   if (placed.size() < 3)
@@ -183,11 +186,12 @@ void move_into_enu(const MotionSensors& sensors, const std::vector<double>& time
   const double scale = S.topLeftCorner<3, 3>().col(0).norm();
   const Eigen::Matrix3d R = S.topLeftCorner<3, 3>() / scale;
   const Eigen::Vector3d t = S.topRightCorner<3, 1>();
-  for (auto& T : result->online_cam_from_world) {
+  for (auto& T : *online_cam_from_world) {
     const Eigen::Vector3d centre = scale * R * (T.inverse().translation()) + t;
     T.linear() = T.linear() * R.transpose();
     T.translation() = -T.linear() * centre;
   }
+  result->online_world_from_cam = core::inverted(*online_cam_from_world);
   for (auto& [track, X] : result->online_points) X = scale * R * X + t;
   result->world_is_enu = true;
 }
@@ -222,21 +226,22 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
                                   frame_timestamps.begin() + result.num_frames);
   const std::vector<FrameMotion> motions = frame_motions(sensors, times, Eigen::Vector3d::Zero());
 
-  run_filter(camera, by_frame, settings.filter,
-             [&](int f, const SensorStates& states) {
-               return predict_camera_motion(sensors, times[f - 1], times[f], settings.filter,
-                                            states);
-             },
-             progress, &result);
+  std::vector<Eigen::Isometry3d> online_cam_from_world = run_filter(
+      camera, by_frame, settings.filter,
+      [&](int f, const SensorStates& states) {
+        return predict_camera_motion(sensors, times[f - 1], times[f], settings.filter, states);
+      },
+      progress, &result);
   result.odometry_scale = sensors.odometry_scale;
 
   refuse_degenerate_motion(result);
-  if (!sensors.gps.empty()) move_into_enu(sensors, times, !sensors.odometry.empty(), &result);
+  if (!sensors.gps.empty())
+    move_into_enu(sensors, times, !sensors.odometry.empty(), &online_cam_from_world, &result);
   if (!settings.run_batch) return result;
 
   MotionTerms terms(sensors, times,
-                    bias_from_filter(motions, result.online_cam_from_world, sensors.body_from_cam));
-  adjust_on_inliers(camera, tracks, settings, &terms, &result);
+                    bias_from_filter(motions, online_cam_from_world, sensors.body_from_cam));
+  adjust_on_inliers(camera, tracks, settings, online_cam_from_world, &terms, &result);
   result.odometry_scale = terms.scale();
   result.gyro_bias = terms.bias();
   result.odometry_scale_sigma = terms.scale_sigma();
@@ -244,12 +249,13 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   return result;
 }
 
-GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& cam_from_world,
+GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& world_from_cam,
                           const std::vector<double>& frame_timestamps,
                           const MotionSensors& sensors) {
   GpsResiduals r;
   if (frame_timestamps.size() < 2) return r;
   const Eigen::Vector3d antenna = antenna_in_cam(sensors);
+  const std::vector<Eigen::Isometry3d> cam_from_world = core::inverted(world_from_cam);
   double sum = 0;
   for (const auto& p : place_fixes(sensors.gps, frame_timestamps)) {
     sum += (antenna_at(cam_from_world, p, antenna) - p.fix->enu).squaredNorm();

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "omnisfm/core/pose_direction.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/sfm/track_triangulation.h"
 #include "pipeline_steps.h"
 
@@ -38,10 +40,11 @@ std::vector<std::vector<TrackPixel>> observations_by_frame(
   return by_frame;
 }
 
-void run_filter(const camera::CatadioptricCamera& camera,
-                const std::vector<std::vector<TrackPixel>>& by_frame, const FilterSettings& settings,
-                const PredictedMotion& predicted_motion,
-                const Progress& progress, SfmResult* result) {
+std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& camera,
+                                          const std::vector<std::vector<TrackPixel>>& by_frame,
+                                          const FilterSettings& settings,
+                                          const PredictedMotion& predicted_motion,
+                                          const Progress& progress, SfmResult* result) {
   const auto started = std::chrono::steady_clock::now();
   FilterSettings collected = settings;
   collected.kept_history = 0;  // every ended point and rejection is collected here instead
@@ -53,17 +56,19 @@ void run_filter(const camera::CatadioptricCamera& camera,
     result->online_points.erase(rejected.track);
   });
   const int num_frames = static_cast<int>(by_frame.size());
+  std::vector<Eigen::Isometry3d> cam_from_world;
   for (int f = 0; f < num_frames; ++f) {
     if (f > 0 && predicted_motion)
       filter.process_frame(f, by_frame[f], predicted_motion(f, filter.sensor_states()));
     else
       filter.process_frame(f, by_frame[f]);
-    result->online_cam_from_world.push_back(filter.cam_from_world());
+    cam_from_world.push_back(filter.cam_from_world());
     if (progress) progress(f + 1, num_frames);
   }
   result->online_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  for (const auto& [frame, T] : filter.smoothed_start()) result->online_cam_from_world[frame] = T;
+  for (const auto& [frame, T] : filter.smoothed_start()) cam_from_world[frame] = T;
+  result->online_world_from_cam = core::inverted(cam_from_world);
   for (const auto& [track, point] : filter.points()) result->online_points[track] = point;
   result->online_gyro_bias = filter.gyro_bias();
   const Eigen::Vector3d bias_variance = filter.gyro_bias_covariance().diagonal();
@@ -71,15 +76,16 @@ void run_filter(const camera::CatadioptricCamera& camera,
   result->online_wheel_scale = filter.wheel_scale();
   if (filter.wheel_scale_variance() > 0)
     result->online_wheel_scale_sigma = std::sqrt(filter.wheel_scale_variance());
+  return cam_from_world;
 }
 
 void refuse_degenerate_motion(const SfmResult& result) {
   // Without translation the points' depths are not observable: refuse rather than report a
   // structure made of the initialisation's guesses.
   double baseline = 0, depth = 0;
-  const Eigen::Vector3d first = result.online_cam_from_world.front().inverse().translation();
-  for (const auto& T : result.online_cam_from_world)
-    baseline = std::max(baseline, (T.inverse().translation() - first).norm());
+  const Eigen::Vector3d first = result.online_world_from_cam.front().translation();
+  for (const auto& T : result.online_world_from_cam)
+    baseline = std::max(baseline, (T.translation() - first).norm());
   std::vector<double> depths;
   for (const auto& [track, X] : result.online_points) depths.push_back((X - first).norm());
   if (!depths.empty()) {
@@ -95,15 +101,23 @@ void refuse_degenerate_motion(const SfmResult& result) {
 
 namespace {
 
+// The batch's poses as its parameters hold them: what it projected with, bit for bit.
+std::vector<Eigen::Isometry3d> cam_from_world_of(const std::vector<core::PoseVector>& parameters) {
+  std::vector<Eigen::Isometry3d> poses;
+  for (const core::PoseVector& v : parameters) poses.push_back(core::isometry_of(v));
+  return poses;
+}
+
 // The tracks the filter rejected that the batch's solution explains: triangulated from its poses,
 // every pixel within `threshold` px. Track -> its point.
 std::map<int, Eigen::Vector3d> explained_rejections(
     const camera::CatadioptricCamera& optimised, const std::vector<core::TrackObservation>& tracks,
-    const std::set<int>& rejected, const BatchResult& batch, double threshold) {
+    const std::set<int>& rejected, const std::vector<Eigen::Isometry3d>& batch_cam_from_world,
+    double threshold) {
   std::map<int, std::vector<TrackSighting>> sightings;
   for (const auto& o : tracks)
-    if (rejected.count(o.track) && o.frame < static_cast<int>(batch.cam_from_world.size()))
-      sightings[o.track].push_back({batch.cam_from_world[o.frame], o.pixel});
+    if (rejected.count(o.track) && o.frame < static_cast<int>(batch_cam_from_world.size()))
+      sightings[o.track].push_back({batch_cam_from_world[o.frame], o.pixel});
   std::map<int, Eigen::Vector3d> explained;
   for (const auto& [track, seen] : sightings) {
     const TriangulatedTrack t = triangulate_track(optimised, seen);
@@ -116,7 +130,7 @@ std::map<int, Eigen::Vector3d> explained_rejections(
 // residuals are on average beyond what a single pixel may reach (a start too far off leaves the
 // solve in a minimum that explains few tracks, and re-testing against it would reject the rest).
 std::string retest_problem(const BatchResult& batch, std::size_t num_frames, double threshold) {
-  if (batch.cam_from_world.size() < num_frames) return "the batch failed";
+  if (batch.world_from_cam.size() < num_frames) return "the batch failed";
   if (!std::isfinite(batch.final_rms_px))
     return "the batch's solve ended without a usable solution";
   if (batch.final_rms_px > threshold) {
@@ -133,6 +147,7 @@ std::string retest_problem(const BatchResult& batch, std::size_t num_frames, dou
 
 void adjust_on_inliers(const camera::CatadioptricCamera& camera,
                        const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
+                       const std::vector<Eigen::Isometry3d>& online_cam_from_world,
                        ExtraTerms* extra, SfmResult* result) {
   std::set<int> rejected;
   for (const auto& r : result->outliers) rejected.insert(r.track);
@@ -149,14 +164,15 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   // camera's prior is weighed at the noise the batch measures).
   BatchSettings batch = settings.batch;
   batch.pixel_sigma = settings.filter.pixel_sigma;
-  result->batch =
-      batch_adjust(camera, inliers, result->online_cam_from_world, result->online_points, batch,
-                   extra);
+  result->batch = batch_adjust_with_terms(camera, inliers, online_cam_from_world,
+                                          result->online_points, batch, extra);
   const double threshold = settings.batch_residual_limit_px();
   if (threshold <= 0) return;
-  result->retest_skipped = retest_problem(result->batch, result->online_cam_from_world.size(),
-                                          threshold);
+  result->retest_skipped =
+      retest_problem(result->batch, online_cam_from_world.size(), threshold);
   if (!result->retest_skipped.empty()) return;
+  const std::vector<Eigen::Isometry3d> batch_cam_from_world =
+      cam_from_world_of(result->batch.cam_from_world_parameters);
 
   // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail,
   // with the camera as the batch left it.
@@ -169,13 +185,13 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
     Eigen::Vector2d pixel;
     const bool fits =
         point != result->batch.points.end() &&
-        optimised.project(result->batch.cam_from_world[o.frame] * point->second, &pixel) &&
+        optimised.project(batch_cam_from_world[o.frame] * point->second, &pixel) &&
         (pixel - o.pixel).norm() <= threshold;
     if (!fits && !failing.count(o.track)) failing[o.track] = o.frame;
   }
   // And the filter's rejections that it does explain, taken back.
   const std::map<int, Eigen::Vector3d> explained =
-      explained_rejections(optimised, tracks, rejected, result->batch, threshold);
+      explained_rejections(optimised, tracks, rejected, batch_cam_from_world, threshold);
   if (failing.empty() && explained.empty()) return;
   std::vector<RejectedTrack> outliers;
   for (const auto& r : result->outliers)
@@ -190,7 +206,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   std::map<int, Eigen::Vector3d> start_points = result->batch.points;
   for (const auto& [track, point] : explained) start_points[track] = point;
   result->batch =
-      batch_adjust(camera, kept, result->batch.cam_from_world, start_points, batch, extra);
+      batch_adjust_with_terms(camera, kept, batch_cam_from_world, start_points, batch, extra);
 }
 
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings) {
@@ -217,9 +233,11 @@ SfmResult run_sfm(const camera::CatadioptricCamera& camera,
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
   result.num_frames = static_cast<int>(by_frame.size());
 
-  run_filter(camera, by_frame, settings.filter, nullptr, progress, &result);
+  const std::vector<Eigen::Isometry3d> online_cam_from_world =
+      run_filter(camera, by_frame, settings.filter, nullptr, progress, &result);
   refuse_degenerate_motion(result);
-  if (settings.run_batch) adjust_on_inliers(camera, tracks, settings, nullptr, &result);
+  if (settings.run_batch)
+    adjust_on_inliers(camera, tracks, settings, online_cam_from_world, nullptr, &result);
   return result;
 }
 

@@ -11,12 +11,14 @@ namespace omnisfm::sfm {
 
 // The filter over every frame, into result's online estimate and outliers; predicted_motion, when
 // set, gives the motion into frame f (f >= 1) in place of the random walk, at the filter's
-// estimates of the sensors.
+// estimates of the sensors. Returns the filter's poses as its state held them, cam_from_world per
+// frame: the batch starts from these, not from result's world_from_cam turned back.
 using PredictedMotion = std::function<MotionPrediction(int frame, const SensorStates& states)>;
-void run_filter(const camera::CatadioptricCamera& camera,
-                const std::vector<std::vector<TrackPixel>>& by_frame, const FilterSettings& settings,
-                const PredictedMotion& predicted_motion,
-                const Progress& progress, SfmResult* result);
+std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& camera,
+                                          const std::vector<std::vector<TrackPixel>>& by_frame,
+                                          const FilterSettings& settings,
+                                          const PredictedMotion& predicted_motion,
+                                          const Progress& progress, SfmResult* result);
 
 // Throws std::invalid_argument, before any work, for settings that cannot be run: refine_camera
 // without the camera's prior to refine it under, consider_camera without the uncertainty to
@@ -26,10 +28,12 @@ void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings&
 // Throws std::runtime_error when the filter's camera barely translates against the scene's depth.
 void refuse_degenerate_motion(const SfmResult& result);
 
-// The batch started from the filter on its inliers, then the batch-level outlier rejection and
-// the batch again; fills result->batch and adds to result->outliers.
+// The batch started from the filter (online_cam_from_world, as run_filter returns it) on its
+// inliers, then the batch-level outlier rejection and the batch again; fills result->batch and
+// adds to result->outliers.
 void adjust_on_inliers(const camera::CatadioptricCamera& camera,
                        const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
+                       const std::vector<Eigen::Isometry3d>& online_cam_from_world,
                        ExtraTerms* extra, SfmResult* result);
 
 }  // namespace omnisfm::sfm

@@ -4,7 +4,7 @@ namespace omnisfm::sfm {
 
 std::vector<ObservationResidual> reprojection_residuals(
     const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
-    const std::vector<Eigen::Isometry3d>& cam_from_world,
+    const std::vector<Eigen::Isometry3d>& world_from_cam,
     const std::map<int, Eigen::Vector3d>& points, const std::set<int>& outlier_tracks,
     int* left_out) {
   std::vector<ObservationResidual> residuals;
@@ -14,8 +14,8 @@ std::vector<ObservationResidual> reprojection_residuals(
     const auto point = points.find(o.track);
     Eigen::Vector2d projected;
     if (point == points.end() || o.frame < 0 ||
-        o.frame >= static_cast<int>(cam_from_world.size()) ||
-        !camera.project(cam_from_world[o.frame] * point->second, &projected)) {
+        o.frame >= static_cast<int>(world_from_cam.size()) ||
+        !camera.project(world_from_cam[o.frame].inverse() * point->second, &projected)) {
       ++missing;
       continue;
     }

@@ -19,7 +19,6 @@
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/sim/trajectories.h"
 #include "filter_start.h"
-#include "world_from_cam.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -35,9 +34,9 @@ TEST(BatchAdjustment, LongDriveConvergesWithSparseCholesky) {
   };
   std::vector<Eigen::Isometry3d> start;
   for (size_t f = 0; f < drive.world_from_cam.size(); ++f) {
-    Eigen::Isometry3d cam_from_world = drive.world_from_cam[f].inverse();
-    if (f > 0) cam_from_world.translation() += 0.01 * normal3();
-    start.push_back(cam_from_world);
+    Eigen::Isometry3d world_from_cam = drive.world_from_cam[f];
+    if (f > 0) world_from_cam.translation() += 0.01 * normal3();
+    start.push_back(world_from_cam);
   }
   std::map<int, Eigen::Vector3d> start_points;
   for (size_t t = 0; t < drive.track_points.size(); ++t)
@@ -58,9 +57,9 @@ TEST(BatchAdjustment, LongDriveConvergesWithSparseCholesky) {
   // The path, after a similarity alignment, against the start's error (measured: 4.7 mm mean over
   // 18 m, 0.026 %, from 16.0 mm; what is left is drift along the drive).
   const eval::TrajectoryErrors errors =
-      eval::trajectory_errors(inverted(result.cam_from_world), drive.world_from_cam, true);
+      eval::trajectory_errors(result.world_from_cam, drive.world_from_cam, true);
   const eval::TrajectoryErrors start_errors =
-      eval::trajectory_errors(inverted(start), drive.world_from_cam, true);
+      eval::trajectory_errors(start, drive.world_from_cam, true);
   EXPECT_LT(errors.mean_translation_error_m, 0.5 * start_errors.mean_translation_error_m)
       << start_errors.mean_translation_error_m;
   EXPECT_LT(errors.translation_error_percent, 0.05);
@@ -78,12 +77,8 @@ BatchResult batch_from_filter(bool scale_start) {
   BatchSettings settings;
   settings.covariances = false;
   settings.scale_start = scale_start;
-  return batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world,
+  return batch_adjust(s.data.camera, s.inliers, s.online.online_world_from_cam,
                       s.online.online_points, settings);
-}
-
-double path_length(const std::vector<Eigen::Isometry3d>& cam_from_world) {
-  return sim::path_length(inverted(cam_from_world));
 }
 
 // With the scene's inverse scale a parameter of its own, the filter's scale (6.8x too large) is
@@ -99,16 +94,16 @@ TEST(BatchAdjustment, ScaleSolvedAsAParameterConvergesInFewSteps) {
   EXPECT_GE(plain.iterations, 6);
   // The same minimum: residual RMS within 1e-5 px, the path's length within 1 %.
   EXPECT_NEAR(scaled.final_rms_px, plain.final_rms_px, 1e-5);
-  const double length = path_length(scaled.cam_from_world);
-  EXPECT_NEAR(length, path_length(plain.cam_from_world), 0.01 * length);
-  EXPECT_LT(length, 0.5 * path_length(rover_filter_start().online.online_cam_from_world));
+  const double length = sim::path_length(scaled.world_from_cam);
+  EXPECT_NEAR(length, sim::path_length(plain.world_from_cam), 0.01 * length);
+  EXPECT_LT(length, 0.5 * sim::path_length(rover_filter_start().online.online_world_from_cam));
   // The first pose, the gauge, is unchanged.
-  EXPECT_LT((scaled.cam_from_world[0].matrix() -
-             rover_filter_start().online.online_cam_from_world[0].matrix())
+  EXPECT_LT((scaled.world_from_cam[0].matrix() -
+             rover_filter_start().online.online_world_from_cam[0].matrix())
                 .norm(),
             1e-12);
   const eval::TrajectoryErrors errors = eval::trajectory_errors(
-      inverted(scaled.cam_from_world), rover_filter_start().data.world_from_cam, true);
+      scaled.world_from_cam, rover_filter_start().data.world_from_cam, true);
   EXPECT_LT(errors.mean_rotation_error_deg, 0.025);
 }
 
@@ -119,7 +114,7 @@ TEST(BatchAdjustment, UnfinishedScaleSolveGoesOnInThePlainProblem) {
   BatchSettings settings;
   settings.covariances = false;
   settings.max_iterations = 1;
-  const BatchResult one = batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world,
+  const BatchResult one = batch_adjust(s.data.camera, s.inliers, s.online.online_world_from_cam,
                                        s.online.online_points, settings);
   // One step in each problem (Ceres counts the start as an iteration too).
   EXPECT_EQ(one.iterations, 4);
@@ -128,8 +123,8 @@ TEST(BatchAdjustment, UnfinishedScaleSolveGoesOnInThePlainProblem) {
   // Its one step already took the scale: from a path 6.8x too long (23.5 m) to within 3 % of the
   // converged one's (measured 1.5 %; two steps of the plain problem leave it at 23.0 m).
   const BatchResult converged = batch_from_filter(true);
-  EXPECT_NEAR(path_length(one.cam_from_world), path_length(converged.cam_from_world),
-              0.03 * path_length(converged.cam_from_world));
+  EXPECT_NEAR(sim::path_length(one.world_from_cam), sim::path_length(converged.world_from_cam),
+              0.03 * sim::path_length(converged.world_from_cam));
 }
 
 // Observations that cannot be projected from the start are left out rather than failing the
@@ -143,7 +138,7 @@ TEST(BatchAdjustment, LeavesOutWhatCannotBeProjectedFromTheStart) {
   BatchSettings settings;
   settings.covariances = false;
   const BatchResult result =
-      batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world, points, settings);
+      batch_adjust(s.data.camera, s.inliers, s.online.online_world_from_cam, points, settings);
   ASSERT_TRUE(result.converged) << result.message;
   EXPECT_EQ(result.points.count(broken), 0u);
   EXPECT_EQ(result.points.size(), points.size() - 1);
@@ -160,7 +155,7 @@ TEST(BatchAdjustment, NothingProjectableIsAnErrorNotAnAbort) {
   BatchSettings settings;
   settings.covariances = false;
   const BatchResult result =
-      batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world, points, settings);
+      batch_adjust(s.data.camera, s.inliers, s.online.online_world_from_cam, points, settings);
   EXPECT_FALSE(result.converged);
   EXPECT_NE(result.message.find("no observation can be projected"), std::string::npos)
       << result.message;
@@ -175,7 +170,7 @@ TEST(BatchAdjustment, StepsPastTheRimAreTaken) {
   ASSERT_TRUE(result.converged) << result.message;
   EXPECT_LE(result.iterations, 12);
   const eval::TrajectoryErrors errors =
-      eval::trajectory_errors(inverted(result.cam_from_world), s.data.world_from_cam, true);
+      eval::trajectory_errors(result.world_from_cam, s.data.world_from_cam, true);
   EXPECT_LT(errors.mean_rotation_error_deg, 0.025);
 
   // Judged with the camera the batch optimised with, every inlier fits; the exact patch cannot
@@ -183,7 +178,8 @@ TEST(BatchAdjustment, StepsPastTheRimAreTaken) {
   const camera::CatadioptricCamera optimised = batch_camera(s.data.camera);
   int fit = 0, past_rim = 0;
   for (const auto& o : s.inliers) {
-    const Eigen::Vector3d X = result.cam_from_world[o.frame] * result.points.at(o.track);
+    const Eigen::Vector3d X =
+        core::isometry_of(result.cam_from_world_parameters[o.frame]) * result.points.at(o.track);
     Eigen::Vector2d pixel;
     if (optimised.project(X, &pixel) && (pixel - o.pixel).norm() < 1.0) ++fit;
     if (!s.data.camera.project(X, &pixel)) ++past_rim;

@@ -14,15 +14,16 @@ struct Rover {
   sim::Dataset data;
   SfmSettings settings;
   SfmResult filtered;  // the filter's estimate, no batch yet
+  std::vector<Eigen::Isometry3d> online_cam_from_world;
 };
 
 Rover rover_filtered() {
   sim::SimulationOptions options;
   options.scenario = "rover";
   options.seed = 1;
-  Rover r{sim::simulate(options), SfmSettings(), SfmResult()};
-  r.settings.run_batch = false;
-  r.filtered = run_sfm(r.data.camera, r.data.observations, r.settings);
+  Rover r{sim::simulate(options), SfmSettings(), SfmResult(), {}};
+  r.online_cam_from_world = run_filter(r.data.camera, observations_by_frame(r.data.observations),
+                                       r.settings.filter, nullptr, {}, &r.filtered);
   return r;
 }
 
@@ -32,10 +33,11 @@ TEST(BatchRetest, ASolutionThatDoesNotFitTheTracksRejectsNone) {
   settings.batch.max_iterations = 1;  // stopped far from a fit
   SfmResult result = r.filtered;
   // Every point three times as far from the first camera as the filter has it.
-  const Eigen::Vector3d first = result.online_cam_from_world[0].inverse().translation();
+  const Eigen::Vector3d first = result.online_world_from_cam[0].translation();
   for (auto& [track, point] : result.online_points) point = first + 3 * (point - first);
   const std::size_t filter_outliers = result.outliers.size();
-  adjust_on_inliers(r.data.camera, r.data.observations, settings, nullptr, &result);
+  adjust_on_inliers(r.data.camera, r.data.observations, settings, r.online_cam_from_world, nullptr,
+                    &result);
 
   EXPECT_GT(result.batch.final_rms_px, settings.batch_residual_limit_px());
   EXPECT_EQ(result.outliers.size(), filter_outliers);
@@ -46,7 +48,8 @@ TEST(BatchRetest, ASolutionThatDoesNotFitTheTracksRejectsNone) {
 TEST(BatchRetest, ASolutionThatFitsRetestsAsBefore) {
   const Rover r = rover_filtered();
   SfmResult result = r.filtered;
-  adjust_on_inliers(r.data.camera, r.data.observations, r.settings, nullptr, &result);
+  adjust_on_inliers(r.data.camera, r.data.observations, r.settings, r.online_cam_from_world,
+                    nullptr, &result);
   EXPECT_LT(result.batch.final_rms_px, 0.3);
   EXPECT_TRUE(result.retest_skipped.empty()) << result.retest_skipped;
 }

@@ -12,7 +12,6 @@
 #include "omnisfm/sim/trajectories.h"
 #include "filter_start.h"
 #include "scale_runs.h"
-#include "world_from_cam.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -40,7 +39,7 @@ TEST(BatchScale, LabHoldsTheScaleItsImagesCannotFix) {
   const SfmResult ran_away = run_sfm(d.camera, d.observations, free);
   ASSERT_EQ(ran_away.batch.scale_source, BatchScale::kFromImages);
   // Measured: 108x, reported as +- 17,600 %.
-  EXPECT_GT(length_per_true_length(ran_away.batch.cam_from_world, d), 50);
+  EXPECT_GT(length_per_true_length(ran_away.batch.world_from_cam, d), 50);
   EXPECT_GT(ran_away.batch.scale_sigma_relative, 50);
 
   const SfmResult r = run_sfm(d.camera, d.observations, settings);
@@ -48,20 +47,20 @@ TEST(BatchScale, LabHoldsTheScaleItsImagesCannotFix) {
   EXPECT_EQ(r.batch.scale_source, BatchScale::kHeldAtStart);
   EXPECT_GT(r.batch.scale_sigma_relative, 50);
   // At the filter's (1.19 measured for both) to 0.5 %.
-  const double filter = length_per_true_length(r.online_cam_from_world, d);
+  const double filter = length_per_true_length(r.online_world_from_cam, d);
   const auto errors =
-      eval::trajectory_errors(inverted(r.batch.cam_from_world), d.world_from_cam, true);
+      eval::trajectory_errors(r.batch.world_from_cam, d.world_from_cam, true);
   const auto free_errors =
-      eval::trajectory_errors(inverted(ran_away.batch.cam_from_world), d.world_from_cam, true);
+      eval::trajectory_errors(ran_away.batch.world_from_cam, d.world_from_cam, true);
   std::printf("lab seed 1: free %.1fx (+- %.0f %%), held %.4fx (filter %.4fx, +- %.0f %%); "
               "translation %.4f %% against %.4f %%, rotation spread %.4f against %.4f deg\n",
-              length_per_true_length(ran_away.batch.cam_from_world, d),
+              length_per_true_length(ran_away.batch.world_from_cam, d),
               100 * ran_away.batch.scale_sigma_relative,
-              length_per_true_length(r.batch.cam_from_world, d), filter,
+              length_per_true_length(r.batch.world_from_cam, d), filter,
               100 * r.batch.scale_sigma_relative, errors.translation_error_percent,
               free_errors.translation_error_percent, errors.rotation_spread_deg,
               free_errors.rotation_spread_deg);
-  EXPECT_NEAR(length_per_true_length(r.batch.cam_from_world, d) / filter, 1, 0.005);
+  EXPECT_NEAR(length_per_true_length(r.batch.world_from_cam, d) / filter, 1, 0.005);
   // The shape is as good as the free batch's (measured 0.028 % both).
   EXPECT_LT(errors.translation_error_percent, 0.05);
   EXPECT_LT(errors.rotation_spread_deg, 0.05);
@@ -94,15 +93,15 @@ TEST(BatchScale, KnownDistanceHoldsTheScaleThere) {
     EXPECT_TRUE(std::isfinite(r.batch.scale_sigma_relative)) << scenario;
     std::printf("%s: known distance held to %.4f %%, scale %.4f %% off, images +- %.1f %%\n",
                 scenario,
-                100 * (first_to_last(inverted(r.batch.cam_from_world)) /
+                100 * (first_to_last(r.batch.world_from_cam) /
                            settings.batch.known_distance_m - 1),
-                100 * (length_per_true_length(r.batch.cam_from_world, d) - 1),
+                100 * (length_per_true_length(r.batch.world_from_cam, d) - 1),
                 100 * r.batch.scale_sigma_relative);
     // Measured: the distance within 0.007 %, the scale within 0.04 % (lab) and 0.03 % (rover).
-    EXPECT_NEAR(first_to_last(inverted(r.batch.cam_from_world)) / settings.batch.known_distance_m,
+    EXPECT_NEAR(first_to_last(r.batch.world_from_cam) / settings.batch.known_distance_m,
                 1, 0.002)
         << scenario;
-    EXPECT_NEAR(length_per_true_length(r.batch.cam_from_world, d), 1, 0.002) << scenario;
+    EXPECT_NEAR(length_per_true_length(r.batch.world_from_cam, d), 1, 0.002) << scenario;
   }
 }
 
@@ -117,20 +116,20 @@ TEST(BatchScale, UnusableKnownDistanceFailsTheBatch) {
   for (double bad : {-1.0, std::numeric_limits<double>::infinity(),
                      std::numeric_limits<double>::quiet_NaN()}) {
     settings.known_distance_m = bad;
-    const BatchResult r = batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world,
+    const BatchResult r = batch_adjust(s.data.camera, s.inliers, s.online.online_world_from_cam,
                                        s.online.online_points, settings);
     EXPECT_FALSE(r.converged);
-    EXPECT_TRUE(r.cam_from_world.empty());
+    EXPECT_TRUE(r.world_from_cam.empty());
     EXPECT_NE(r.message.find("must be a finite number of metres above 0"), std::string::npos)
         << r.message;
   }
   // The last camera moved back onto the first: a loop closed.
-  std::vector<Eigen::Isometry3d> loop = s.online.online_cam_from_world;
+  std::vector<Eigen::Isometry3d> loop = s.online.online_world_from_cam;
   loop.back() = loop.front();
   settings.known_distance_m = 3;
   const BatchResult r =
       batch_adjust(s.data.camera, s.inliers, loop, s.online.online_points, settings);
-  EXPECT_TRUE(r.cam_from_world.empty());
+  EXPECT_TRUE(r.world_from_cam.empty());
   EXPECT_NE(r.message.find("too close"), std::string::npos) << r.message;
 }
 
@@ -140,7 +139,7 @@ TEST(BatchScale, ShortSequenceIsHeld) {
   const FilterStart s = rover_start(15);
   BatchSettings settings;
   settings.covariances = false;
-  const BatchResult r = batch_adjust(s.data.camera, s.inliers, s.online.online_cam_from_world,
+  const BatchResult r = batch_adjust(s.data.camera, s.inliers, s.online.online_world_from_cam,
                                      s.online.online_points, settings);
   ASSERT_TRUE(r.converged) << r.message;
   std::printf("rover, 15 frames (%.3f m): +- %.0f %%\n",
@@ -153,9 +152,9 @@ TEST(BatchScale, ShortSequenceIsHeld) {
 TEST(BatchScale, NoTranslationHasNoScale) {
   const FilterStart s = rover_start(150);
   // The filter's first camera is the world's origin; every camera is put there.
-  ASSERT_LT(s.online.online_cam_from_world.front().translation().norm(), 1e-12);
+  ASSERT_LT(s.online.online_world_from_cam.front().translation().norm(), 1e-12);
   std::vector<Eigen::Isometry3d> standing;
-  for (const auto& T : s.online.online_cam_from_world) {
+  for (const auto& T : s.online.online_world_from_cam) {
     Eigen::Isometry3d still = T;
     still.translation().setZero();
     standing.push_back(still);

@@ -14,7 +14,6 @@
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
-#include "world_from_cam.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -51,7 +50,7 @@ TEST(CameraRefinementSweep, RefinedCamerasNearTheTruthWithHonestCovariances) {
                             2));
     const SfmResult exact = run_sfm(d.camera, d.observations, SfmSettings());
     const auto error = [&](const SfmResult& r) {
-      return eval::trajectory_errors(inverted(r.batch.cam_from_world), d.world_from_cam, true)
+      return eval::trajectory_errors(r.batch.world_from_cam, d.world_from_cam, true)
           .translation_error_percent;
     };
     ratios.push_back(error(refined) / error(exact));

@@ -12,7 +12,6 @@
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
-#include "world_from_cam.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -32,7 +31,7 @@ SfmResult solved(const camera::CatadioptricCamera& camera, const sim::Dataset& d
 }
 
 eval::TrajectoryErrors errors(const SfmResult& r, const sim::Dataset& d) {
-  return eval::trajectory_errors(inverted(r.batch.cam_from_world), d.world_from_cam, true);
+  return eval::trajectory_errors(r.batch.world_from_cam, d.world_from_cam, true);
 }
 
 // Rover seed 1, the calibration 1.69 sigmas off: refined it ends 0.52 sigmas from the truth,
@@ -126,11 +125,11 @@ TEST(CameraRefinement, AnUnusablePriorIsRefused) {
   std::map<int, Eigen::Vector3d> points;
   for (size_t track = 0; track < d.track_points.size(); ++track)
     points[static_cast<int>(track)] = d.track_points[track];
-  const BatchResult batch = batch_adjust(d.camera, d.observations, inverted(d.world_from_cam),
-                                         points, settings);
+  const BatchResult batch =
+      batch_adjust(d.camera, d.observations, d.world_from_cam, points, settings);
   EXPECT_FALSE(batch.converged);
   EXPECT_EQ(batch.message.rfind("camera_prior: ", 0), 0u) << batch.message;
-  EXPECT_TRUE(batch.cam_from_world.empty());
+  EXPECT_TRUE(batch.world_from_cam.empty());
   // And refine_camera without a prior at all.
   SfmSettings refine;
   refine.refine_camera = true;
@@ -159,10 +158,10 @@ TEST(CameraRefinement, WhereTheScaleIsHeldTheCameraStaysAsCalibrated) {
   EXPECT_EQ(refined.batch.camera_covariance.size(), 0);
   // The batch's result is the one without the prior.
   const SfmResult held = solved(calibrated, d, {});
-  ASSERT_EQ(held.batch.cam_from_world.size(), refined.batch.cam_from_world.size());
-  for (size_t f = 0; f < held.batch.cam_from_world.size(); ++f)
-    EXPECT_LT((held.batch.cam_from_world[f].translation() -
-               refined.batch.cam_from_world[f].translation())
+  ASSERT_EQ(held.batch.world_from_cam.size(), refined.batch.world_from_cam.size());
+  for (size_t f = 0; f < held.batch.world_from_cam.size(); ++f)
+    EXPECT_LT((held.batch.world_from_cam[f].translation() -
+               refined.batch.world_from_cam[f].translation())
                   .norm(),
               1e-6)
         << f;

@@ -9,7 +9,6 @@
 #include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/scenario.h"
-#include "world_from_cam.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -65,8 +64,10 @@ TEST(FusedAccuracy, RoverWithOdometryAndGyroTakesTheWheelsScale) {
                                       sensors, fast_settings());
     ASSERT_TRUE(r.batch.converged) << r.batch.message;
     EXPECT_FALSE(r.world_is_enu);
-    const auto rigid = eval::trajectory_errors(inverted(r.batch.cam_from_world), s.dataset.world_from_cam, false);
-    const auto similarity = eval::trajectory_errors(inverted(r.batch.cam_from_world), s.dataset.world_from_cam, true);
+    const auto rigid =
+        eval::trajectory_errors(r.batch.world_from_cam, s.dataset.world_from_cam, false);
+    const auto similarity =
+        eval::trajectory_errors(r.batch.world_from_cam, s.dataset.world_from_cam, true);
     std::printf("rover fused, wheel %+.1f %%: scale error %+.3f %%, rigid %.3f %%, yaw %.4f deg\n",
                 100 * wheel_error, 100 * signed_scale_error(similarity),
                 rigid.translation_error_percent, rigid.mean_yaw_error_deg);
@@ -121,8 +122,9 @@ TEST(FusedAccuracy, FilterEstimatesTheGyroBias) {
     const Eigen::Matrix3d last = drive.world_from_cam.front().linear().transpose() *
                                  drive.world_from_cam.back().linear();
     const double angle =
-        Eigen::AngleAxisd(last.transpose() * r.online_cam_from_world.back().inverse().linear()).angle();
-    const auto rigid = eval::trajectory_errors(inverted(r.online_cam_from_world), drive.world_from_cam, false);
+        Eigen::AngleAxisd(last.transpose() * r.online_world_from_cam.back().linear()).angle();
+    const auto rigid =
+        eval::trajectory_errors(r.online_world_from_cam, drive.world_from_cam, false);
     std::printf("drive, bias %s: orientation error %.3f deg, rigid %.3f %%\n",
                 estimated ? "estimated" : "folded", angle * 180 / M_PI,
                 rigid.translation_error_percent);
@@ -179,8 +181,8 @@ TEST(FusedAccuracy, RoverWithGpsThenCalibratedOdometry) {
   double mean_error = 0, online_error = 0;
   for (size_t f = 0; f < s.dataset.world_from_cam.size(); ++f) {
     const Eigen::Vector3d truth = (s.gps.enu_from_world * s.dataset.world_from_cam[f]).translation();
-    mean_error += (r.batch.cam_from_world[f].inverse().translation() - truth).norm();
-    online_error += (r.online_cam_from_world[f].inverse().translation() - truth).norm();
+    mean_error += (r.batch.world_from_cam[f].translation() - truth).norm();
+    online_error += (r.online_world_from_cam[f].translation() - truth).norm();
   }
   mean_error /= s.dataset.world_from_cam.size();
   online_error /= s.dataset.world_from_cam.size();
@@ -199,8 +201,10 @@ TEST(FusedAccuracy, RoverWithGpsThenCalibratedOdometry) {
   const SfmResult c = run_fused_sfm(later.dataset.camera, later.dataset.observations,
                                     later.dataset.timestamps, calibrated, fast_settings());
   ASSERT_TRUE(c.batch.converged) << c.batch.message;
-  const auto rigid = eval::trajectory_errors(inverted(c.batch.cam_from_world), later.dataset.world_from_cam, false);
-  const auto similarity = eval::trajectory_errors(inverted(c.batch.cam_from_world), later.dataset.world_from_cam, true);
+  const auto rigid =
+      eval::trajectory_errors(c.batch.world_from_cam, later.dataset.world_from_cam, false);
+  const auto similarity =
+      eval::trajectory_errors(c.batch.world_from_cam, later.dataset.world_from_cam, true);
   std::printf("rover, calibrated odometry: scale error %.3f %%, rigid %.3f %%\n",
               100 * scale_error(similarity), rigid.translation_error_percent);
   EXPECT_LT(scale_error(similarity), 0.01);
@@ -219,7 +223,8 @@ TEST(FusedAccuracy, CraneWithGyroOnly) {
   const SfmResult r =
       run_fused_sfm(s.dataset.camera, s.dataset.observations, s.dataset.timestamps, sensors, fast_settings());
   ASSERT_TRUE(r.batch.converged) << r.batch.message;
-  const auto similarity = eval::trajectory_errors(inverted(r.batch.cam_from_world), s.dataset.world_from_cam, true);
+  const auto similarity =
+      eval::trajectory_errors(r.batch.world_from_cam, s.dataset.world_from_cam, true);
   std::printf("crane with gyro: %.3f %%, %.3f deg\n", similarity.translation_error_percent,
               similarity.mean_rotation_error_deg);
   EXPECT_LT(similarity.translation_error_percent, 0.79);
@@ -228,7 +233,7 @@ TEST(FusedAccuracy, CraneWithGyroOnly) {
   EXPECT_EQ(r.batch.scale_source, BatchScale::kHeldAtStart);
   EXPECT_GT(r.batch.scale_sigma_relative, kMaxFreeScaleSigma);
   const auto online =
-      eval::trajectory_errors(inverted(r.online_cam_from_world), s.dataset.world_from_cam, true);
+      eval::trajectory_errors(r.online_world_from_cam, s.dataset.world_from_cam, true);
   std::printf("crane with gyro: scale +- %.0f %%, held at %.4f (filter %.4f)\n",
               100 * r.batch.scale_sigma_relative, 1 / similarity.alignment.scale,
               1 / online.alignment.scale);
@@ -244,9 +249,9 @@ TEST(FusedPipeline, WithoutSensorsIsTheVisionPipeline) {
   settings.run_batch = false;
   const SfmResult fused = run_fused_sfm(d.camera, d.observations, d.timestamps, MotionSensors(), settings);
   const SfmResult vision = run_sfm(d.camera, d.observations, settings);
-  ASSERT_EQ(fused.online_cam_from_world.size(), vision.online_cam_from_world.size());
-  for (size_t f = 0; f < fused.online_cam_from_world.size(); ++f)
-    EXPECT_EQ(fused.online_cam_from_world[f].matrix(), vision.online_cam_from_world[f].matrix());
+  ASSERT_EQ(fused.online_world_from_cam.size(), vision.online_world_from_cam.size());
+  for (size_t f = 0; f < fused.online_world_from_cam.size(); ++f)
+    EXPECT_EQ(fused.online_world_from_cam[f].matrix(), vision.online_world_from_cam[f].matrix());
   EXPECT_EQ(fused.outliers.size(), vision.outliers.size());
   EXPECT_FALSE(fused.world_is_enu);
 }

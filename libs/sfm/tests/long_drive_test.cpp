@@ -14,7 +14,6 @@
 #include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/sim/dead_reckoning.h"
 #include "omnisfm/sim/endless_drive.h"
-#include "world_from_cam.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -31,7 +30,7 @@ TEST(LongDrive, OdometryAndGyroHoldOnePercentOverSixHundredMetres) {
     const SfmResult r =
         run_fused_sfm(drive.camera, drive.observations, drive.timestamps, sensors, online);
     const auto rigid =
-        eval::trajectory_errors(inverted(r.online_cam_from_world), drive.world_from_cam, false);
+        eval::trajectory_errors(r.online_world_from_cam, drive.world_from_cam, false);
     std::printf("drive seed %d: %.0f m, rigid %.2f %% of the distance, rotation %.2f deg\n",
                 static_cast<int>(seed), rigid.distance_travelled_m,
                 rigid.translation_error_percent, rigid.mean_rotation_error_deg);

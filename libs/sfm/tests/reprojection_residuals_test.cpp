@@ -13,13 +13,13 @@ namespace omnisfm::sfm {
 namespace {
 
 struct Truth {
-  std::vector<Eigen::Isometry3d> cam_from_world;
+  std::vector<Eigen::Isometry3d> world_from_cam;
   std::map<int, Eigen::Vector3d> points;
 };
 
 Truth truth_of(const sim::Dataset& d) {
   Truth t;
-  for (const auto& T : d.world_from_cam) t.cam_from_world.push_back(T.inverse());
+  t.world_from_cam = d.world_from_cam;
   for (size_t k = 0; k < d.track_points.size(); ++k) t.points[static_cast<int>(k)] = d.track_points[k];
   return t;
 }
@@ -41,7 +41,7 @@ TEST(ReprojectionResiduals, AreZeroForNoiseFreeInliersUnderTheTruth) {
   const sim::Dataset d = rover(0.0);
   const Truth t = truth_of(d);
   int left_out = -1;
-  const auto residuals = reprojection_residuals(d.camera, d.observations, t.cam_from_world,
+  const auto residuals = reprojection_residuals(d.camera, d.observations, t.world_from_cam,
                                                 t.points, outlier_tracks(d), &left_out);
   EXPECT_EQ(left_out, 0);
   ASSERT_EQ(residuals.size(), d.observations.size());
@@ -62,7 +62,7 @@ TEST(ReprojectionResiduals, HaveTheNoiseSpreadUnderTheTruth) {
   const sim::Dataset d = rover(0.5);
   const Truth t = truth_of(d);
   const auto residuals =
-      reprojection_residuals(d.camera, d.observations, t.cam_from_world, t.points, outlier_tracks(d));
+      reprojection_residuals(d.camera, d.observations, t.world_from_cam, t.points, outlier_tracks(d));
   double sum_sq = 0;
   int n = 0;
   for (const auto& r : residuals) {
@@ -78,13 +78,13 @@ TEST(ReprojectionResiduals, LeaveOutWhatHasNoEstimate) {
   const sim::Dataset d = rover(0.0);
   Truth t = truth_of(d);
   t.points.erase(0);
-  t.cam_from_world.pop_back();
+  t.world_from_cam.pop_back();
   int expected = 0;
   const int last = static_cast<int>(d.world_from_cam.size()) - 1;
   for (const auto& o : d.observations) expected += (o.track == 0 || o.frame == last);
   int left_out = -1;
   const auto residuals =
-      reprojection_residuals(d.camera, d.observations, t.cam_from_world, t.points, {}, &left_out);
+      reprojection_residuals(d.camera, d.observations, t.world_from_cam, t.points, {}, &left_out);
   EXPECT_EQ(left_out, expected);
   EXPECT_EQ(residuals.size() + expected, d.observations.size());
 }

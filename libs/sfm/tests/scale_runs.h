@@ -13,7 +13,6 @@
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
-#include "world_from_cam.h"
 
 namespace omnisfm::sfm {
 
@@ -30,10 +29,9 @@ struct ScaleRun {
   std::string name() const { return scenario + " seed " + std::to_string(seed); }
 };
 
-inline double length_per_true_length(const std::vector<Eigen::Isometry3d>& cam_from_world,
+inline double length_per_true_length(const std::vector<Eigen::Isometry3d>& world_from_cam,
                                      const sim::Dataset& d) {
-  return 1 / eval::trajectory_errors(inverted(cam_from_world), d.world_from_cam, true)
-                 .alignment.scale;
+  return 1 / eval::trajectory_errors(world_from_cam, d.world_from_cam, true).alignment.scale;
 }
 
 inline ScaleRun scale_run(const std::string& scenario, std::uint64_t seed) {
@@ -50,8 +48,8 @@ inline ScaleRun scale_run(const std::string& scenario, std::uint64_t seed) {
   run.seed = seed;
   run.source = r.batch.scale_source;
   run.sigma = r.batch.scale_sigma_relative;
-  run.scale = length_per_true_length(r.batch.cam_from_world, d);
-  run.filter_scale = length_per_true_length(r.online_cam_from_world, d);
+  run.scale = length_per_true_length(r.batch.world_from_cam, d);
+  run.filter_scale = length_per_true_length(r.online_world_from_cam, d);
   return run;
 }
 

@@ -8,7 +8,6 @@
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
-#include "world_from_cam.h"
 #include "omnisfm/sim/track_simulator.h"
 
 namespace omnisfm::sfm {
@@ -30,8 +29,8 @@ PipelineRun run(const std::string& scenario, std::uint64_t seed) {
   SfmSettings settings;
   PipelineRun r;
   r.result = run_sfm(d.camera, tracks, settings);
-  r.online = eval::trajectory_errors(inverted(r.result.online_cam_from_world), d.world_from_cam, true);
-  r.batch = eval::trajectory_errors(inverted(r.result.batch.cam_from_world), d.world_from_cam, true);
+  r.online = eval::trajectory_errors(r.result.online_world_from_cam, d.world_from_cam, true);
+  r.batch = eval::trajectory_errors(r.result.batch.world_from_cam, d.world_from_cam, true);
   std::set<int> detected, actual;
   for (const auto& o : r.result.outliers) detected.insert(o.track);
   for (const auto& o : d.outliers) actual.insert(o.track);
@@ -39,7 +38,7 @@ PipelineRun run(const std::string& scenario, std::uint64_t seed) {
   std::map<int, Eigen::Vector3d> truth;
   for (size_t t = 0; t < d.track_points.size(); ++t)
     if (!actual.count(static_cast<int>(t))) truth[static_cast<int>(t)] = d.track_points[t];
-  r.points = eval::point_errors(r.result.batch.points, truth, inverted(r.result.batch.cam_from_world),
+  r.points = eval::point_errors(r.result.batch.points, truth, r.result.batch.world_from_cam,
                                 d.world_from_cam, r.batch.alignment);
   std::printf("%s: online %.3f%% %.2f deg; batch %.3f%% %.2f deg (yaw %.2f, spread %.2f), "
               "%.4f m; depth %.2f%%; outliers %d/%d/%d; batch rms %.3f px %d it %.2f s (solve %.2f s)\n",

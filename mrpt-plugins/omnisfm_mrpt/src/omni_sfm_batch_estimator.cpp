@@ -56,20 +56,20 @@ OmniSfmBatchResult OmniSfmBatchEstimator::estimate(ReplayInput in,
     throw io::InputError(source, 0, e.what());
   }
   const sfm::BatchResult& batch = out.estimate.batch;
-  if (batch.cam_from_world.empty())
+  if (batch.world_from_cam.empty())
     throw std::runtime_error("the batch adjustment failed: " + batch.message);
 
   out.map_is_enu = out.estimate.world_is_enu;
   const Eigen::Isometry3d& body_from_cam = in.sensors.body_from_cam;
   const Eigen::Isometry3d map_from_world =
       out.map_is_enu ? Eigen::Isometry3d::Identity()
-                     : Eigen::Isometry3d(body_from_cam * batch.cam_from_world.front());
-  const bool uncertain = batch.cam_from_world_covariances.size() == batch.cam_from_world.size() &&
-                         batch.cam_from_world_parameters.size() == batch.cam_from_world.size();
-  for (size_t f = 0; f < batch.cam_from_world.size(); ++f) {
+                     : Eigen::Isometry3d(body_from_cam * batch.world_from_cam.front().inverse());
+  const bool uncertain = batch.cam_from_world_covariances.size() == batch.world_from_cam.size() &&
+                         batch.cam_from_world_parameters.size() == batch.world_from_cam.size();
+  for (size_t f = 0; f < batch.world_from_cam.size(); ++f) {
     out.timestamps.push_back(mrpt::Clock::fromDouble(in.frame_times[f]));
     mrpt::poses::CPose3DPDFGaussian pdf;
-    pdf.mean = pose_of(map_from_world * batch.cam_from_world[f].inverse() * body_from_cam.inverse());
+    pdf.mean = pose_of(map_from_world * batch.world_from_cam[f] * body_from_cam.inverse());
     if (uncertain) {
       // The parameters are cam_from_world, as the covariance's coordinates.
       const auto robot_pose = [&](const core::PoseVector& parameters) {

@@ -35,7 +35,7 @@ Eigen::Isometry3d relative_pose(const Vector12& fg, const Eigen::Isometry3d& bod
 
 std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch,
                                              const Eigen::Isometry3d& body_from_cam) {
-  const size_t frames = batch.cam_from_world.size();
+  const size_t frames = batch.world_from_cam.size();
   if (frames > 0 && (batch.cam_from_world_covariances.size() != frames ||
                      batch.cam_from_world_parameters.size() != frames ||
                      batch.consecutive_cam_from_world_covariances.size() != frames - 1))
@@ -55,8 +55,7 @@ std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch,
     PoseGraphEdge edge;
     edge.from = static_cast<int>(f);
     edge.to = static_cast<int>(f + 1);
-    edge.relative = body_from_cam * batch.cam_from_world[f] * batch.cam_from_world[f + 1].inverse() *
-                    body_from_cam.inverse();
+    edge.relative = relative_pose(fg, body_from_cam);
     edge.covariance = J * joint * J.transpose();
     // A scale held at the filter's is the batch's assumption, not its knowledge: the batch's
     // covariance is conditional on it. Each edge then carries the scale's uncertainty as the
@@ -78,8 +77,8 @@ std::vector<PoseGraphEdge> consecutive_edges(const sfm::BatchResult& batch,
 
 void write_pose_graph(const std::string& path, const sfm::BatchResult& batch) {
   mrpt::graphs::CNetworkOfPoses3DInf graph;
-  for (size_t f = 0; f < batch.cam_from_world.size(); ++f)
-    graph.nodes[f] = pose_of(batch.cam_from_world[f].inverse());
+  for (size_t f = 0; f < batch.world_from_cam.size(); ++f)
+    graph.nodes[f] = pose_of(batch.world_from_cam[f]);
   for (const PoseGraphEdge& edge : consecutive_edges(batch)) {
     const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(edge.covariance);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||

@@ -37,9 +37,9 @@ Eigen::Matrix3d point_in_camera_covariance(const sfm::BatchResult& batch, int fr
                                            const Eigen::Vector3d& point,
                                            const Eigen::Matrix3d& point_covariance,
                                            bool pose_uncertain) {
-  const Eigen::Matrix3d R = batch.cam_from_world[static_cast<size_t>(frame)].linear();
-  if (!pose_uncertain) return R * point_covariance * R.transpose();
   const core::PoseVector& pose = batch.cam_from_world_parameters[static_cast<size_t>(frame)];
+  const Eigen::Matrix3d R = core::isometry_of(pose).linear();
+  if (!pose_uncertain) return R * point_covariance * R.transpose();
   Eigen::Matrix<double, 3, 9> J;  // d (cam_from_world * point) / d (point, pose parameters)
   J.leftCols<3>() = R;
   constexpr double kStep = 1e-6;
@@ -93,10 +93,11 @@ Eigen::Vector3d spherical_coordinates(const Eigen::Vector3d& p, Eigen::Matrix3d*
 std::vector<BearingRange> bearing_range_measurements(
     const camera::CatadioptricCamera& camera, const sfm::BatchResult& batch, int frame,
     const std::vector<core::TrackObservation>& frame_observations, double pixel_sigma) {
-  const Eigen::Isometry3d& cam_from_world = batch.cam_from_world.at(static_cast<size_t>(frame));
+  // In the batch's own coordinates, those of its covariances.
+  const Eigen::Isometry3d cam_from_world =
+      core::isometry_of(batch.cam_from_world_parameters.at(static_cast<size_t>(frame)));
   const bool pose_uncertain =
-      batch.cam_from_world_covariances.size() == batch.cam_from_world.size() &&
-      batch.cam_from_world_parameters.size() == batch.cam_from_world.size();
+      batch.cam_from_world_covariances.size() == batch.cam_from_world_parameters.size();
   std::vector<BearingRange> measurements;
   for (const core::TrackObservation& o : frame_observations) {
     const auto point = batch.points.find(o.track);
@@ -151,7 +152,7 @@ SlamRawlogSummary write_slam_rawlog(const std::string& path,
                                     const sfm::BatchResult& batch,
                                     const std::vector<double>& frame_times,
                                     const Eigen::Isometry3d& body_from_cam, double pixel_sigma) {
-  const size_t frames = batch.cam_from_world.size();
+  const size_t frames = batch.world_from_cam.size();
   if (frame_times.size() != frames)
     throw std::invalid_argument("write_slam_rawlog: " + std::to_string(frame_times.size()) +
                                 " frame times for " + std::to_string(frames) + " frames");

@@ -71,7 +71,7 @@ TEST(PoseGraphFile, MrptReadsTheBatchsPosesAndEdges) {
   const sim::Dataset d = rover(1);
   const sfm::SfmResult r = batch_of(d);
   ASSERT_TRUE(r.batch.converged);
-  const size_t frames = r.batch.cam_from_world.size();
+  const size_t frames = r.batch.world_from_cam.size();
   const std::vector<PoseGraphEdge> edges = consecutive_edges(r.batch);
   ASSERT_EQ(edges.size(), frames - 1);
   for (const char* extension : {".graph", ".graphbin"}) {
@@ -80,7 +80,7 @@ TEST(PoseGraphFile, MrptReadsTheBatchsPosesAndEdges) {
     ASSERT_EQ(graph.nodes.size(), frames);
     for (size_t f = 0; f < frames; ++f) {
       const Eigen::Isometry3d read = isometry_of(graph.nodes.at(f));
-      const Eigen::Isometry3d written = r.batch.cam_from_world[f].inverse();
+      const Eigen::Isometry3d& written = r.batch.world_from_cam[f];
       EXPECT_LT((read.matrix() - written.matrix()).cwiseAbs().maxCoeff(), 1e-12) << f;
     }
     ASSERT_EQ(graph.edges.size(), frames - 1);
@@ -117,7 +117,7 @@ TEST(PoseGraphFile, EdgeCovarianceIsThatOfSampledRelativePoses) {
   const Vector6 a = (Vector6() << 0.3, -2.9, 0.4, 1.0, -0.5, 2.0).finished();  // angle near pi
   const Vector6 b = (Vector6() << 0.35, -2.85, 0.42, 1.1, -0.45, 2.05).finished();
   batch.cam_from_world_parameters = {a, b};
-  batch.cam_from_world = {core::isometry_of(a), core::isometry_of(b)};
+  batch.world_from_cam = {core::isometry_of(a).inverse(), core::isometry_of(b).inverse()};
   Eigen::Matrix<double, 12, 12> L = Eigen::Matrix<double, 12, 12>::Zero();
   for (int r = 0; r < 12; ++r)
     for (int c = 0; c <= r; ++c) L(r, c) = (r == c ? 1.0 : 0.3 * normal(rng)) * 1e-3;
@@ -151,7 +151,7 @@ TEST(PoseGraphFile, EdgeCovarianceIsThatOfSampledRelativePoses) {
 
 TEST(PoseGraphFile, NoCovariancesNoGraph) {
   sfm::BatchResult batch;
-  batch.cam_from_world.resize(3, Eigen::Isometry3d::Identity());
+  batch.world_from_cam.resize(3, Eigen::Isometry3d::Identity());
   batch.cam_from_world_parameters.resize(3, Vector6::Zero());
   EXPECT_THROW(consecutive_edges(batch), std::invalid_argument);
 }

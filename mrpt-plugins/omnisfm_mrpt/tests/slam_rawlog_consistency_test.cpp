@@ -27,7 +27,7 @@ NeesTally measurements_against_truth(const std::string& scenario, std::uint64_t 
     settings.batch.point_cam_from_world_covariances = true;
     const sfm::SfmResult r = sfm::run_sfm(d.camera, d.observations, settings);
     EXPECT_TRUE(r.batch.converged) << scenario << " " << seed;
-    for (size_t f = 0; f < r.batch.cam_from_world.size(); ++f) {
+    for (size_t f = 0; f < r.batch.world_from_cam.size(); ++f) {
       std::vector<core::TrackObservation> frame;
       for (const auto& o : d.observations)
         if (o.frame == static_cast<int>(f)) frame.push_back(o);

@@ -17,6 +17,7 @@
 #include <random>
 
 #include "eigen_poses.h"
+#include "omnisfm/core/pose_vector.h"
 #include "omnisfm/mrpt_plugin/pose_graph_file.h"
 #include "omnisfm/mrpt_plugin/slam_rawlog.h"
 #include "omnisfm/sfm/pipeline.h"
@@ -77,8 +78,10 @@ TEST(BearingRange, AreThePointsOwnCoordinatesOnTheirRays) {
   std::map<int, Eigen::Vector3d> points = true_points(d);
   const std::vector<core::TrackObservation> observations = of_frame(d, frame);
   sfm::BatchResult batch;
-  batch.cam_from_world.assign(d.world_from_cam.size(), Eigen::Isometry3d::Identity());
-  batch.cam_from_world[frame] = cam_from_world;
+  batch.world_from_cam.assign(d.world_from_cam.size(), Eigen::Isometry3d::Identity());
+  batch.world_from_cam[frame] = d.world_from_cam[frame];
+  batch.cam_from_world_parameters.assign(d.world_from_cam.size(), core::PoseVector::Zero());
+  batch.cam_from_world_parameters[frame] = core::pose_vector_of(cam_from_world);
   batch.points = points;
   const std::vector<BearingRange> exact =
       bearing_range_measurements(d.camera, batch, frame, observations, 0.2);
@@ -156,7 +159,7 @@ TEST(SlamRawlog, IsReadByMrptAsActionsAndObservationPairs) {
   body_from_cam.translation() << 0.1, 0, 0.5;
   std::vector<double> times;
   for (double t : d.timestamps) times.push_back(1e9 + t);
-  times.resize(r.batch.cam_from_world.size());
+  times.resize(r.batch.world_from_cam.size());
   const std::string path = temporary_rawlog("slam");
   const SlamRawlogSummary summary =
       write_slam_rawlog(path, d.camera, d.observations, r.batch, times, body_from_cam, 0.2);
@@ -205,8 +208,8 @@ TEST(SlamRawlog, IsReadByMrptAsActionsAndObservationPairs) {
   EXPECT_EQ(measurements, summary.measurements);
   EXPECT_GT(measurements, 100 * static_cast<long>(pairs) / 2);
   // The increments compose into the robot's last pose relative to its first.
-  const Eigen::Isometry3d last = body_from_cam * r.batch.cam_from_world.front() *
-                                 r.batch.cam_from_world.back().inverse() * body_from_cam.inverse();
+  const Eigen::Isometry3d last = body_from_cam * r.batch.world_from_cam.front().inverse() *
+                                 r.batch.world_from_cam.back() * body_from_cam.inverse();
   EXPECT_LT((robot.matrix() - last.matrix()).norm(), 1e-6);
   std::filesystem::remove(path);
 

@@ -101,10 +101,11 @@ struct BatchResult {
   // with the camera refined with it, and this the one with the camera as calibrated, which
   // decided that the images fix the scale. NaN otherwise.
   double scale_sigma_relative_camera_held = NAN;
-  std::vector<Eigen::Isometry3d> cam_from_world;  // per frame
-  // The same as the batch's parameters, the coordinates of the covariances below: cam_from_world's
-  // rotation as an angle-axis vector (its angle may pass pi a little), then its translation
-  // (core::isometry_of turns one into its cam_from_world).
+  // Per frame: the camera's pose in the world, as trajectories leave the estimators.
+  std::vector<Eigen::Isometry3d> world_from_cam;
+  // The same poses as the batch's parameters hold them, the coordinates of the covariances
+  // below: cam_from_world's rotation as an angle-axis vector (its angle may pass pi a little),
+  // then its translation (core::isometry_of turns one into its cam_from_world).
   std::vector<core::PoseVector> cam_from_world_parameters;
   // Per track the problem held: a start point none of whose observations could be projected
   // (or whose track was left out) has none.
@@ -129,12 +130,12 @@ struct BatchResult {
   Eigen::MatrixXd camera_covariance;
 };
 
-// observations: every observation to use (outliers already removed); cam_from_world: a start for
-// every frame; points: a start for every track observed. A known_distance_m that is negative or
-// not finite fails the batch (converged false, no estimate, message saying why).
+// observations: every observation to use (outliers already removed); start_world_from_cam: a
+// start for every frame; points: a start for every track observed. A known_distance_m that is
+// negative or not finite fails the batch (converged false, no estimate, message saying why).
 BatchResult batch_adjust(const camera::CatadioptricCamera& camera,
                          const std::vector<core::TrackObservation>& observations,
-                         const std::vector<Eigen::Isometry3d>& cam_from_world,
+                         const std::vector<Eigen::Isometry3d>& start_world_from_cam,
                          const std::map<int, Eigen::Vector3d>& points,
                          const BatchSettings& settings);
 

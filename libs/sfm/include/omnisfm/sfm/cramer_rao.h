@@ -20,11 +20,11 @@ struct PositionBound {
   double rms_after_similarity_m = 0;
 };
 
-// observations: which track each frame sees (the pixels are not used); cam_from_world and points:
+// observations: which track each frame sees (the pixels are not used); world_from_cam and points:
 // the truth. Throws std::invalid_argument when the information matrix is singular.
 PositionBound camera_position_bound(
     const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
-    const std::vector<Eigen::Isometry3d>& cam_from_world,
+    const std::vector<Eigen::Isometry3d>& world_from_cam,
     const std::map<int, Eigen::Vector3d>& points, double pixel_sigma);
 
 }  // namespace omnisfm::sfm

@@ -41,7 +41,7 @@ struct GpsResiduals {
   int fixes = 0;
   double rms_m = 0;
 };
-GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& cam_from_world,
+GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& world_from_cam,
                           const std::vector<double>& frame_timestamps,
                           const MotionSensors& sensors);
 

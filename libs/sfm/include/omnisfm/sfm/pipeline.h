@@ -38,7 +38,7 @@ struct SfmSettings {
 
 struct SfmResult {
   int num_frames = 0;
-  std::vector<Eigen::Isometry3d> online_cam_from_world;  // the filter's estimate at each frame
+  std::vector<Eigen::Isometry3d> online_world_from_cam;  // the filter's estimate at each frame
   std::map<int, Eigen::Vector3d> online_points;
   // The filter's, less those the batch took back, then the batch's.
   std::vector<RejectedTrack> outliers;

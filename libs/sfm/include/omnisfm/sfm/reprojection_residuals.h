@@ -25,7 +25,7 @@ struct ObservationResidual {
 // left out and counted in *left_out when it is given.
 std::vector<ObservationResidual> reprojection_residuals(
     const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& observations,
-    const std::vector<Eigen::Isometry3d>& cam_from_world,
+    const std::vector<Eigen::Isometry3d>& world_from_cam,
     const std::map<int, Eigen::Vector3d>& points, const std::set<int>& outlier_tracks,
     int* left_out = nullptr);
 

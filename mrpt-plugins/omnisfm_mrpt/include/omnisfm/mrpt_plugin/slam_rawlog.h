@@ -44,7 +44,8 @@ Eigen::Vector3d spherical_coordinates(const Eigen::Vector3d& point,
                                       Eigen::Matrix3d* jacobian = nullptr);
 
 // The measurements of the observations of `frame` (`frame_observations`, all of that frame) whose
-// tracks the batch kept (batch.points): `pixel_sigma` is the pixels' noise per coordinate. The
+// tracks the batch kept (batch.points), seen from the frame's pose as the batch's parameters hold
+// it (batch.cam_from_world_parameters): `pixel_sigma` is the pixels' noise per coordinate. The
 // range's uncertainty is the point's as seen from the camera, from the batch's covariances of the
 // point, the frame's pose and, with BatchSettings::point_cam_from_world_covariances, the two
 // together (without it they are taken as independent, which overstates it where they share the
