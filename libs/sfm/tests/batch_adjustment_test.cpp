@@ -48,9 +48,9 @@ TEST(BatchAdjustment, LongDriveConvergesWithSparseCholesky) {
                                           settings);
   ASSERT_TRUE(result.converged) << result.message;
   EXPECT_EQ(result.linear_solver, "SPARSE_SCHUR");
-  // Measured: 4 iterations (a fixed relative tolerance and conjugate gradients took 11 at 500
-  // images and 100 at 1,000).
-  EXPECT_LE(result.iterations, 10);
+  // Measured: 10 iterations over the scale's solves (free, then held at the start's; a fixed
+  // relative tolerance and conjugate gradients took 11 at 500 images and 100 at 1,000 in one).
+  EXPECT_LE(result.iterations, 15);
   // Residuals at the noise (per coordinate, less what the 4,800 parameters absorb of 36,000).
   EXPECT_GT(result.final_rms_px, 0.85 * kNoisePx);
   EXPECT_LT(result.final_rms_px, 1.0 * kNoisePx);
