@@ -2,15 +2,36 @@
 // one run, a line per block): sim::long_drive with the simulated odometry and gyro, fed to
 // OnlineFilter as run_fused_sfm does. Per block of frames: the orientation's and position's errors
 // and published sigmas, the mean NEES and its rotation and translation parts (3 each when
-// honest), the wheels' scale; at the end the drive's error after a rigid alignment.
+// honest), the wheels' scale, and how far the direction of travel over 30-frame spans is from the
+// true one (in the camera's frame); at the end the drive's error after a rigid alignment and after
+// a similarity. SENSORS 0: the camera alone (the random walk; the NEES then ignores the scale).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
-//              [ESTIMATE_WHEEL_SCALE=1]
+//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1]
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
+
+namespace {
+
+constexpr int kSpan = 30;  // frames: a track's life on the drive
+
+// The angle between the estimated and the true direction of travel from frame f to f + kSpan,
+// each in its own camera's frame at f (world_from_cam poses).
+double travel_direction_error_deg(const std::vector<Eigen::Isometry3d>& estimate,
+                                  const std::vector<Eigen::Isometry3d>& truth, int f) {
+  const auto travel = [f](const std::vector<Eigen::Isometry3d>& poses) {
+    return Eigen::Vector3d(poses[f].linear().transpose() *
+                           (poses[f + kSpan].translation() - poses[f].translation()))
+        .normalized();
+  };
+  return std::acos(std::clamp(travel(estimate).dot(travel(truth)), -1.0, 1.0)) * 180 / M_PI;
+}
+
+}  // namespace
 
 #include "omnisfm/eval/filter_consistency.h"
 #include "omnisfm/eval/simulated_sensors.h"
@@ -32,6 +53,7 @@ int main(int argc, char** argv) {
   if (argc > 4) options.odometry_scale_error = std::atof(argv[4]);
   sfm::FilterSettings settings;
   if (argc > 5) settings.estimate_wheel_scale = std::atoi(argv[5]) != 0;
+  const bool with_sensors = argc > 6 ? std::atoi(argv[6]) != 0 : true;
 
   const sim::Dataset drive = sim::long_drive(frames, 0.2, seed);
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
@@ -45,9 +67,10 @@ int main(int argc, char** argv) {
   double nees = 0, nees_rotation = 0, nees_translation = 0;
   int counted = 0;
   std::printf("# frame rotation_error_deg rotation_sigma_deg position_error_m position_sigma_m "
-              "nees nees_rotation nees_translation wheel_scale wheel_scale_sigma\n");
+              "nees nees_rotation nees_translation wheel_scale wheel_scale_sigma "
+              "travel_direction_error_deg\n");
   for (int f = 0; f < frames; ++f) {
-    if (f == 0)
+    if (f == 0 || !with_sensors)
       filter.process_frame(f, by_frame[f]);
     else
       filter.process_frame(f, by_frame[f],
@@ -67,11 +90,17 @@ int main(int argc, char** argv) {
     }
     if ((f + 1) % block == 0 && counted > 0) {
       constexpr double kDeg = 180 / M_PI;
-      std::printf("%d %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.4f %.4f\n", f + 1,
+      // The spans that end within the block.
+      double direction_error = 0;
+      int spans = 0;
+      for (int g = std::max(0, f + 1 - block - kSpan); g + kSpan <= f; ++g, ++spans)
+        direction_error += travel_direction_error_deg(estimate, drive.world_from_cam, g);
+      std::printf("%d %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.4f %.4f %.1f\n", f + 1,
                   e.head<3>().norm() * kDeg, std::sqrt(P.topLeftCorner<3, 3>().trace()) * kDeg,
                   e.tail<3>().norm(), std::sqrt(P.bottomRightCorner<3, 3>().trace()),
                   nees / counted, nees_rotation / counted, nees_translation / counted,
-                  filter.wheel_scale(), std::sqrt(filter.wheel_scale_variance()));
+                  filter.wheel_scale(), std::sqrt(filter.wheel_scale_variance()),
+                  spans > 0 ? direction_error / spans : NAN);
       nees = nees_rotation = nees_translation = 0;
       counted = 0;
     }
@@ -79,8 +108,10 @@ int main(int argc, char** argv) {
   const std::vector<Eigen::Isometry3d> truth(drive.world_from_cam.begin(),
                                              drive.world_from_cam.begin() + frames);
   const eval::TrajectoryErrors rigid = eval::trajectory_errors(estimate, truth, false);
+  const eval::TrajectoryErrors similar = eval::trajectory_errors(estimate, truth, true);
   std::printf("# seed %d, %.0f m: %.2f %% of the distance after a rigid alignment, mean rotation "
-              "error %.2f deg\n",
+              "error %.2f deg; after a similarity %.2f %%, %.2f deg\n",
               static_cast<int>(seed), rigid.distance_travelled_m,
-              rigid.translation_error_percent, rigid.mean_rotation_error_deg);
+              rigid.translation_error_percent, rigid.mean_rotation_error_deg,
+              similar.translation_error_percent, similar.mean_rotation_error_deg);
 }
