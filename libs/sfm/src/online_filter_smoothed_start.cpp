@@ -29,6 +29,7 @@ ceres::Solver::Options start_solver_options() {
   options.logging_type = ceres::SILENT;
   return options;
 }
+
 // Variances below this (a walk sigma of 0: the pose cannot move) are held at it, so that the
 // normal equations stay factorable.
 constexpr double kMinVariance = 1e-12;
