@@ -17,6 +17,8 @@
 #include <regex>
 #include <sstream>
 
+#include "bounded_object_copy.h"
+#include "copied_object_stream.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
@@ -207,7 +209,10 @@ RawlogReader::RawlogReader(const std::string& path)
     : path_(path), file_(std::make_unique<mrpt::io::CFileGZInputStream>()) {
   std::string why;
   try {
-    if (file_->open(path)) return;
+    if (file_->open(path)) {
+      copy_ = std::make_unique<BoundedObjectCopy>(*file_);
+      return;
+    }
   } catch (const std::exception& error) {
     why = std::string(": ") + error.what();
   }
@@ -220,19 +225,18 @@ RawlogReader::~RawlogReader() = default;
 
 mrpt::serialization::CSerializable::Ptr RawlogReader::next() {
   while (!finished_) {
-    auto archive = mrpt::serialization::archiveFrom(*file_);
-    mrpt::serialization::CSerializable::Ptr object;
     try {
-      object = archive.ReadObject();
-    } catch (const mrpt::serialization::CExceptionEOF&) {
-      // MRPT raises this one only at an object boundary: a clean end.
+      if (!copy_->next()) {
+        finished_ = true;  // the file ends between two objects: a clean end
+        return nullptr;
+      }
+    } catch (const ObjectDamage& damage) {
       finished_ = true;
-      return nullptr;
-    } catch (const std::exception& error) {
-      finished_ = true;
-      problem_ = describe_failure(error.what());
+      problem_ = describe_damage(index_, copy_->class_name(), damage.what());
       return nullptr;
     }
+    mrpt::serialization::CSerializable::Ptr object = deserialize_copy();
+    if (finished_) return nullptr;
     if (object) {
       const std::string damage = damage_in(*object);
       if (!damage.empty()) {
@@ -246,6 +250,20 @@ mrpt::serialization::CSerializable::Ptr RawlogReader::next() {
     if (object) return object;
   }
   return nullptr;
+}
+
+// MRPT's reading of the copied object (and, when the copy stopped at a class it does not know,
+// of the rest of it in the file). Null for a stored null, and on failure with finished_ set.
+mrpt::serialization::CSerializable::Ptr RawlogReader::deserialize_copy() {
+  CopiedObjectStream stream(copy_->bytes(), copy_->whole() ? nullptr : file_.get());
+  auto archive = mrpt::serialization::archiveFrom(stream);
+  try {
+    return archive.ReadObject();
+  } catch (const std::exception& error) {
+    finished_ = true;
+    problem_ = describe_failure(error.what());
+    return nullptr;
+  }
 }
 
 std::string RawlogReader::describe_failure(const std::string& mrpt_message) {

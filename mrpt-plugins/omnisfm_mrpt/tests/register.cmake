@@ -7,6 +7,7 @@ omnisfm_add_test(omnisfm_mrpt_tests
     tests/camera_model_test.cpp
     tests/observations_test.cpp
     tests/rawlog_reader_test.cpp
+    tests/stored_length_test.cpp
     tests/rawlog_input_test.cpp
     tests/simulated_rawlog_test.cpp
     tests/legacy_rawlog_test.cpp

@@ -12,6 +12,11 @@
 // the file, as io::InputError does. A file cut exactly between two objects reads as a shorter, complete rawlog: the format
 // cannot tell the difference.
 //
+// Each object's bytes are copied (BoundedObjectCopy) before MRPT deserializes them, with the
+// layouts of the classes omnisfm takes, so that a damaged length in them costs no more memory
+// than the file holds; an object of another class (a laser scan, say) is read by MRPT from the
+// file as it stands, its lengths unchecked.
+//
 // MRPT headers: the including target must link MRPT (mrpt::obs) itself.
 
 #include <mrpt/serialization/CSerializable.h>
@@ -25,6 +30,8 @@ class CFileGZInputStream;
 }
 
 namespace omnisfm::mrpt_plugin {
+
+class BoundedObjectCopy;
 
 class RawlogReader {
  public:
@@ -48,9 +55,11 @@ class RawlogReader {
 
  private:
   std::string describe_failure(const std::string& mrpt_message);
+  mrpt::serialization::CSerializable::Ptr deserialize_copy();
 
   std::string path_;
   std::unique_ptr<mrpt::io::CFileGZInputStream> file_;
+  std::unique_ptr<BoundedObjectCopy> copy_;
   std::size_t index_ = 0;
   bool finished_ = false;
   std::string problem_;

@@ -1,0 +1,152 @@
+// A damaged length stored in a rawlog costs no more memory than the file holds: MRPT 2.5 sizes
+// a string, vector, matrix, image or list from its stored length before reading it, and the
+// reader copies each object's bytes with its own bounds before MRPT sees them. Each case stores
+// a length (or dimensions, or a count) far beyond a small file, reads it, and checks the
+// problem and that the process's peak memory stayed where it was.
+
+#include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/math/CMatrixD.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <sys/resource.h>
+
+#include <cstring>
+
+#include "omnisfm/camera/camera_kinds.h"
+#include "omnisfm/mrpt_plugin/observation_tracked_features.h"
+#include "omnisfm/mrpt_plugin/rawlog_reader.h"
+#include "omnisfm/sim/scenario.h"
+#include "serialization_helpers.h"
+
+namespace omnisfm::mrpt_plugin {
+namespace {
+
+using testing::Bytes;
+
+// What reading may add to the process's peak memory: far less than any of the lengths below.
+constexpr long kMostGrowthKb = 256 * 1024;
+
+long peak_resident_kb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;
+}
+
+// The problem reading `bytes` as a rawlog finds, checking that it read no object and that
+// memory did not grow by what the damaged length claims.
+std::string problem_reading(const Bytes& bytes) {
+  const std::string path = testing::temporary_path("stored_length.rawlog");
+  testing::write_file(path, bytes);
+  const long before = peak_resident_kb();
+  RawlogReader reader(path);
+  EXPECT_EQ(reader.next(), nullptr);
+  EXPECT_LT(peak_resident_kb() - before, kMostGrowthKb);
+  return reader.problem();
+}
+
+// `bytes` with the 32-bit number at `offset` replaced by `value`.
+Bytes with_u32(Bytes bytes, std::size_t offset, std::uint32_t value) {
+  std::memcpy(&bytes[offset], &value, sizeof value);
+  return bytes;
+}
+
+// Where the 32-bit number `value` is first stored in `bytes`.
+std::size_t offset_of_u32(const Bytes& bytes, std::uint32_t value) {
+  std::string text(sizeof value, '\0');
+  std::memcpy(text.data(), &value, sizeof value);
+  return testing::find(bytes, text);
+}
+
+TEST(StoredLength, AStringLongerThanTheFileEndsInsideIt) {
+  mrpt::obs::CObservationComment comment;
+  comment.text = "a comment";
+  const Bytes bytes = testing::to_bytes(comment);
+  const std::size_t length = testing::find(bytes, comment.text) - 4;
+  EXPECT_EQ(problem_reading(with_u32(bytes, length, 3806520035u)),
+            "object 0 (mrpt::obs::CObservationComment): the file ends inside it (truncated): a "
+            "length stored in it claims 3806520035 bytes, of which the file holds 18; nothing "
+            "before it was read");
+}
+
+TEST(StoredLength, AVectorLongerThanTheFileEndsInsideIt) {
+  CObservationTrackedFeatures features;
+  const camera::CatadioptricCamera rig = sim::default_rig(1024, 768);
+  features.model.set_camera(rig);
+  const Bytes bytes = testing::to_bytes(features);
+  const std::string inner = camera::name_of(rig.inner().kind());
+  const std::size_t count = testing::find(bytes, inner) + inner.size();
+  const std::string problem = problem_reading(with_u32(bytes, count, 0x7fffffffu));
+  EXPECT_NE(problem.find("object 0 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): the file "
+                         "ends inside it (truncated): a length stored in it claims 17179869176 "
+                         "bytes"),
+            std::string::npos)
+      << problem;
+}
+
+TEST(StoredLength, MoreObservationsThanTheFileHoldsEndInsideIt) {
+  mrpt::obs::CSensoryFrame frame;
+  frame.insert(std::make_shared<mrpt::obs::CObservationOdometry>());
+  const Bytes bytes = testing::to_bytes(frame);
+  const std::size_t count = testing::version_byte(bytes, "mrpt::obs::CSensoryFrame") + 1;
+  EXPECT_EQ(problem_reading(with_u32(bytes, count, 0xffffffffu)),
+            "object 0 (mrpt::obs::CSensoryFrame): the file ends inside it (truncated); nothing "
+            "before it was read");
+}
+
+TEST(StoredLength, MatrixDimensionsBeyondTheFileEndInsideIt) {
+  mrpt::math::CMatrixD matrix(2, 3);
+  const Bytes bytes = testing::to_bytes(matrix);
+  const std::size_t rows = testing::version_byte(bytes, "CMatrixD") + 1;
+  const std::string problem =
+      problem_reading(with_u32(with_u32(bytes, rows, 65536), rows + 4, 65536));
+  EXPECT_NE(problem.find("the file ends inside it (truncated): a length stored in it claims "
+                         "34359738368 bytes"),
+            std::string::npos)
+      << problem;
+}
+
+// MRPT allocates an image's pixels from its width and height, then reads its stored size's bytes.
+TEST(StoredLength, ImageDimensionsBeyondItsStoredSizeAreCorrupt) {
+  mrpt::obs::CObservationImage observation;
+  observation.image.resize(4, 2, mrpt::img::CH_GRAY);
+  const Bytes bytes = testing::to_bytes(observation);
+  const std::size_t width = testing::version_byte(bytes, "CImage") + 1 + 1 + 1;  // external, colour
+  ASSERT_EQ(bytes[width], 4);
+  EXPECT_EQ(problem_reading(with_u32(with_u32(bytes, width, 40000), width + 4, 40000)),
+            "object 0 (mrpt::obs::CObservationImage): it is corrupt: a length stored in it is far "
+            "beyond what the file holds; nothing before it was read");
+}
+
+// Thrun's motion model draws as many particles as it stores, with no bytes behind them.
+TEST(StoredLength, AMotionModelOfBillionsOfParticlesIsCorrupt) {
+  mrpt::obs::CActionRobotMovement2D movement;
+  mrpt::obs::CActionRobotMovement2D::TMotionModelOptions model;
+  model.modelSelection = mrpt::obs::CActionRobotMovement2D::mmThrun;
+  model.thrunModel.nParticlesCount = 12345;
+  movement.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0), model);
+  const Bytes bytes = testing::to_bytes(movement);
+  EXPECT_EQ(problem_reading(with_u32(bytes, offset_of_u32(bytes, 12345), 2000000000u)),
+            "object 0 (mrpt::obs::CActionRobotMovement2D): it is corrupt: its motion model draws "
+            "2000000000 particles; nothing before it was read");
+}
+
+// MRPT reads a bool as a raw byte: one that decides what follows must be 0 or 1.
+TEST(StoredLength, AFlagNeitherZeroNorOneIsCorrupt) {
+  mrpt::obs::CObservationOdometry odometry;
+  odometry.sensorLabel = "ODOMETRY";
+  odometry.hasEncodersInfo = false;
+  Bytes bytes = testing::to_bytes(odometry);
+  const std::size_t flag = testing::find(bytes, odometry.sensorLabel) + 8 + 8;  // after the time
+  ASSERT_EQ(bytes[flag], 0);
+  bytes[flag] = 2;
+  EXPECT_EQ(problem_reading(bytes),
+            "object 0 (mrpt::obs::CObservationOdometry): it is corrupt: a flag stored in it is "
+            "neither 0 nor 1; nothing before it was read");
+}
+
+}  // namespace
+}  // namespace omnisfm::mrpt_plugin
