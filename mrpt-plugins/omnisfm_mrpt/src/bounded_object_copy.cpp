@@ -109,7 +109,9 @@ void BoundedObjectCopy::object_after(std::uint8_t lead) {
   const std::size_t name_length = lead & 0x7f;
   if (name_length > kMaxClassName) layout_unknown();
   skip(name_length);
-  const std::string name(bytes_.end() - static_cast<std::ptrdiff_t>(name_length), bytes_.end());
+  // MRPT takes the name as a C string: a damaged name ends at its first zero byte.
+  const std::string name(
+      std::string(bytes_.end() - static_cast<std::ptrdiff_t>(name_length), bytes_.end()).c_str());
   if (depth_ == 0) class_name_ = name;
   int version = 0;
   if (old_format) {

@@ -72,6 +72,29 @@ TEST(StoredLength, AStringLongerThanTheFileEndsInsideIt) {
             "before it was read");
 }
 
+// Found by fuzzing: MRPT takes a stored class name as a C string, so a name damaged into
+// "...CObservationComment\0..." is still that class (and a damaged namespace is ignored); the
+// copy must know it as MRPT does, or MRPT reads it unchecked (1.8 GB for this string).
+TEST(StoredLength, AClassNameEndsAtAZeroByteAsMrptReadsIt) {
+  mrpt::obs::CObservationComment comment;
+  comment.text = "a comment";
+  const Bytes bytes = testing::to_bytes(comment);
+  Bytes damaged = with_u32(bytes, testing::find(bytes, comment.text) - 4, 1767055395u);
+  const std::string stored = "mrpt::obs::CObservationComment";
+  const std::size_t name = testing::find(damaged, stored);
+  const std::string renamed = "\xae" "A::CObservationComment";
+  Bytes named(damaged.begin(), damaged.begin() + static_cast<std::ptrdiff_t>(name));
+  named.insert(named.end(), renamed.begin(), renamed.end());
+  named.insert(named.end(), stored.size() - renamed.size(), '\0');
+  named.insert(named.end(), damaged.begin() + static_cast<std::ptrdiff_t>(name + stored.size()),
+               damaged.end());
+  const std::string problem = problem_reading(named);
+  EXPECT_NE(problem.find("object 0 (\\xaeA::CObservationComment): the file ends inside it "
+                         "(truncated): a length stored in it claims 1767055395 bytes"),
+            std::string::npos)
+      << problem;
+}
+
 TEST(StoredLength, AVectorLongerThanTheFileEndsInsideIt) {
   CObservationTrackedFeatures features;
   const camera::CatadioptricCamera rig = sim::default_rig(1024, 768);
