@@ -275,9 +275,11 @@ std::string RawlogReader::describe_failure(const std::string& mrpt_message) {
     what = unregistered_class_problem(*unregistered);
   } else if (!version.empty()) {
     what = "it was stored by a newer version (" + version + ") of its class than this reader knows";
-  } else if (file_->checkEOF()) {
+  } else if (!copy_->whole() && file_->checkEOF()) {
+    // Only MRPT's reading of an object the copy could not take whole reaches the file's end.
     what = "the file ends inside it (truncated)";
-  } else if (mrpt_message.find("Cannot read object streaming version") != std::string::npos) {
+  } else if (!copy_->whole() &&
+             mrpt_message.find("Cannot read object streaming version") != std::string::npos) {
     // The stream ran dry before the object's end flag, which a compressed stream does not
     // report as its end: a length in the object claimed more than the file holds.
     what = "the file ends inside it (a length stored in it runs past the end)";

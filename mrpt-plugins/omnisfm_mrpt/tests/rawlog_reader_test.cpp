@@ -132,6 +132,15 @@ TEST_F(DamagedRawlog, CorruptObjectStopsThereNamingIt) {
             "bytes do not end where its class's format says; the 2 objects before it were read");
 }
 
+// The last object's bytes are all in the file: a wrong end flag there is no truncation.
+TEST_F(DamagedRawlog, CorruptLastObjectIsNotTruncated) {
+  Bytes bytes = bytes_;
+  bytes.back() ^= 0xff;  // object 5's end-of-object flag, the file's last byte
+  EXPECT_EQ(read(bytes).second,
+            "object 5 (mrpt::obs::CObservationComment): it is corrupt: its bytes do not end where "
+            "its class's format says; the 5 objects before it were read");
+}
+
 TEST_F(DamagedRawlog, CorruptMemberIsNamed) {
   Bytes bytes = bytes_;
   const std::size_t pose = object_offset(1, "mrpt::poses::CPose2D") + 20;  // its version byte
