@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake ccache pkg-config
   libeigen3-dev libceres-dev libopengv-dev libgeographiclib-dev libopenblas-dev
-  libopencv-dev libopencv-contrib-dev
+  libopencv-dev libopencv-contrib-dev libjpeg-dev
   libmrpt-dev mrpt-apps
   libmrcal-dev mrcal python3-mrcal mrgingham
   libcli11-dev libgtest-dev libbenchmark-dev

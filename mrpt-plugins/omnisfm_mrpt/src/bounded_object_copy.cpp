@@ -84,8 +84,10 @@ std::string BoundedObjectCopy::text() {
   return std::string(bytes_.end() - static_cast<std::ptrdiff_t>(length), bytes_.end());
 }
 
-void BoundedObjectCopy::array(std::size_t element_bytes) {
-  counted(value<std::uint32_t>(), element_bytes);
+std::uint32_t BoundedObjectCopy::array(std::size_t element_bytes) {
+  const auto count = value<std::uint32_t>();
+  counted(count, element_bytes);
+  return count;
 }
 
 void BoundedObjectCopy::counted(std::uint64_t count, std::size_t element_bytes) {

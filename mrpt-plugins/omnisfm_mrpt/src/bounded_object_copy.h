@@ -55,10 +55,12 @@ class BoundedObjectCopy {
   // A std::string: a 32-bit length and its bytes. text() also returns it.
   void string();
   std::string text();
-  // A vector of fixed-size elements: a 32-bit count and the elements.
-  void array(std::size_t element_bytes);
+  // A vector of fixed-size elements: a 32-bit count and the elements. Returns the count.
+  std::uint32_t array(std::size_t element_bytes);
   // `count` elements whose count (or dimensions) were read already.
   void counted(std::uint64_t count, std::size_t element_bytes);
+  // The last `count` bytes copied.
+  const std::uint8_t* last(std::size_t count) const { return bytes_.data() + bytes_.size() - count; }
   // A nested object, of whichever class is stored.
   void object();
   // The layout goes on in a way this copy does not know (or MRPT rejects what was read so far).

@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "class_layouts.h"
+#include "decodable_jpeg.h"
 
 namespace omnisfm::mrpt_plugin {
 namespace {
@@ -99,6 +100,13 @@ void grey_pixels(BoundedObjectCopy& in, int version) {
   if (size != 0) in.counted(size, 1);
 }
 
+// JPEG bytes, which MRPT decodes with an error handler that ends the process.
+void jpeg(BoundedObjectCopy& in) {
+  const std::uint32_t size = in.array(1);
+  const std::string problem = jpeg_problem(in.last(size), size);
+  if (!problem.empty()) in.out_of_range(problem);
+}
+
 // A colour image: JPEG bytes, or since version 8 raw RGB rows (its width and height negated).
 void colour_pixels(BoundedObjectCopy& in, int version) {
   if (version >= 7) {
@@ -119,7 +127,7 @@ void colour_pixels(BoundedObjectCopy& in, int version) {
       return;
     }
   }
-  in.array(1);  // the JPEG bytes
+  jpeg(in);
 }
 
 void image(BoundedObjectCopy& in, int version) {
@@ -143,7 +151,7 @@ void image(BoundedObjectCopy& in, int version) {
     return;
   }
   if (version == 1) {
-    in.array(1);  // JPEG bytes
+    jpeg(in);
     return;
   }
   if (version >= 6 && in.flag()) {

@@ -1,8 +1,8 @@
 // A damaged length stored in a rawlog costs no more memory than the file holds: MRPT 2.5 sizes
-// a string, vector, matrix, image or list from its stored length before reading it, and the
-// reader copies each object's bytes with its own bounds before MRPT sees them. Each case stores
-// a length (or dimensions, or a count) far beyond a small file, reads it, and checks the
-// problem and that the process's peak memory stayed where it was.
+// a string, vector, matrix, image (or a JPEG's picture) or list from its stored length before
+// reading it, and the reader copies each object's bytes with its own bounds before MRPT sees
+// them. Each case stores a length (or dimensions, or a count) far beyond a small file, reads it,
+// and checks the problem and that the process's peak memory stayed where it was.
 
 #include <gtest/gtest.h>
 #include <mrpt/img/CImage.h>
@@ -169,6 +169,69 @@ TEST(StoredLength, AFlagNeitherZeroNorOneIsCorrupt) {
   EXPECT_EQ(problem_reading(bytes),
             "object 0 (mrpt::obs::CObservationOdometry): it is corrupt: a flag stored in it is "
             "neither 0 nor 1; nothing before it was read");
+}
+
+// A colour image stored as JPEG, in an observation.
+Bytes jpeg_observation() {
+  mrpt::obs::CObservationImage observation;
+  observation.image.resize(64, 48, mrpt::img::CH_RGB);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c) *observation.image(x, y, c) = static_cast<uint8_t>(x * y + c);
+  const bool was_disabled = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
+  const Bytes bytes = testing::to_bytes(observation);
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(was_disabled);
+  return bytes;
+}
+
+std::size_t jpeg_start(const Bytes& bytes) { return testing::find(bytes, "\xff\xd8\xff"); }
+
+TEST(StoredJpeg, AValidOneIsRead) {
+  const Bytes bytes = jpeg_observation();
+  ASSERT_NE(jpeg_start(bytes), std::string::npos);
+  const std::string path = testing::temporary_path("jpeg.rawlog");
+  testing::write_file(path, bytes);
+  RawlogReader reader(path);
+  const auto observation = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(reader.next());
+  ASSERT_NE(observation, nullptr) << reader.problem();
+  EXPECT_EQ(observation->image.getWidth(), 64u);
+  EXPECT_TRUE(observation->image.isColor());
+}
+
+// MRPT's JPEG decoder keeps libjpeg's default error handler, which ended the whole process with
+// exit(1) and libjpeg's message on each of these (the last found by fuzzing).
+TEST(StoredJpeg, ADamagedJpegIsCorruptNotTheProcessEnd) {
+  const Bytes bytes = jpeg_observation();
+  const std::size_t start = jpeg_start(bytes);
+  ASSERT_LT(start + 3, bytes.size());
+  Bytes not_a_jpeg = bytes;  // "Not a JPEG file: starts with 0x61 0xd8"
+  not_a_jpeg[start] = 'a';
+  Bytes lossless = bytes;  // "Unsupported JPEG process: SOF type 0xc3"
+  lossless[start + 3] = 0xc3;
+  Bytes second_start = bytes;  // "Invalid JPEG file structure: two SOI markers", at its end
+  const std::size_t end = testing::find(Bytes(bytes.begin() + static_cast<std::ptrdiff_t>(start),
+                                              bytes.end()),
+                                        "\xff\xd9");
+  second_start[start + end + 1] = 0xd8;
+  for (const Bytes& damaged : {not_a_jpeg, lossless, second_start})
+    EXPECT_EQ(problem_reading(damaged),
+              "object 0 (mrpt::obs::CObservationImage): it is corrupt: its JPEG image cannot be "
+              "decoded; nothing before it was read");
+}
+
+// The picture's size is the JPEG's own: MRPT allocated 1.2 GB for this 20,000 x 20,000.
+TEST(StoredJpeg, AHeaderClaimingGigapixelsIsCorrupt) {
+  Bytes bytes = jpeg_observation();
+  const std::size_t frame = testing::find(bytes, "\xff\xc0");  // baseline start of frame
+  ASSERT_NE(frame, std::string::npos);
+  for (const std::size_t at : {frame + 5, frame + 7}) {  // height, width: 16 bits big-endian
+    bytes[at] = 20000 >> 8;
+    bytes[at + 1] = 20000 & 0xff;
+  }
+  EXPECT_EQ(problem_reading(bytes),
+            "object 0 (mrpt::obs::CObservationImage): it is corrupt: its JPEG image claims over "
+            "268435456 pixels; nothing before it was read");
 }
 
 }  // namespace
