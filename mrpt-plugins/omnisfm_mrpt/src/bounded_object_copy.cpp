@@ -1,5 +1,8 @@
 #include "bounded_object_copy.h"
 
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/rtti/CObject.h>
 
 #include <algorithm>
@@ -37,7 +40,7 @@ bool BoundedObjectCopy::next() {
   if (source_.Read(&lead, 1) != 1) return false;
   bytes_.push_back(lead);
   try {
-    object_after(lead);
+    object_after(lead, nullptr);
   } catch (const LayoutUnknown&) {
     whole_ = false;
   }
@@ -98,12 +101,33 @@ void BoundedObjectCopy::counted(std::uint64_t count, std::size_t element_bytes) 
   copy_exactly(bytes, true);
 }
 
-void BoundedObjectCopy::object() { object_after(value<std::uint8_t>()); }
+void BoundedObjectCopy::object(const mrpt::rtti::TRuntimeClassId* expected) {
+  object_after(value<std::uint8_t>(), expected);
+}
+
+// What a place holds: a rawlog's entries are sensory frames, action collections and observations,
+// as MRPT's CRawlog reads them (it stops at any other class); a member is of the class its
+// place expects. MRPT reads the rest as it finds them, and some (a laser scan, say) have
+// layouts the copy does not know: the classes it may meet are the fewer for this.
+void BoundedObjectCopy::check_place(const mrpt::rtti::TRuntimeClassId* id,
+                                    const mrpt::rtti::TRuntimeClassId* expected) const {
+  if (expected) {
+    if (!id->derivedFrom(expected))
+      throw ObjectDamage(std::string("it is corrupt: it holds a ") + id->className + " where a " +
+                         expected->className + " belongs");
+    return;
+  }
+  if (id != CLASS_ID(mrpt::obs::CSensoryFrame) && id != CLASS_ID(mrpt::obs::CActionCollection) &&
+      !id->derivedFrom(CLASS_ID(mrpt::obs::CObservation)))
+    throw ObjectDamage(std::string("it is no rawlog entry: a ") + id->className +
+                       " is none of a sensory frame, an action collection and an observation");
+}
 
 // MRPT's object header: a length byte with its top bit set (an old-format object, before MRPT
 // 0.5.5, has the bit clear, three zero bytes, and no end flag), the class name, its version (a
 // byte; an old-format object's a 32-bit number), then the fields and an end flag.
-void BoundedObjectCopy::object_after(std::uint8_t lead) {
+void BoundedObjectCopy::object_after(std::uint8_t lead,
+                                     const mrpt::rtti::TRuntimeClassId* expected) {
   const bool old_format = (lead & 0x80) == 0;
   if (old_format)
     for (int i = 0; i < 3; ++i)
@@ -124,7 +148,9 @@ void BoundedObjectCopy::object_after(std::uint8_t lead) {
   }
   if (name != "nullptr") {
     const mrpt::rtti::TRuntimeClassId* id = mrpt::rtti::findRegisteredClass(name);
-    const ClassLayout layout = id ? layout_of(id) : nullptr;
+    if (!id) layout_unknown();  // MRPT says it is not registered
+    check_place(id, expected);
+    const ClassLayout layout = layout_of(id);
     if (!layout) layout_unknown();
     if (depth_ == kMaxNesting) out_of_range("its objects nest deeper than " +
                                             std::to_string(kMaxNesting) + " levels");

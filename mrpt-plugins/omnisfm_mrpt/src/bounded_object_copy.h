@@ -11,6 +11,7 @@
 // rest of the object from the file itself.
 
 #include <mrpt/io/CStream.h>
+#include <mrpt/rtti/CObject.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -61,15 +62,23 @@ class BoundedObjectCopy {
   void counted(std::uint64_t count, std::size_t element_bytes);
   // The last `count` bytes copied.
   const std::uint8_t* last(std::size_t count) const { return bytes_.data() + bytes_.size() - count; }
-  // A nested object, of whichever class is stored.
-  void object();
+  // A nested object of the class `T` or one derived from it, as its place in the layout expects
+  // (MRPT creates and reads a polymorphic member, such as a sensory frame's observation, whatever
+  // its stored class, before it finds the class wrong).
+  template <typename T>
+  void object() {
+    object(CLASS_ID(T));
+  }
+  void object(const mrpt::rtti::TRuntimeClassId* expected);
   // The layout goes on in a way this copy does not know (or MRPT rejects what was read so far).
   [[noreturn]] void layout_unknown();
   // A value MRPT would trust to allocate or index with, out of any sane range.
   [[noreturn]] void out_of_range(const std::string& what);
 
  private:
-  void object_after(std::uint8_t lead);
+  void object_after(std::uint8_t lead, const mrpt::rtti::TRuntimeClassId* expected);
+  void check_place(const mrpt::rtti::TRuntimeClassId* id,
+                   const mrpt::rtti::TRuntimeClassId* expected) const;
   void copy_exactly(std::uint64_t bytes, bool stored_length);
 
   mrpt::io::CStream& source_;

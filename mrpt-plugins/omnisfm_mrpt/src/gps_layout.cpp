@@ -2,6 +2,7 @@
 // 10 a list of GNSS messages, each its type and a block of its fields; before, the NMEA GGA and
 // RMC and the Topcon PZS fields one by one, with the sizes of the fields MRPT reads them into.
 #include <mrpt/obs/CObservationGPS.h>
+#include <mrpt/poses/CPose3D.h>
 
 #include "class_layouts.h"
 
@@ -75,7 +76,7 @@ void gps_fields(BoundedObjectCopy& in, int version) {
   if (in.flag()) in.skip(gga_bytes(version));
   if (in.flag()) in.skip(rmc_bytes());
   if (version > 1) in.string();  // the sensor label
-  if (version >= 4) in.object();  // the sensor pose
+  if (version >= 4) in.object<mrpt::poses::CPose3D>();  // the sensor pose
   if (version >= 5 && in.flag()) in.skip(pzs_bytes(version));
   if (version >= 7 && in.flag()) in.layout_unknown();  // satellites, which MRPT refuses to read
 }
@@ -87,7 +88,7 @@ void gps_layout(BoundedObjectCopy& in, int version) {
   if (version >= 10) {
     in.skip(2 * kTimestamp);
     in.string();  // the sensor label
-    in.object();  // the sensor pose
+    in.object<mrpt::poses::CPose3D>();  // the sensor pose
     if (version >= 11) in.skip(1);  // whether it has the satellites' time
     gnss_messages(in);
   } else if (version == 0) {

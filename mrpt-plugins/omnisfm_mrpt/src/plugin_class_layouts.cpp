@@ -49,8 +49,8 @@ void tracked_features(BoundedObjectCopy& in, int version) {
   in.skip(kTimestamp);
   in.string();  // the sensor label
   in.skip(kInt32);  // the frame
-  in.object();  // the sensor pose
-  in.object();  // the camera model
+  in.object<mrpt::poses::CPose3D>();  // the sensor pose
+  in.object<CCatadioptricCameraModel>();  // the camera model
   const auto features = in.value<std::uint32_t>();
   for (std::uint32_t i = 0; i < features; ++i) in.skip(kInt32 + 2 * kDouble);
 }
@@ -59,14 +59,14 @@ void observation_camera_model(BoundedObjectCopy& in, int version) {
   if (version != 0) in.layout_unknown();
   in.skip(kTimestamp);
   in.string();  // the sensor label
-  in.object();  // the sensor pose
-  in.object();  // the model
+  in.object<mrpt::poses::CPose3D>();  // the sensor pose
+  in.object<CCatadioptricCameraModel>();  // the model
 }
 
 void omni_image(BoundedObjectCopy& in, int version) {
   if (version != 0) in.layout_unknown();
   observation_image_layout(in, in.value<std::uint8_t>());
-  in.object();  // the model
+  in.object<CCatadioptricCameraModel>();  // the model
 }
 
 }  // namespace

@@ -28,8 +28,10 @@ void pose_2d(BoundedObjectCopy& in, int version) {
 
 void pose_3d(BoundedObjectCopy& in, int version) {
   if (version > 3) in.layout_unknown();
-  if (version <= 1) {
-    in.object();  // the homogeneous matrix
+  if (version == 0) {
+    in.object<mrpt::math::CMatrixF>();  // the homogeneous matrix
+  } else if (version == 1) {
+    in.object<mrpt::math::CMatrixD>();
   } else {
     in.skip((version == 2 ? 7 : 12) * kDouble);  // a quaternion pose; a translation and rotation
   }
@@ -37,9 +39,9 @@ void pose_3d(BoundedObjectCopy& in, int version) {
 
 void pose_pdf_gaussian(BoundedObjectCopy& in, int version) {
   if (version > 2) in.layout_unknown();
-  in.object();  // the mean
+  in.object<mrpt::poses::CPose2D>();  // the mean
   if (version == 0) {
-    in.object();  // the covariance matrix
+    in.object<mrpt::math::CMatrixF>();  // the covariance matrix
   } else {
     in.skip(6 * (version == 1 ? kFloat : kDouble));  // its upper triangle
   }
@@ -47,7 +49,7 @@ void pose_pdf_gaussian(BoundedObjectCopy& in, int version) {
 
 void pose_3d_pdf_gaussian(BoundedObjectCopy& in, int version) {
   if (version != 1) in.layout_unknown();
-  in.object();              // the mean
+  in.object<mrpt::poses::CPose3D>();  // the mean
   in.skip(21 * kDouble);    // the covariance's upper triangle
 }
 
@@ -64,11 +66,11 @@ void camera_parameters(BoundedObjectCopy& in, int version) {
   in.skip(kDouble + 5 * kDouble);  // the focal length and distortion
   if (version >= 3) in.skip(3 * kDouble);
   if (version < 4) {
-    in.object();  // the intrinsic matrix
+    in.object<mrpt::math::CMatrixD>();  // the intrinsic matrix
   } else {
     in.skip(4 * kDouble);
   }
-  if (version == 0) in.object();  // the distortion as it was
+  if (version == 0) in.object<mrpt::math::CMatrixD>();  // the distortion as it was
   if (version >= 2) in.skip(2 * 4);  // rows and columns
   if (version >= 5) in.string();    // the camera's name
   if (version >= 6) in.skip(1);     // the distortion model

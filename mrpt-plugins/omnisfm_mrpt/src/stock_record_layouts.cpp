@@ -10,6 +10,11 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/img/TCamera.h>
+#include <mrpt/math/CMatrixF.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/poses/CPosePDF.h>
 
 #include "class_layouts.h"
 
@@ -28,13 +33,13 @@ void sensory_frame(BoundedObjectCopy& in, int version) {
   if (version < 2) in.skip(kInt32);  // an ID, dropped in version 2
   if (version == 0) in.skip(kTimestamp);
   const auto observations = in.value<std::uint32_t>();
-  for (std::uint32_t i = 0; i < observations; ++i) in.object();
+  for (std::uint32_t i = 0; i < observations; ++i) in.object<mrpt::obs::CObservation>();
 }
 
 void action_collection(BoundedObjectCopy& in, int version) {
   if (version != 0) in.layout_unknown();
   const auto actions = in.value<std::uint32_t>();
-  for (std::uint32_t i = 0; i < actions; ++i) in.object();
+  for (std::uint32_t i = 0; i < actions; ++i) in.object<mrpt::obs::CAction>();
 }
 
 // The motion model stored with an odometry increment (versions 3 to 7), from which MRPT draws
@@ -56,20 +61,20 @@ void motion_model(BoundedObjectCopy& in, int version) {
 void robot_movement_2d(BoundedObjectCopy& in, int version) {
   if (version > 7) in.layout_unknown();
   if (version <= 1) {
-    in.object();  // the pose PDF
+    in.object<mrpt::poses::CPosePDF>();  // the pose PDF
     in.skip(kInt32);
     if (version == 1) in.skip(kBool + 2 * kFloat + kBool + 2 * kInt32);
     return;
   }
   if (in.value<std::int32_t>() == Movement2D::emOdometry) {
-    in.object();  // the odometry increment
+    in.object<mrpt::poses::CPose2D>();  // the odometry increment
     if (version == 2) {
       in.skip(44);  // the motion model's options as they were
     } else {
       motion_model(in, version);
     }
   } else {
-    in.object();  // the pose PDF
+    in.object<mrpt::poses::CPosePDF>();  // the pose PDF
   }
   if (version >= 7) {
     if (in.flag()) in.skip(3 * kDouble);  // velocities
@@ -83,7 +88,7 @@ void robot_movement_2d(BoundedObjectCopy& in, int version) {
 void robot_movement_3d(BoundedObjectCopy& in, int version) {
   if (version > 1) in.layout_unknown();
   in.skip(kInt32);  // the estimation method
-  in.object();      // the pose change
+  in.object<mrpt::poses::CPose3DPDFGaussian>();      // the pose change
   in.array(1);      // which velocities it has, a vector of bools
   in.array(kFloat);  // the velocities
   if (version >= 1) in.skip(kTimestamp);
@@ -91,7 +96,7 @@ void robot_movement_3d(BoundedObjectCopy& in, int version) {
 
 void odometry(BoundedObjectCopy& in, int version) {
   if (version > 2) in.layout_unknown();
-  in.object();  // the pose
+  in.object<mrpt::poses::CPose2D>();  // the pose
   in.string();  // the sensor label
   in.skip(kTimestamp);
   if (version == 0) return;
@@ -106,7 +111,7 @@ void odometry(BoundedObjectCopy& in, int version) {
 void imu(BoundedObjectCopy& in, int version) {
   if (version > 4) in.layout_unknown();
   constexpr std::size_t fields = mrpt::obs::COUNT_IMU_DATA_FIELDS;
-  in.object();  // the sensor pose
+  in.object<mrpt::poses::CPose3D>();  // the sensor pose
   if (version == 4) {
     in.skip(fields * kBool + kTimestamp + fields * kDouble);
   } else {
@@ -127,14 +132,14 @@ void comment(BoundedObjectCopy& in, int version) {
 
 void observation_image_layout(BoundedObjectCopy& in, int version) {
   if (version < 0 || version > 4) in.layout_unknown();
-  in.object();  // the camera pose
+  in.object<mrpt::poses::CPose3D>();  // the camera pose
   if (version >= 4) {
-    in.object();  // the camera parameters
+    in.object<mrpt::img::TCamera>();  // the camera parameters
   } else {
-    in.object();  // distortion
-    in.object();  // intrinsic parameters
+    in.object<mrpt::math::CMatrixF>();  // distortion
+    in.object<mrpt::math::CMatrixF>();  // intrinsic parameters
   }
-  in.object();  // the image
+  in.object<mrpt::img::CImage>();  // the image
   if (version >= 1) in.skip(kTimestamp);
   if (version == 2 || version == 3) in.skip(kDouble);  // the focal length
   if (version >= 3) in.string();                       // the sensor label

@@ -6,12 +6,14 @@
 
 #include <gtest/gtest.h>
 #include <mrpt/img/CImage.h>
-#include <mrpt/math/CMatrixD.h>
+#include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPoses2DSequence.h>
 #include <sys/resource.h>
 
 #include <cstring>
@@ -120,14 +122,25 @@ TEST(StoredLength, MoreObservationsThanTheFileHoldsEndInsideIt) {
             "before it was read");
 }
 
+// A pose of version 1, as older MRPT stored an IMU's: a 4 x 4 matrix, here claiming 65536 x 65536.
 TEST(StoredLength, MatrixDimensionsBeyondTheFileEndInsideIt) {
-  mrpt::math::CMatrixD matrix(2, 3);
-  const Bytes bytes = testing::to_bytes(matrix);
-  const std::size_t rows = testing::version_byte(bytes, "CMatrixD") + 1;
-  const std::string problem =
-      problem_reading(with_u32(with_u32(bytes, rows, 65536), rows + 4, 65536));
-  EXPECT_NE(problem.find("the file ends inside it (truncated): a length stored in it claims "
-                         "34359738368 bytes"),
+  mrpt::obs::CObservationIMU imu;
+  const Bytes bytes = testing::to_bytes(imu);
+  const std::string pose_class = "mrpt::poses::CPose3D", matrix_class = "mrpt::math::CMatrixD";
+  const std::size_t pose = testing::find(bytes, pose_class) - 1;
+  Bytes pose_v1 = {static_cast<uint8_t>(0x80 | pose_class.size())};
+  pose_v1.insert(pose_v1.end(), pose_class.begin(), pose_class.end());
+  pose_v1.push_back(1);
+  pose_v1.push_back(static_cast<uint8_t>(0x80 | matrix_class.size()));
+  pose_v1.insert(pose_v1.end(), matrix_class.begin(), matrix_class.end());
+  pose_v1.push_back(0);
+  for (int dimension = 0; dimension < 2; ++dimension)
+    for (const uint8_t byte : {0x00, 0x00, 0x01, 0x00}) pose_v1.push_back(byte);  // 65536
+  Bytes damaged(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(pose));
+  damaged.insert(damaged.end(), pose_v1.begin(), pose_v1.end());
+  const std::string problem = problem_reading(damaged);
+  EXPECT_NE(problem.find("object 0 (mrpt::obs::CObservationIMU): the file ends inside it "
+                         "(truncated): a length stored in it claims 34359738368 bytes"),
             std::string::npos)
       << problem;
 }
@@ -151,9 +164,11 @@ TEST(StoredLength, AMotionModelOfBillionsOfParticlesIsCorrupt) {
   model.modelSelection = mrpt::obs::CActionRobotMovement2D::mmThrun;
   model.thrunModel.nParticlesCount = 12345;
   movement.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0), model);
-  const Bytes bytes = testing::to_bytes(movement);
+  mrpt::obs::CActionCollection actions;
+  actions.insert(movement);
+  const Bytes bytes = testing::to_bytes(actions);
   EXPECT_EQ(problem_reading(with_u32(bytes, offset_of_u32(bytes, 12345), 2000000000u)),
-            "object 0 (mrpt::obs::CActionRobotMovement2D): it is corrupt: its motion model draws "
+            "object 0 (mrpt::obs::CActionCollection): it is corrupt: its motion model draws "
             "2000000000 particles; nothing before it was read");
 }
 
@@ -169,6 +184,33 @@ TEST(StoredLength, AFlagNeitherZeroNorOneIsCorrupt) {
   EXPECT_EQ(problem_reading(bytes),
             "object 0 (mrpt::obs::CObservationOdometry): it is corrupt: a flag stored in it is "
             "neither 0 nor 1; nothing before it was read");
+}
+
+// MRPT reads an object of any registered class where a rawlog's entry or a polymorphic member
+// (a sensory frame's observation) is, and only then finds the class wrong; classes that no place
+// expects are refused before, so that only those a rawlog holds can be read without a layout.
+// Found by fuzzing: a CPoses2DSequence claiming 4.6 billion poses took 73 GB.
+TEST(StoredLength, AClassNoPlaceExpectsIsRefusedBeforeMrptReadsIt) {
+  mrpt::poses::CPoses2DSequence sequence;
+  mrpt::poses::CPose2D pose(1, 2, 0);
+  sequence.appendPose(pose);
+  const Bytes poses = testing::to_bytes(sequence);
+  const std::size_t count = testing::version_byte(poses, "CPoses2DSequence") + 1;
+  EXPECT_EQ(problem_reading(with_u32(poses, count, 0xffffffffu)),
+            "object 0 (mrpt::poses::CPoses2DSequence): it is no rawlog entry: a "
+            "mrpt::poses::CPoses2DSequence is none of a sensory frame, an action collection and an "
+            "observation; nothing before it was read");
+  mrpt::obs::CSensoryFrame frame;
+  frame.insert(std::make_shared<mrpt::obs::CObservationComment>());
+  Bytes in_a_frame = testing::to_bytes(frame);
+  const std::size_t member = testing::find(in_a_frame, "mrpt::obs::CObservationComment") - 1;
+  in_a_frame.resize(member);
+  in_a_frame.insert(in_a_frame.end(), poses.begin(), poses.end());
+  in_a_frame.push_back(0x88);  // the frame's end flag
+  EXPECT_EQ(problem_reading(in_a_frame),
+            "object 0 (mrpt::obs::CSensoryFrame): it is corrupt: it holds a "
+            "mrpt::poses::CPoses2DSequence where a mrpt::obs::CObservation belongs; nothing before "
+            "it was read");
 }
 
 // A colour image stored as JPEG, in an observation.
