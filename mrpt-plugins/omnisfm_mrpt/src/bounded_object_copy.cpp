@@ -25,9 +25,6 @@ constexpr int kMaxNesting = 32;
 // MRPT's own limit on a stored class name.
 constexpr std::size_t kMaxClassName = 120;
 
-// What stops the copy where its layout is not known; caught at the outermost object.
-struct LayoutUnknown {};
-
 }  // namespace
 
 bool BoundedObjectCopy::next() {

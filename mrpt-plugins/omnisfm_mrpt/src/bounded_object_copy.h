@@ -70,12 +70,32 @@ class BoundedObjectCopy {
     object(CLASS_ID(T));
   }
   void object(const mrpt::rtti::TRuntimeClassId* expected);
+  // `count` elements of at least `least_bytes` each, each copied by `element()`. MRPT allocates
+  // them all before reading the first: when the copy stops inside them (at a class it has no
+  // layout for), the bytes the rest take at least are copied first, so that a damaged count ends
+  // inside the file rather than in MRPT's allocation.
+  template <typename Element>
+  void elements(std::uint32_t count, std::size_t least_bytes, Element element) {
+    for (std::uint32_t i = 0; i < count; ++i) {
+      try {
+        element();
+      } catch (const LayoutUnknown&) {
+        copy_exactly(std::uint64_t{count - i - 1} * least_bytes, true);
+        throw;
+      }
+    }
+  }
+  // The fewest bytes an object takes: a length byte, a version byte and an end flag.
+  static constexpr std::size_t kLeastObjectBytes = 3;
   // The layout goes on in a way this copy does not know (or MRPT rejects what was read so far).
   [[noreturn]] void layout_unknown();
   // A value MRPT would trust to allocate or index with, out of any sane range.
   [[noreturn]] void out_of_range(const std::string& what);
 
  private:
+  // What stops the copy where its layout is not known; caught at the outermost object.
+  struct LayoutUnknown {};
+
   void object_after(std::uint8_t lead, const mrpt::rtti::TRuntimeClassId* expected);
   void check_place(const mrpt::rtti::TRuntimeClassId* id,
                    const mrpt::rtti::TRuntimeClassId* expected) const;

@@ -8,7 +8,8 @@ ClassLayout layout_of(const mrpt::rtti::TRuntimeClassId* id) {
   static const std::unordered_map<const mrpt::rtti::TRuntimeClassId*, ClassLayout> table = [] {
     std::unordered_map<const mrpt::rtti::TRuntimeClassId*, ClassLayout> layouts;
     for (const auto& group :
-         {stock_record_layouts(), stock_member_layouts(), plugin_class_layouts()})
+         {stock_record_layouts(), stock_member_layouts(), plugin_class_layouts(),
+          range_sensor_layouts()})
       for (const ClassLayoutEntry& entry : group) layouts.emplace(entry.id, entry.layout);
     return layouts;
   }();

@@ -98,7 +98,8 @@ void grey_pixels(BoundedObjectCopy& in, int version) {
     in.out_of_range("a length stored in it is far beyond what the file holds");
   bool zipped = version == 3 || (version == 4 && size > 16 * 1024);
   if (version >= 5) zipped = in.flag();
-  if (zipped) in.layout_unknown();  // MRPT 2.5 reads no compressed image any more
+  // MRPT 2.5 allocates the pixels, then refuses to read a compressed image.
+  if (zipped) throw ObjectDamage("its image is stored zip-compressed, which MRPT 2.5 cannot read");
   if (size != 0) in.counted(size, 1);
 }
 

@@ -33,13 +33,15 @@ void sensory_frame(BoundedObjectCopy& in, int version) {
   if (version < 2) in.skip(kInt32);  // an ID, dropped in version 2
   if (version == 0) in.skip(kTimestamp);
   const auto observations = in.value<std::uint32_t>();
-  for (std::uint32_t i = 0; i < observations; ++i) in.object<mrpt::obs::CObservation>();
+  in.elements(observations, BoundedObjectCopy::kLeastObjectBytes,
+              [&] { in.object<mrpt::obs::CObservation>(); });
 }
 
 void action_collection(BoundedObjectCopy& in, int version) {
   if (version != 0) in.layout_unknown();
   const auto actions = in.value<std::uint32_t>();
-  for (std::uint32_t i = 0; i < actions; ++i) in.object<mrpt::obs::CAction>();
+  in.elements(actions, BoundedObjectCopy::kLeastObjectBytes,
+              [&] { in.object<mrpt::obs::CAction>(); });
 }
 
 // The motion model stored with an odometry increment (versions 3 to 7), from which MRPT draws

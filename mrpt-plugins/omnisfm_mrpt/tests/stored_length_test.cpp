@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationRange.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationIMU.h>
@@ -157,6 +159,21 @@ TEST(StoredLength, ImageDimensionsBeyondItsStoredSizeAreCorrupt) {
             "beyond what the file holds; nothing before it was read");
 }
 
+// MRPT 2.5 allocates a compressed image's pixels, then refuses to read it.
+TEST(StoredLength, ACompressedImageIsRefusedBeforeItsPixels) {
+  mrpt::obs::CObservationImage observation;
+  observation.image.resize(4, 2, mrpt::img::CH_GRAY);
+  Bytes bytes = testing::to_bytes(observation);
+  const std::size_t width = testing::version_byte(bytes, "CImage") + 1 + 1 + 1;
+  bytes = with_u32(with_u32(with_u32(bytes, width, 40000), width + 4, 40000), width + 12,
+                   1600000000u);
+  ASSERT_EQ(bytes[width + 20], 0);  // whether it is compressed
+  bytes[width + 20] = 1;
+  EXPECT_EQ(problem_reading(bytes),
+            "object 0 (mrpt::obs::CObservationImage): its image is stored zip-compressed, which "
+            "MRPT 2.5 cannot read; nothing before it was read");
+}
+
 // Thrun's motion model draws as many particles as it stores, with no bytes behind them.
 TEST(StoredLength, AMotionModelOfBillionsOfParticlesIsCorrupt) {
   mrpt::obs::CActionRobotMovement2D movement;
@@ -211,6 +228,31 @@ TEST(StoredLength, AClassNoPlaceExpectsIsRefusedBeforeMrptReadsIt) {
             "object 0 (mrpt::obs::CSensoryFrame): it is corrupt: it holds a "
             "mrpt::poses::CPoses2DSequence where a mrpt::obs::CObservation belongs; nothing before "
             "it was read");
+}
+
+// What a real rawlog holds beside omnisfm's classes: a laser scan's beams, a range array's
+// measurements (the latter found by fuzzing, 3.4 GB for a deque of measurements).
+TEST(StoredLength, RangeSensorsCountsBeyondTheFileEndInsideIt) {
+  mrpt::obs::CObservation2DRangeScan scan;
+  scan.resizeScan(54321);
+  const Bytes scan_bytes = testing::to_bytes(scan);
+  const std::size_t beams = offset_of_u32(scan_bytes, 54321);
+  const std::string scan_problem = problem_reading(with_u32(scan_bytes, beams, 0x7fffffffu));
+  EXPECT_NE(scan_problem.find("object 0 (mrpt::obs::CObservation2DRangeScan): the file ends "
+                              "inside it (truncated): a length stored in it claims 8589934588 "
+                              "bytes"),
+            std::string::npos)
+      << scan_problem;
+  mrpt::obs::CObservationRange range;
+  range.sensedData.resize(2);
+  const Bytes range_bytes = testing::to_bytes(range);
+  const std::string range_problem =
+      problem_reading(with_u32(range_bytes, offset_of_u32(range_bytes, 2), 0x7fffffffu));
+  EXPECT_EQ(range_problem.rfind("object 0 (mrpt::obs::CObservationRange): the file ends inside it "
+                                "(truncated)",
+                                0),
+            0u)
+      << range_problem;
 }
 
 // A colour image stored as JPEG, in an observation.
