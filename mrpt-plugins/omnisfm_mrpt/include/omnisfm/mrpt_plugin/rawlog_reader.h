@@ -13,9 +13,10 @@
 // cannot tell the difference.
 //
 // Each object's bytes are copied (BoundedObjectCopy) before MRPT deserializes them, with the
-// layouts of the classes omnisfm takes, so that a damaged length in them costs no more memory
-// than the file holds; an object of another class (a laser scan, say) is read by MRPT from the
-// file as it stands, its lengths unchecked.
+// layouts of the classes omnisfm takes (and of laser scans), so that a damaged length in them
+// costs no more memory than the file holds; a class no rawlog holds where it stands is damage;
+// an observation of another class (a 3D range scan, say) is read by MRPT from the file as it
+// stands, its lengths unchecked.
 //
 // MRPT headers: the including target must link MRPT (mrpt::obs) itself.
 
