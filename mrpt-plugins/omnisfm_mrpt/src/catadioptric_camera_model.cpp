@@ -4,6 +4,7 @@
 
 #include <ostream>
 #include <stdexcept>
+#include <string>
 
 #include "omnisfm/camera/camera_kinds.h"
 #include "omnisfm/camera/mrcal_camera.h"
@@ -115,10 +116,12 @@ void CCatadioptricCameraModel::serializeTo(mrpt::serialization::CArchive& out) c
 void CCatadioptricCameraModel::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   switch (version) {
     case 0: {
-      bool has_camera = false;
-      in >> has_camera;
+      // Stored as a bool's one byte, read as a byte: a damaged one that is neither 0 nor 1 read
+      // into a bool would be undefined behaviour.
+      const auto has_camera = in.ReadAs<uint8_t>();
+      if (has_camera > 1) fail("its camera flag is " + std::to_string(has_camera) + ", not 0 or 1");
       camera_.reset();
-      if (has_camera) camera_ = read_camera_v0(in);
+      if (has_camera == 1) camera_ = read_camera_v0(in);
       break;
     }
     default:

@@ -100,6 +100,22 @@ TEST(CameraModel, RefusesAStoredModelThatIsNoCamera) {
   }
 }
 
+TEST(CameraModel, RefusesACameraFlagThatIsNoBool) {
+  Bytes bytes = testing::to_bytes(CCatadioptricCameraModel());
+  const std::size_t at = testing::version_byte(bytes, kClassName);
+  ASSERT_LT(at + 1, bytes.size());
+  ASSERT_EQ(bytes[at + 1], 0) << "the flag follows the version";
+  bytes[at + 1] = 7;
+  try {
+    testing::from_bytes(bytes);
+    FAIL() << "a camera flag of 7 was accepted";
+  } catch (const std::exception& error) {
+    EXPECT_NE(std::string(error.what()).find("its camera flag is 7, not 0 or 1"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(CameraModel, RefusesAVersionItDoesNotKnow) {
   Bytes bytes = testing::to_bytes(
       CCatadioptricCameraModel(camera::testing::contract_cameras().front().make()));
