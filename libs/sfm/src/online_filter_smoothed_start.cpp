@@ -89,8 +89,9 @@ struct OnlineFilter::StartWindow {
                  ceres::Problem* problem) const;
   // The unknowns' blocks in the order of the columns below.
   std::vector<double*> blocks(StartEstimate* x, std::vector<PoseBlock>* poses) const;
-  // The normal equations' matrix J^T J at x.
-  Eigen::MatrixXd normal_equations(const OnlineFilter& filter, StartEstimate* x) const;
+  // The normal equations' matrix J^T J of `problem` (add_terms') at x, its poses at zero rotation.
+  Eigen::MatrixXd normal_equations(ceres::Problem* problem, StartEstimate* x,
+                                   std::vector<PoseBlock>* poses) const;
   // The measurement farthest from its prediction at x.
   Worst worst_pixel(const OnlineFilter& filter, const StartEstimate& x) const;
   // J_x^T W J_c at x over the measurements, J_c their Jacobians in the considered camera
@@ -246,15 +247,13 @@ std::vector<double*> OnlineFilter::StartWindow::blocks(StartEstimate* x,
   return blocks;
 }
 
-Eigen::MatrixXd OnlineFilter::StartWindow::normal_equations(const OnlineFilter& filter,
-                                                            StartEstimate* x) const {
-  ceres::Problem problem;
-  std::vector<PoseBlock> poses;
-  add_terms(filter, x, &poses, &problem);
+Eigen::MatrixXd OnlineFilter::StartWindow::normal_equations(ceres::Problem* problem,
+                                                            StartEstimate* x,
+                                                            std::vector<PoseBlock>* poses) const {
   ceres::Problem::EvaluateOptions options;
-  options.parameter_blocks = blocks(x, &poses);
+  options.parameter_blocks = blocks(x, poses);
   ceres::CRSMatrix crs;
-  if (!problem.Evaluate(options, nullptr, nullptr, nullptr, &crs)) return {};
+  if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &crs)) return {};
   const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> J(
       crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()), crs.rows.data(),
       crs.cols.data(), crs.values.data());
@@ -309,13 +308,16 @@ bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::M
     if (!problem.Evaluate({}, &cost, nullptr, nullptr, nullptr)) return false;
     ceres::Solver::Summary summary;
     ceres::Solve(start_solver_options(), &problem, &summary);
+    // The solution taken, and the problem re-centred on it (its costs hold x's rotations as
+    // their references), so that its Jacobians are the filter's left perturbations there.
     for (int i = 1; i < w->num_frames(); ++i) {
       x->R[i] = rotation_of(poses[i].data(), x->R[i]);
       x->t[i] = poses[i].tail<3>();
+      poses[i].head<3>().setZero();
     }
     const StartWindow::Worst worst = w->worst_pixel(*this, *x);
     if (!(worst.pixels > settings_.residual_limit_px())) {
-      *A = w->normal_equations(*this, x);
+      *A = w->normal_equations(&problem, x, &poses);
       return A->size() > 0;
     }
     reject(worst.track, worst.frame);
