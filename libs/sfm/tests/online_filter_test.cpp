@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <random>
 
@@ -62,6 +64,46 @@ TEST(OnlineFilter, RoverSequenceTakesFewLinearisations) {
 
 // On a drive, what leaves the filter is handed over as it goes, and the filter keeps only the
 // latest kept_history of it: its memory does not grow with the drive.
+// Vision alone on the endless drive, the mean angle between the filter's and the true direction of
+// travel over 30-frame spans (0.9 m), each in its camera's frame at the span's start.
+double mean_travel_direction_error_deg(const FilterSettings& settings, int frames) {
+  const sim::Dataset drive = sim::long_drive(frames, 0.2, 1);
+  std::vector<std::vector<TrackPixel>> by_frame(frames);
+  for (const auto& o : drive.observations) by_frame[o.frame].push_back({o.track, o.pixel});
+  OnlineFilter filter(drive.camera, settings);
+  std::vector<Eigen::Isometry3d> world_from_cam;
+  for (int f = 0; f < frames; ++f) {
+    filter.process_frame(f, by_frame[f]);
+    world_from_cam.push_back(drive.world_from_cam[0] * filter.cam_from_world().inverse());
+  }
+  constexpr int kSpan = 30;
+  const auto travel = [](const std::vector<Eigen::Isometry3d>& poses, int f) {
+    return Eigen::Vector3d(poses[f].linear().transpose() *
+                           (poses[f + kSpan].translation() - poses[f].translation()))
+        .normalized();
+  };
+  double sum = 0;
+  for (int f = 0; f + kSpan < frames; ++f)
+    sum += std::acos(std::clamp(travel(world_from_cam, f).dot(travel(drive.world_from_cam, f)),
+                                -1.0, 1.0));
+  return sum / (frames - kSpan) * 180 / M_PI;
+}
+
+// With the state's origin left at the first frame, the updates' small gains along the rotation
+// about it moved the camera backwards through the drive's turns; following the camera, the
+// direction of travel holds. Measured over 1,500 frames (45 m): 0.2 deg, 38 deg with the origin
+// left behind.
+TEST(OnlineFilter, VisionAloneTheDirectionOfTravelHoldsOnTheDrive) {
+  FilterSettings settings;
+  const double following = mean_travel_direction_error_deg(settings, 1500);
+  settings.origin_follows_camera = false;
+  const double left = mean_travel_direction_error_deg(settings, 1500);
+  std::printf("direction of travel: %.2f deg following the camera, %.2f deg left behind\n",
+              following, left);
+  EXPECT_LT(following, 1.0);
+  EXPECT_GT(left, 10.0) << "the drive no longer shows the defect";
+}
+
 TEST(OnlineFilter, HandsOverWhatLeavesAndKeepsABoundedHistory) {
   const sim::Dataset d = sim::long_drive(1500, 0.2, 1);
   const auto frames = observations_by_frame(d.observations);

@@ -60,10 +60,10 @@ TEST(SimulatedAccuracy, Rover) {
   EXPECT_GE(r.outliers.precision, 0.95);
   EXPECT_GE(r.outliers.recall, 0.95);
   // Vision alone the rover's scale is the images' to +-10 %, and the filter, whose points'
-  // anchors are states, lets it move within that as the frames come: 0.066-0.090 % over seeds
-  // 1-3 where the batch gives 0.013-0.015 % (0.020-0.022 % while the filter held the scale with
-  // an overconfident covariance).
-  EXPECT_LT(r.online.translation_error_percent, 0.10);
+  // anchors are states, lets it move within that as the frames come: 0.022-0.029 % over seeds
+  // 1-3 where the batch gives 0.013-0.015 %; 0.066-0.090 % while the state's origin stayed at
+  // the first frame (FilterSettings::origin_follows_camera).
+  EXPECT_LT(r.online.translation_error_percent, 0.04);
 }
 
 TEST(SimulatedAccuracy, Crane) {

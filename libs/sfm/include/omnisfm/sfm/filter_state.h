@@ -125,6 +125,15 @@ class FilterState {
           const Eigen::MatrixXd& G_camera = Eigen::MatrixXd());
   // The slot's point leaves; the last slot moves into its place.
   void remove(int slot);
+  // Moves the state's origin to the camera's position: the pose's translation becomes zero, known
+  // exactly, and its error passes to the points' anchors, whose errors are from then on relative
+  // to the camera. Returns the move (the camera's position in the old frame) and its error's
+  // covariance, which leaves the state.
+  struct OriginMove {
+    Eigen::Vector3d shift;
+    Eigen::Matrix3d covariance;
+  };
+  OriginMove move_origin_to_camera();
   // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
   // the mean and the covariance: the state as if that prior had never been applied, exact for a
   // linear model (the information form's subtraction, by Woodbury). Inverse depths stay at
