@@ -5,9 +5,11 @@
 // honest), the wheels' scale, how far the direction of travel over 30-frame spans is from the
 // true one (in the camera's frame) and the estimated over the true length of those spans (the
 // map's scale); at the end the drive's error after a rigid alignment and after a similarity.
-// SENSORS 0: the camera alone (the random walk; the NEES then ignores the scale).
+// SENSORS 0: the camera alone (the random walk; the NEES then ignores the scale). ORIGIN: when the
+// state's origin follows the camera (FilterSettings::origin_follows_camera), 0 never, 1 vision
+// alone, 2 always.
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
-//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1]
+//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=1]
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -64,6 +66,9 @@ int main(int argc, char** argv) {
   sfm::FilterSettings settings;
   if (argc > 5) settings.estimate_wheel_scale = std::atoi(argv[5]) != 0;
   const bool with_sensors = argc > 6 ? std::atoi(argv[6]) != 0 : true;
+  if (argc > 7)
+    settings.origin_follows_camera = static_cast<sfm::OriginFollowsCamera>(
+        std::clamp(std::atoi(argv[7]), 0, 2));
 
   const sim::Dataset drive = sim::long_drive(frames, 0.2, seed);
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);

@@ -80,12 +80,13 @@ FilterState::FilterState(const Eigen::MatrixXd& camera_covariance)
     : P(Eigen::MatrixXd::Zero(kCameraColumn + camera_covariance.rows(),
                               kCameraColumn + camera_covariance.rows())),
       camera_covariance_(camera_covariance) {
-  reset_camera_covariance();
+  reset_considered_blocks();
 }
 
-void FilterState::reset_camera_covariance() {
+void FilterState::reset_considered_blocks() {
   const int k = num_camera_params();
   P.block(kCameraColumn, kCameraColumn, k, k) = camera_covariance_;
+  P.block<3, 3>(kOriginColumn, kOriginColumn) = origin_covariance_;
 }
 
 int FilterState::slot_of(int track) const {
@@ -143,26 +144,30 @@ void FilterState::remove(int slot) {
   P.conservativeResize(n, n);
 }
 
-FilterState::OriginMove FilterState::move_origin_to_camera() {
+Eigen::Vector3d FilterState::move_origin_to_camera() {
   // The camera's position c = -R^T t; with R = exp(dtheta) R its error is
-  // dc = -R^T [t]x dtheta - R^T dt = -M (dtheta, dt). Each point's error relative to the new
-  // origin is its own minus dc: its anchor's offset rows gain M times the pose's, and the
-  // translation's rows go (P <- J P J^T, rows then columns).
+  // dc = -R^T [t]x dtheta - R^T dt = -M (dtheta, dt). The new origin's error is the old one's
+  // plus dc, and each point's error relative to it is its own minus dc: the origin's rows gain
+  // -M times the pose's, each anchor's offset rows M times, and the translation's rows go
+  // (P <- J P J^T, rows then columns).
   const Eigen::Matrix3d Rt = mean.R.transpose();
   Eigen::Matrix<double, 3, 6> M;
   M << Rt * so3::skew(mean.t), Rt;
-  OriginMove move{-Rt * mean.t, M * P.topLeftCorner<6, 6>() * M.transpose()};
+  const Eigen::Vector3d shift = -Rt * mean.t;
   const Eigen::MatrixXd pose_rows = P.topRows<6>();
+  P.middleRows<3>(kOriginColumn).noalias() -= M * pose_rows;
   for (int s = 0; s < num_slots(); ++s)
     P.middleRows<3>(point_column(s) + 3).noalias() += M * pose_rows;
   const Eigen::MatrixXd pose_columns = P.leftCols<6>();
+  P.middleCols<3>(kOriginColumn).noalias() -= pose_columns * M.transpose();
   for (int s = 0; s < num_slots(); ++s)
     P.middleCols<3>(point_column(s) + 3).noalias() += pose_columns * M.transpose();
   P.middleRows<3>(3).setZero();
   P.middleCols<3>(3).setZero();
-  for (PointAnchor& anchor : anchors_) anchor.origin -= move.shift;
+  origin_covariance_ = P.block<3, 3>(kOriginColumn, kOriginColumn);
+  for (PointAnchor& anchor : anchors_) anchor.origin -= shift;
   mean.t.setZero();
-  return move;
+  return shift;
 }
 
 bool FilterState::take_back_prior(int column, double prior_mean, double prior_variance,
@@ -175,7 +180,7 @@ bool FilterState::take_back_prior(int column, double prior_mean, double prior_va
   const double value = mean.points[column - first_point_column()];
   mean = mean.plus(Pe * (weight * (value - prior_mean)), min_inverse_depth);
   P.noalias() += weight * Pe * Pe.transpose();
-  reset_camera_covariance();
+  reset_considered_blocks();
   return true;
 }
 

@@ -48,14 +48,17 @@ Eigen::Isometry3d OnlineFilter::cam_from_world() const {
 }
 
 Eigen::Matrix<double, 6, 6> OnlineFilter::pose_covariance() const {
-  // t_world = t - R o: with R = exp(dtheta) R, dt_world = dt + [R o]x dtheta - R do, the
-  // origin's error do independent of the state.
+  // t_world = t - R o: with R = exp(dtheta) R, dt_world = dt + [R o]x dtheta - R do.
   const Eigen::Matrix3d& R = state_.mean.R;
-  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
+  constexpr int kOrigin = FilterState::kOriginColumn;
+  Eigen::Matrix<double, 9, 9> P;  // the pose's and the origin's
+  P << state_.P.topLeftCorner<6, 6>(), state_.P.block<6, 3>(0, kOrigin),
+      state_.P.block<3, 6>(kOrigin, 0), state_.P.block<3, 3>(kOrigin, kOrigin);
+  Eigen::Matrix<double, 6, 9> J = Eigen::Matrix<double, 6, 9>::Zero();
+  J.leftCols<6>().setIdentity();
   J.block<3, 3>(3, 0) = so3::skew(R * origin_);
-  Eigen::Matrix<double, 6, 6> covariance = J * state_.P.topLeftCorner<6, 6>() * J.transpose();
-  covariance.bottomRightCorner<3, 3>() += R * origin_covariance_ * R.transpose();
-  return covariance;
+  J.block<3, 3>(3, 6) = -R;
+  return J * P * J.transpose();
 }
 
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
@@ -400,6 +403,7 @@ double OnlineFilter::take_step(const Iterate& at, const std::vector<int>& point_
   // random walk only, about one frame in twelve on the rover) weighs the camera's share of the
   // innovation covariance by 1 / (1 + mu), and its cost ratio is approximate.
   next->offset.segment(kCamera, camera_params).setZero();
+  next->offset.segment<3>(FilterState::kOriginColumn).setZero();
   next->g *= shrink;
   // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
   // model's residual r - H d is variance times the weighted innovation.
@@ -474,7 +478,7 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
 void OnlineFilter::accept(Candidate* c) {
   state_.mean = std::move(c->mean);
   if (c->PHt.size() > 0) downdate_covariance(&state_.P, &c->PHt, c->S_factor);
-  state_.reset_camera_covariance();
+  state_.reset_considered_blocks();
 }
 
 double OnlineFilter::prior_chi2(const Measurement& m) const {
@@ -615,12 +619,11 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   for (int s = state_.num_slots() - 1; s >= 0; --s)
     if (!seen.count(state_.track_of(s))) end_point(s);
 
-  if (settings_.origin_follows_camera && !motion && !smoothing_start_ && !at_given_points() &&
-      camera_far_from_origin()) {
-    const FilterState::OriginMove move = state_.move_origin_to_camera();
-    origin_ += move.shift;
-    origin_covariance_ += move.covariance;
-  }
+  const OriginFollowsCamera follows = settings_.origin_follows_camera;
+  if ((follows == OriginFollowsCamera::kAlways ||
+       (follows == OriginFollowsCamera::kVisionAlone && !motion)) &&
+      !smoothing_start_ && !at_given_points() && camera_far_from_origin())
+    origin_ += state_.move_origin_to_camera();
   const SensorStates predicted_at = state_.mean.sensors;
   if (motion)
     propagate(*motion);

@@ -369,7 +369,7 @@ void OnlineFilter::restart_from(const StartWindow& w, const StartEstimate& x,
       P.block(FilterState::kCameraColumn, state_columns[a], c, 1) = cross.row(a).transpose();
     }
   }
-  state_.reset_camera_covariance();
+  state_.reset_considered_blocks();
   double bias_walk = 0;  // what the solve neglected, the bias's walk over the window
   for (int i = 1; i < num_frames; ++i) bias_walk += w.frames[i].motion.bias_walk_variance;
   for (int j = 0; j < 4; ++j) {

@@ -53,8 +53,10 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
   std::mt19937_64 rng(2);
   std::normal_distribution<double> normal(0, 1);
   FilterState state;
-  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(10, 10, [&] { return normal(rng); });
-  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(10, 10);
+  constexpr int kFixed = FilterState::kCameraColumn;  // the columns before the points
+  const Eigen::MatrixXd A =
+      Eigen::MatrixXd::NullaryExpr(kFixed, kFixed, [&] { return normal(rng); });
+  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(kFixed, kFixed);
   constexpr int kSize = FilterState::kPointSize;
   for (int track : {7, 8, 9}) {
     const Eigen::Matrix<double, kSize, 6> G =
@@ -79,9 +81,9 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
   EXPECT_EQ(state.slot_of(9), 1);
   EXPECT_EQ(state.mean.points.size(), 2 * kSize);
   EXPECT_DOUBLE_EQ(state.mean.params(1)[2], 0.9);
-  // Old columns of what is left: the pose and sensors, track 7's, track 9's.
+  // Old columns of what is left: the pose, sensors and origin, track 7's, track 9's.
   std::vector<int> kept;
-  for (int k = 0; k < 10; ++k) kept.push_back(k);
+  for (int k = 0; k < kFixed; ++k) kept.push_back(k);
   for (int k = 0; k < kSize; ++k) kept.push_back(state.point_column(0) + k);
   for (int k = 0; k < kSize; ++k) kept.push_back(state.point_column(2) + k);
   ASSERT_EQ(state.P.rows(), static_cast<int>(kept.size()));
@@ -92,7 +94,8 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
 
 // Moving the origin to the camera leaves every world quantity where it was, and its covariance is
 // that of the errors about the new origin: the camera's position error taken out of each point's
-// and out of the pose, by a Jacobian checked against central differences.
+// and out of the pose, and added to the origin's, by a Jacobian checked against central
+// differences. The origin's own block is kept through an update's reset.
 TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndCarriesTheErrors) {
   std::mt19937_64 rng(3);
   std::normal_distribution<double> normal(0, 1);
@@ -108,7 +111,7 @@ TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndCarriesTheErrors) {
   state.P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
 
   // The new state's error as a function of the old one's, delta: the pose's rotation, no
-  // translation, each point's offset less the camera's position error.
+  // translation, the origin's plus the camera's position error, each point's offset less it.
   const FilterState before = state;
   const Eigen::Vector3d camera = -before.mean.R.transpose() * before.mean.t;
   const auto moved_error = [&](const Eigen::VectorXd& delta) {
@@ -116,34 +119,33 @@ TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndCarriesTheErrors) {
     const Eigen::Vector3d camera_error = -m.R.transpose() * m.t - camera;
     Eigen::VectorXd e = delta;
     e.segment<3>(3).setZero();
+    e.segment<3>(FilterState::kOriginColumn) += camera_error;
     for (int s = 0; s < before.num_slots(); ++s)
       e.segment<3>(before.point_column(s) + 3) -= camera_error;
-    return std::make_pair(e, camera_error);
+    return e;
   };
   Eigen::MatrixXd J(n, n);
-  Eigen::MatrixXd J_camera(3, n);
   const double h = 1e-6;
   for (int k = 0; k < n; ++k) {
     Eigen::VectorXd up = Eigen::VectorXd::Zero(n), down = up;
     up[k] = h;
     down[k] = -h;
-    const auto [e_up, c_up] = moved_error(up);
-    const auto [e_down, c_down] = moved_error(down);
-    J.col(k) = (e_up - e_down) / (2 * h);
-    J_camera.col(k) = (c_up - c_down) / (2 * h);
+    J.col(k) = (moved_error(up) - moved_error(down)) / (2 * h);
   }
 
-  const FilterState::OriginMove move = state.move_origin_to_camera();
-  EXPECT_LT((move.shift - camera).norm(), 1e-12);
+  const Eigen::Vector3d shift = state.move_origin_to_camera();
+  EXPECT_LT((shift - camera).norm(), 1e-12);
   EXPECT_EQ(state.mean.t, Eigen::Vector3d::Zero());
   EXPECT_EQ(state.mean.R, before.mean.R);
   for (int s = 0; s < state.num_slots(); ++s)
-    EXPECT_LT((state.world_point(s) + move.shift - before.world_point(s)).norm(), 1e-12);
+    EXPECT_LT((state.world_point(s) + shift - before.world_point(s)).norm(), 1e-12);
   const Eigen::MatrixXd expected = J * before.P * J.transpose();
   EXPECT_LT((state.P - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
-  const Eigen::Matrix3d expected_camera = J_camera * before.P * J_camera.transpose();
-  EXPECT_LT((move.covariance - expected_camera).cwiseAbs().maxCoeff(),
-            1e-6 * expected_camera.cwiseAbs().maxCoeff());
+  constexpr int kOrigin = FilterState::kOriginColumn;
+  const Eigen::Matrix3d origin_block = state.P.block<3, 3>(kOrigin, kOrigin);
+  state.P.block<3, 3>(kOrigin, kOrigin).setZero();
+  state.reset_considered_blocks();
+  EXPECT_EQ((state.P.block<3, 3>(kOrigin, kOrigin)), origin_block);
 }
 
 TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
@@ -177,11 +179,12 @@ TEST(FilterState, APointHangsOnTheConsideredCameraParameters) {
   FilterState state(camera_covariance);
   ASSERT_EQ(state.num_camera_params(), 2);
   ASSERT_EQ(state.first_point_column(), FilterState::kCameraColumn + 2);
-  ASSERT_EQ(state.P.rows(), 12);
+  constexpr int kFixed = FilterState::kCameraColumn + 2;  // the columns before the points
+  ASSERT_EQ(state.P.rows(), kFixed);
   EXPECT_EQ(state.P.block(FilterState::kCameraColumn, FilterState::kCameraColumn, 2, 2),
             camera_covariance);
-  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(12, 12, [&] { return normal(rng); });
-  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(12, 12);
+  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(kFixed, kFixed, [&] { return normal(rng); });
+  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(kFixed, kFixed);
   const Eigen::MatrixXd before = state.P;
 
   constexpr int kSize = FilterState::kPointSize;
@@ -191,25 +194,25 @@ TEST(FilterState, APointHangsOnTheConsideredCameraParameters) {
   const PointParams own = params_of(0.1, 0.2, 0.3, {0.4, 0.5, 0.6});
   state.add(4, anchor_along(Eigen::Vector3d::Zero(), {1, 0, 0}), PointParams::Zero(), G, own,
             G_camera);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(kSize, 12);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(kSize, kFixed);
   J.leftCols<6>() = G;
   J.middleCols(FilterState::kCameraColumn, 2) = G_camera;
   const int c = state.point_column(0);
-  ASSERT_EQ(c, 12);
+  ASSERT_EQ(c, kFixed);
   const Eigen::MatrixXd point_covariance =
       J * before * J.transpose() + Eigen::MatrixXd(own.cwiseAbs2().asDiagonal());
   EXPECT_LT((state.P.block(c, c, kSize, kSize) - point_covariance).norm(),
             1e-12 * point_covariance.norm());
-  EXPECT_LT((state.P.block(c, 0, kSize, 12) - J * before).norm(), 1e-12 * before.norm());
-  EXPECT_EQ(state.P.block(0, c, 12, kSize), state.P.block(c, 0, kSize, 12).transpose());
+  EXPECT_LT((state.P.block(c, 0, kSize, kFixed) - J * before).norm(), 1e-12 * before.norm());
+  EXPECT_EQ(state.P.block(0, c, kFixed, kSize), state.P.block(c, 0, kSize, kFixed).transpose());
 
   state.P.block(FilterState::kCameraColumn, FilterState::kCameraColumn, 2, 2).setZero();
-  state.reset_camera_covariance();
+  state.reset_considered_blocks();
   EXPECT_EQ(state.P.block(FilterState::kCameraColumn, FilterState::kCameraColumn, 2, 2),
             camera_covariance);
   // The camera's columns stay put as points come and go.
   state.remove(0);
-  EXPECT_EQ(state.P.rows(), 12);
+  EXPECT_EQ(state.P.rows(), kFixed);
   EXPECT_EQ(state.P.block(FilterState::kCameraColumn, 0, 2, FilterState::kCameraColumn),
             before.block(FilterState::kCameraColumn, 0, 2, FilterState::kCameraColumn));
 }
@@ -227,6 +230,9 @@ TEST(FilterState, TakingBackAPriorUndoesItsUpdate) {
   const int n = static_cast<int>(state.P.rows());
   const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return 0.1 * normal(rng); });
   state.P = A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(n, n);
+  // An origin never moved: its error is nothing yet (a considered block the reset keeps).
+  state.P.middleRows<3>(FilterState::kOriginColumn).setZero();
+  state.P.middleCols<3>(FilterState::kOriginColumn).setZero();
   state.mean.t << 0.5, -0.2, 1.0;
   state.mean.sensors.wheel_scale = 1.02;
   const FilterState before = state;

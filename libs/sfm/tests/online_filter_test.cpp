@@ -96,7 +96,7 @@ double mean_travel_direction_error_deg(const FilterSettings& settings, int frame
 TEST(OnlineFilter, VisionAloneTheDirectionOfTravelHoldsOnTheDrive) {
   FilterSettings settings;
   const double following = mean_travel_direction_error_deg(settings, 1500);
-  settings.origin_follows_camera = false;
+  settings.origin_follows_camera = OriginFollowsCamera::kNever;
   const double left = mean_travel_direction_error_deg(settings, 1500);
   std::printf("direction of travel: %.2f deg following the camera, %.2f deg left behind\n",
               following, left);

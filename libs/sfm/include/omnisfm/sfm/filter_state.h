@@ -11,15 +11,19 @@
 // error entered the angles divided by the depth guess (2 m for a point 0.5-20 m away), which
 // left the published pose covariance several times overconfident (eval::rover_pose_consistency).
 // Covariance columns: the pose 0-5 (the rotation's error a left perturbation, R = exp(dtheta) R,
-// then the translation's), the gyro's bias 6-8, the wheels' scale 9, the camera parameters the
-// filter considers (FilterSettings::camera_uncertainty; none by default), then 6 per slot.
+// then the translation's), the gyro's bias 6-8, the wheels' scale 9, the state's origin 10-12
+// (move_origin_to_camera), the camera parameters the filter considers
+// (FilterSettings::camera_uncertainty; none by default), then 6 per slot.
 //
-// The considered camera parameters are Schmidt's consider states: their error is in the
-// covariance, correlated with the rest by every measurement, but never estimated. The mean holds
-// no entry for them (the camera stays as given) and their own block stays the calibration's
-// covariance (reset_camera_covariance after each update): a sequence may well be unable to tell
-// a mirror's tilt from the rig's attitude, and an estimate that drifts with the latter would
-// then bend every later measurement.
+// The origin and the considered camera parameters are Schmidt's consider states: their error is
+// in the covariance, correlated with the rest, but never estimated. The mean holds no entry for
+// them and their own blocks stay as they were (reset_considered_blocks after each update).
+// The camera stays as given, its block the calibration's covariance: a sequence may well be
+// unable to tell a mirror's tilt from the rig's attitude, and an estimate that drifts with the
+// latter would then bend every later measurement. The origin's world position is the caller's:
+// nothing observes it, and an estimate of it would move with the little the updates wrongly
+// learn of the rotation about it (FilterSettings::origin_follows_camera), while its error, and
+// how that error goes with the rest, is what the published pose covariance needs.
 
 #include <Eigen/Geometry>
 #include <map>
@@ -88,7 +92,8 @@ class FilterState {
  public:
   static constexpr int kBiasColumn = 6;
   static constexpr int kScaleColumn = 9;
-  static constexpr int kCameraColumn = 10;
+  static constexpr int kOriginColumn = 10;
+  static constexpr int kCameraColumn = 13;
   static constexpr int kPointSize = 6;
 
   // `camera_covariance`: of the considered camera parameters (0 x 0: none).
@@ -97,10 +102,10 @@ class FilterState {
   int num_camera_params() const { return static_cast<int>(camera_covariance_.rows()); }
   int first_point_column() const { return kCameraColumn + num_camera_params(); }
   int point_column(int slot) const { return first_point_column() + kPointSize * slot; }
-  // The considered camera parameters' block back to the calibration's covariance, after an
-  // update has changed it: with their gain zero, Schmidt's update of the rest is the Kalman
-  // update's, and their own block is what the calibration said.
-  void reset_camera_covariance();
+  // The considered states' own blocks back to what they were before an update changed them: with
+  // their gain zero, Schmidt's update of the rest is the Kalman update's, and their own blocks are
+  // what the calibration said and what the origin's moves left.
+  void reset_considered_blocks();
 
   FilterMean mean;
   Eigen::MatrixXd P;
@@ -127,13 +132,8 @@ class FilterState {
   void remove(int slot);
   // Moves the state's origin to the camera's position: the pose's translation becomes zero, known
   // exactly, and its error passes to the points' anchors, whose errors are from then on relative
-  // to the camera. Returns the move (the camera's position in the old frame) and its error's
-  // covariance, which leaves the state.
-  struct OriginMove {
-    Eigen::Vector3d shift;
-    Eigen::Matrix3d covariance;
-  };
-  OriginMove move_origin_to_camera();
+  // to the camera, and to the origin's. Returns the move: the camera's position in the old frame.
+  Eigen::Vector3d move_origin_to_camera();
   // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
   // the mean and the covariance: the state as if that prior had never been applied, exact for a
   // linear model (the information form's subtraction, by Woodbury). Inverse depths stay at
@@ -144,6 +144,7 @@ class FilterState {
 
  private:
   Eigen::MatrixXd camera_covariance_;
+  Eigen::Matrix3d origin_covariance_ = Eigen::Matrix3d::Zero();
   std::vector<PointAnchor> anchors_;  // per slot
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;

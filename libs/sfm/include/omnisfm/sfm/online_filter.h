@@ -7,9 +7,9 @@
 // calibrated one, constant), each coupled to the pose by the predictions that integrate its sensor
 // (with no such sensor it stays out of every product), and one 3D world point per live track.
 // (FilterState, filter_state.h, holds it with its covariance.) The first frame fixes the gauge:
-// its pose is the identity, known exactly. Under the random walk the state's origin follows the
-// camera (FilterSettings::origin_follows_camera): the origin's world position, and its error's
-// covariance, are kept outside the state, and every pose, point and covariance the filter hands
+// its pose is the identity, known exactly. The state's origin follows the camera
+// (FilterSettings::origin_follows_camera): the origin's world position is kept outside the state
+// and its error is a considered state, so that every pose, point and covariance the filter hands
 // out is in the first frame's world. Propagation keeps the estimate and inflates the pose
 // covariance by a random walk, or, when the vehicle's sensors predict the motion, moves the pose by
 // that prediction and adds its covariance. A new track's point starts on a sphere around the camera along its
@@ -60,6 +60,13 @@ enum class OutlierTest {
   kPixels,
 };
 
+// When the filter's state moves its origin to the camera (FilterSettings::origin_follows_camera).
+enum class OriginFollowsCamera {
+  kNever,        // the first frame's, throughout
+  kVisionAlone,  // in frames propagated by the random walk, not by the vehicle's sensors
+  kAlways,
+};
+
 struct FilterSettings {
   // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
   // sensors the fused batch's too (fused_pipeline.h).
@@ -99,22 +106,26 @@ struct FilterSettings {
   // 7.4 at 0.1 and 12.8 at 0.03 (eval::rover_pose_consistency; 6 is honest), measured with the
   // depth priors kept (taken back: 5.82 and 92.7 % at 0.3).
   double predicted_settle_sigmas = 0.3;
-  // Under the random walk, move the state's origin to the camera whenever the camera is further
-  // from it than half the live points' median distance (the origin's world position and its
-  // error kept outside the state, the latter added to the published pose covariance). Vision
-  // alone nothing observes where the world's origin is, yet each update gains a little
-  // information on the rotation about it (its Jacobians at each frame's estimate annihilate
-  // another direction than the covariance was built around), and a correction of that rotation
-  // moves the camera by its distance from the origin. On the 600 m drive at seed 1 that moved the
-  // camera 3.5 cm per frame backwards through each turn (the direction of travel 67 deg off
-  // over the drive, 8-10 % of the distance after a similarity alignment at seeds 1-3); with the
-  // origin following it 0.2 deg and 0.18-0.38 %. The rover's online error fell from
-  // 0.066-0.090 % to 0.022-0.029 % (seeds 1-3). Moved before every frame instead, the crane's
-  // doubled (0.12-0.16 % to 0.24-0.56 %, seeds 1-6), where the threshold leaves it as it was:
-  // each move drops the origin's correlation with the points. Not with the vehicle's sensors'
-  // prediction, where moving it cost accuracy (seed 2's drive 1.29 % after a rigid alignment,
-  // 0.50 % without).
-  bool origin_follows_camera = true;
+  // When to move the state's origin to the camera: whenever the camera is further from it than
+  // half the live points' median distance (the origin's world position kept outside the state,
+  // its error a considered state: filter_state.h). Nothing observes where the world's origin is,
+  // yet each update gains a little information on the rotation about it (its Jacobians at each
+  // frame's estimate annihilate another direction than the covariance was built around), and a
+  // correction of that rotation moves the camera by its distance from the origin.
+  // - Vision alone, on the 600 m drive at seed 1, that moved the camera 3.5 cm per frame
+  //   backwards through each turn: the direction of travel 67 deg off over the drive, 8-10 % of
+  //   the distance after a similarity alignment at seeds 1-3. With the origin following it,
+  //   0.2 deg and 0.18-0.38 %. The rover's online error fell from 0.066-0.090 % to
+  //   0.022-0.029 % (seeds 1-3). Moved before every frame instead, the crane's doubled
+  //   (0.12-0.16 % to 0.24-0.56 %, seeds 1-6), where the threshold leaves it as it was.
+  // - With odometry and gyro (kAlways), the published pose covariance stays near honest over the
+  //   600 m drive: mean NEES per 5,000 frames 3.9 / 5.3 / 31 / 77 at seed 1 (6 when honest),
+  //   against 166 / 1,678 / 6,762 / 14,882 with the origin left at the first frame. But the
+  //   wheels' scale then follows the images' own, which drifts (seed 2: 0.917 +- 0.0014 at the
+  //   end for a true 0.985), and the drive's error after a rigid alignment is 0.59 / 1.31 /
+  //   0.92 % at seeds 1-3 where it is 0.52 / 0.50 / 0.28 % without. Hence the default moves it
+  //   only under the random walk.
+  OriginFollowsCamera origin_follows_camera = OriginFollowsCamera::kVisionAlone;
   // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
   int smoothed_start_frames = 20;
   // With a gyro: estimate its bias as a state (else its prior inflates each prediction's rotation
@@ -398,13 +409,11 @@ class OnlineFilter {
 
   bool at_given_points() const { return static_cast<bool>(linearisation_points_.cam_from_world); }
 
-  // The world position of the state's origin (FilterSettings::origin_follows_camera), and the
-  // covariance of its error, out of the state.
   // Whether the camera is far enough from the state's origin to move it there (see
   // FilterSettings::origin_follows_camera).
   bool camera_far_from_origin() const;
+  // The world position of the state's origin; its error is a considered state (filter_state.h).
   Eigen::Vector3d origin_{0, 0, 0};
-  Eigen::Matrix3d origin_covariance_ = Eigen::Matrix3d::Zero();
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
