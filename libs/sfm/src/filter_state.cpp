@@ -170,6 +170,19 @@ Eigen::Vector3d FilterState::move_origin_to_camera() {
   return shift;
 }
 
+Eigen::Matrix<double, 6, 6> FilterState::world_pose_covariance(
+    const Eigen::Vector3d& origin) const {
+  // t_world = t - R o: with R = exp(dtheta) R, dt_world = dt + [R o]x dtheta - R do.
+  Eigen::Matrix<double, 9, 9> pose_and_origin;
+  pose_and_origin << P.topLeftCorner<6, 6>(), P.block<6, 3>(0, kOriginColumn),
+      P.block<3, 6>(kOriginColumn, 0), P.block<3, 3>(kOriginColumn, kOriginColumn);
+  Eigen::Matrix<double, 6, 9> J = Eigen::Matrix<double, 6, 9>::Zero();
+  J.leftCols<6>().setIdentity();
+  J.block<3, 3>(3, 0) = so3::skew(mean.R * origin);
+  J.block<3, 3>(3, 6) = -mean.R;
+  return J * pose_and_origin * J.transpose();
+}
+
 bool FilterState::take_back_prior(int column, double prior_mean, double prior_variance,
                                   double min_inverse_depth) {
   if (!(P(column, column) < prior_variance)) return false;

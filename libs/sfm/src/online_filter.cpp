@@ -48,17 +48,7 @@ Eigen::Isometry3d OnlineFilter::cam_from_world() const {
 }
 
 Eigen::Matrix<double, 6, 6> OnlineFilter::pose_covariance() const {
-  // t_world = t - R o: with R = exp(dtheta) R, dt_world = dt + [R o]x dtheta - R do.
-  const Eigen::Matrix3d& R = state_.mean.R;
-  constexpr int kOrigin = FilterState::kOriginColumn;
-  Eigen::Matrix<double, 9, 9> P;  // the pose's and the origin's
-  P << state_.P.topLeftCorner<6, 6>(), state_.P.block<6, 3>(0, kOrigin),
-      state_.P.block<3, 6>(kOrigin, 0), state_.P.block<3, 3>(kOrigin, kOrigin);
-  Eigen::Matrix<double, 6, 9> J = Eigen::Matrix<double, 6, 9>::Zero();
-  J.leftCols<6>().setIdentity();
-  J.block<3, 3>(3, 0) = so3::skew(R * origin_);
-  J.block<3, 3>(3, 6) = -R;
-  return J * P * J.transpose();
+  return state_.world_pose_covariance(origin_);
 }
 
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {

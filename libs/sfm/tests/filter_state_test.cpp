@@ -148,6 +148,49 @@ TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndCarriesTheErrors) {
   EXPECT_EQ((state.P.block<3, 3>(kOrigin, kOrigin)), origin_block);
 }
 
+// The pose in the world, t_world = t - R o with the origin o outside the state: its covariance's
+// Jacobian in the pose's and the origin's errors checked against central differences.
+TEST(FilterState, WorldPoseCovarianceFoldsInTheOriginsError) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal(0, 1);
+  FilterState state;
+  state.mean.R = Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0.3, 1, -0.4).normalized()).toRotationMatrix();
+  state.mean.t << 0.4, 1.5, -0.2;
+  const int n = static_cast<int>(state.P.rows());
+  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(rng); });
+  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
+  const Eigen::Vector3d origin(40, -25, 3);
+
+  // The world pose's error (the rotation's a left perturbation, then the translation's) for
+  // errors of the pose and the origin.
+  const auto world_error = [&](const Eigen::Matrix<double, 9, 1>& e) {
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(n);
+    delta.head<6>() = e.head<6>();
+    const FilterMean m = state.mean.plus(delta, 1e-3);
+    const Eigen::Vector3d t_world = m.t - m.R * (origin + e.tail<3>());
+    Eigen::Matrix<double, 6, 1> error;
+    error << so3::log(m.R * state.mean.R.transpose()),
+        t_world - (state.mean.t - state.mean.R * origin);
+    return error;
+  };
+  Eigen::Matrix<double, 6, 9> J;
+  const double h = 1e-6;
+  for (int k = 0; k < 9; ++k) {
+    Eigen::Matrix<double, 9, 1> up = Eigen::Matrix<double, 9, 1>::Zero(), down = up;
+    up[k] = h;
+    down[k] = -h;
+    J.col(k) = (world_error(up) - world_error(down)) / (2 * h);
+  }
+  std::vector<int> columns = {0, 1, 2, 3, 4, 5};
+  for (int k = 0; k < 3; ++k) columns.push_back(FilterState::kOriginColumn + k);
+  Eigen::Matrix<double, 9, 9> pose_and_origin;
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j) pose_and_origin(i, j) = state.P(columns[i], columns[j]);
+  const Eigen::Matrix<double, 6, 6> expected = J * pose_and_origin * J.transpose();
+  const Eigen::Matrix<double, 6, 6> published = state.world_pose_covariance(origin);
+  EXPECT_LT((published - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
+}
+
 TEST(FilterState, PlusMovesEveryPartAndHoldsPointsShortOfInfinity) {
   FilterState state;
   state.add(4, anchor_along(Eigen::Vector3d::Zero(), {0, 1, 0}),

@@ -134,6 +134,9 @@ class FilterState {
   // exactly, and its error passes to the points' anchors, whose errors are from then on relative
   // to the camera, and to the origin's. Returns the move: the camera's position in the old frame.
   Eigen::Vector3d move_origin_to_camera();
+  // The covariance of the pose's error (rotation, then translation) as a pose in the world, where
+  // the state's origin sits at `origin`: the origin's error folded into the translation's.
+  Eigen::Matrix<double, 6, 6> world_pose_covariance(const Eigen::Vector3d& origin) const;
   // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
   // the mean and the covariance: the state as if that prior had never been applied, exact for a
   // linear model (the information form's subtraction, by Woodbury). Inverse depths stay at
