@@ -7,9 +7,9 @@
 // map's scale); at the end the drive's error after a rigid alignment and after a similarity.
 // SENSORS 0: the camera alone (the random walk; the NEES then ignores the scale). ORIGIN: when the
 // state's origin follows the camera (FilterSettings::origin_follows_camera), 0 never, 1 vision
-// alone, 2 always.
+// alone, 2 always. TAKE_BACK 0: the depth priors kept (FilterSettings::take_back_depth_priors).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
-//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=1]
+//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=1] [TAKE_BACK=1]
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
   if (argc > 7)
     settings.origin_follows_camera = static_cast<sfm::OriginFollowsCamera>(
         std::clamp(std::atoi(argv[7]), 0, 2));
+  if (argc > 8) settings.take_back_depth_priors = std::atoi(argv[8]) != 0;
 
   const sim::Dataset drive = sim::long_drive(frames, 0.2, seed);
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
