@@ -8,8 +8,9 @@
 // SENSORS 0: the camera alone (the random walk; the NEES then ignores the scale). ORIGIN: when the
 // state's origin follows the camera (FilterSettings::origin_follows_camera), 0 never, 1 vision
 // alone, 2 always. TAKE_BACK 0: the depth priors kept (FilterSettings::take_back_depth_priors).
+// CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
-//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=1] [TAKE_BACK=1]
+//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=1] [TAKE_BACK=1] [CAMERA.ini]
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -21,18 +22,6 @@
 namespace {
 
 constexpr int kSpan = 30;  // frames: a track's life on the drive
-
-// The angle between the estimated and the true direction of travel from frame f to f + kSpan,
-// each in its own camera's frame at f (world_from_cam poses).
-double travel_direction_error_deg(const std::vector<Eigen::Isometry3d>& estimate,
-                                  const std::vector<Eigen::Isometry3d>& truth, int f) {
-  const auto travel = [f](const std::vector<Eigen::Isometry3d>& poses) {
-    return Eigen::Vector3d(poses[f].linear().transpose() *
-                           (poses[f + kSpan].translation() - poses[f].translation()))
-        .normalized();
-  };
-  return std::acos(std::clamp(travel(estimate).dot(travel(truth)), -1.0, 1.0)) * 180 / M_PI;
-}
 
 // The estimated over the true distance from frame f to f + kSpan: the map's scale there.
 double travel_scale(const std::vector<Eigen::Isometry3d>& estimate,
@@ -48,6 +37,7 @@ double travel_scale(const std::vector<Eigen::Isometry3d>& estimate,
 #include "omnisfm/eval/filter_consistency.h"
 #include "omnisfm/eval/simulated_sensors.h"
 #include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/io/camera_file.h"
 #include "omnisfm/sfm/blas_threads.h"
 #include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/online_filter.h"
@@ -71,7 +61,9 @@ int main(int argc, char** argv) {
         std::clamp(std::atoi(argv[7]), 0, 2));
   if (argc > 8) settings.take_back_depth_priors = std::atoi(argv[8]) != 0;
 
-  const sim::Dataset drive = sim::long_drive(frames, 0.2, seed);
+  const sim::Dataset drive =
+      argc > 9 ? sim::long_drive(frames, 0.2, seed, io::read_camera_file(argv[9]))
+               : sim::long_drive(frames, 0.2, seed);
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
   const sfm::MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
   std::vector<std::vector<sfm::TrackPixel>> by_frame(frames);
@@ -110,7 +102,7 @@ int main(int argc, char** argv) {
       double direction_error = 0, scale = 0;
       int spans = 0;
       for (int g = std::max(0, f + 1 - block - kSpan); g + kSpan <= f; ++g, ++spans) {
-        direction_error += travel_direction_error_deg(estimate, drive.world_from_cam, g);
+        direction_error += eval::travel_direction_error_deg(estimate, drive.world_from_cam, g, kSpan);
         scale += travel_scale(estimate, drive.world_from_cam, g);
       }
       std::printf("%d %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.4f %.4f %.1f %.3f\n", f + 1,

@@ -1,6 +1,7 @@
 #include "omnisfm/eval/trajectory_errors.h"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -112,6 +113,16 @@ OutlierDetection outlier_detection(const std::set<int>& detected, const std::set
   if (o.detected > 0) o.precision = static_cast<double>(o.correct) / o.detected;
   if (o.actual > 0) o.recall = static_cast<double>(o.correct) / o.actual;
   return o;
+}
+
+double travel_direction_error_deg(const std::vector<Eigen::Isometry3d>& estimate,
+                                  const std::vector<Eigen::Isometry3d>& truth, int f, int span) {
+  const auto travel = [f, span](const std::vector<Eigen::Isometry3d>& poses) {
+    return Eigen::Vector3d(poses.at(f).linear().transpose() *
+                           (poses.at(f + span).translation() - poses[f].translation()))
+        .normalized();
+  };
+  return std::acos(std::clamp(travel(estimate).dot(travel(truth)), -1.0, 1.0)) * 180 / M_PI;
 }
 
 }  // namespace omnisfm::eval

@@ -144,7 +144,7 @@ void FilterState::remove(int slot) {
   P.conservativeResize(n, n);
 }
 
-Eigen::Vector3d FilterState::move_origin_to_camera() {
+void FilterState::move_origin_to_camera() {
   // The camera's position c = -R^T t; with R = exp(dtheta) R its error is
   // dc = -R^T [t]x dtheta - R^T dt = -M (dtheta, dt). The new origin's error is the old one's
   // plus dc, and each point's error relative to it is its own minus dc: the origin's rows gain
@@ -167,18 +167,23 @@ Eigen::Vector3d FilterState::move_origin_to_camera() {
   origin_covariance_ = P.block<3, 3>(kOriginColumn, kOriginColumn);
   for (PointAnchor& anchor : anchors_) anchor.origin -= shift;
   mean.t.setZero();
-  return shift;
+  origin_ += shift;
 }
 
-Eigen::Matrix<double, 6, 6> FilterState::world_pose_covariance(
-    const Eigen::Vector3d& origin) const {
+Eigen::Isometry3d FilterState::world_cam_from_world() const {
+  Eigen::Isometry3d cam_from_world = mean.cam_from_world();
+  cam_from_world.translation() -= mean.R * origin_;
+  return cam_from_world;
+}
+
+Eigen::Matrix<double, 6, 6> FilterState::world_pose_covariance() const {
   // t_world = t - R o: with R = exp(dtheta) R, dt_world = dt + [R o]x dtheta - R do.
   Eigen::Matrix<double, 9, 9> pose_and_origin;
   pose_and_origin << P.topLeftCorner<6, 6>(), P.block<6, 3>(0, kOriginColumn),
       P.block<3, 6>(kOriginColumn, 0), P.block<3, 3>(kOriginColumn, kOriginColumn);
   Eigen::Matrix<double, 6, 9> J = Eigen::Matrix<double, 6, 9>::Zero();
   J.leftCols<6>().setIdentity();
-  J.block<3, 3>(3, 0) = so3::skew(mean.R * origin);
+  J.block<3, 3>(3, 0) = so3::skew(mean.R * origin_);
   J.block<3, 3>(3, 6) = -mean.R;
   return J * pose_and_origin * J.transpose();
 }

@@ -41,15 +41,6 @@ OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const Filte
       state_(checked_uncertainty(camera, settings.camera_uncertainty)),
       smoothing_start_(settings.smoothed_start_frames > 0) {}
 
-Eigen::Isometry3d OnlineFilter::cam_from_world() const {
-  Eigen::Isometry3d cam_from_world = state_.mean.cam_from_world();
-  cam_from_world.translation() -= cam_from_world.linear() * origin_;
-  return cam_from_world;
-}
-
-Eigen::Matrix<double, 6, 6> OnlineFilter::pose_covariance() const {
-  return state_.world_pose_covariance(origin_);
-}
 
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   std::map<int, Eigen::Vector3d> all;
@@ -61,7 +52,7 @@ std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   }
   for (const auto& [track, point] : held_points_) all[track] = point;
   for (int s = 0; s < state_.num_slots(); ++s)
-    all[state_.track_of(s)] = state_.world_point(s) + origin_;
+    all[state_.track_of(s)] = state_.world_point(s) + state_.origin();
   return all;
 }
 
@@ -72,7 +63,7 @@ void OnlineFilter::propagate() {
 
 void OnlineFilter::end_point(int slot) {
   const int track = state_.track_of(slot);
-  const Eigen::Vector3d point = state_.world_point(slot) + origin_;
+  const Eigen::Vector3d point = state_.world_point(slot) + state_.origin();
   // Not while the smoothed start is pending: it solves the window again, priors and all.
   if (settings_.take_back_depth_priors && scale_started_ && !smoothing_start_) {
     const int depth_column = state_.point_column(slot) + 2;
@@ -613,7 +604,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   if ((follows == OriginFollowsCamera::kAlways ||
        (follows == OriginFollowsCamera::kVisionAlone && !motion)) &&
       !smoothing_start_ && !at_given_points() && camera_far_from_origin())
-    origin_ += state_.move_origin_to_camera();
+    state_.move_origin_to_camera();
   const SensorStates predicted_at = state_.mean.sensors;
   if (motion)
     propagate(*motion);

@@ -133,8 +133,11 @@ TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndCarriesTheErrors) {
     J.col(k) = (moved_error(up) - moved_error(down)) / (2 * h);
   }
 
-  const Eigen::Vector3d shift = state.move_origin_to_camera();
+  state.move_origin_to_camera();
+  const Eigen::Vector3d shift = state.origin();
   EXPECT_LT((shift - camera).norm(), 1e-12);
+  EXPECT_LT((state.world_cam_from_world().matrix() - before.mean.cam_from_world().matrix()).norm(),
+            1e-12);
   EXPECT_EQ(state.mean.t, Eigen::Vector3d::Zero());
   EXPECT_EQ(state.mean.R, before.mean.R);
   for (int s = 0; s < state.num_slots(); ++s)
@@ -154,12 +157,17 @@ TEST(FilterState, WorldPoseCovarianceFoldsInTheOriginsError) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal(0, 1);
   FilterState state;
-  state.mean.R = Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0.3, 1, -0.4).normalized()).toRotationMatrix();
-  state.mean.t << 0.4, 1.5, -0.2;
   const int n = static_cast<int>(state.P.rows());
   const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(rng); });
+  // The origin moved to a camera at (-40, 25, -3), then a pose and a covariance about it.
+  state.mean.t << 40, -25, 3;
+  state.mean.R.setIdentity();
+  state.move_origin_to_camera();
+  state.mean.R = Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0.3, 1, -0.4).normalized()).toRotationMatrix();
+  state.mean.t << 0.4, 1.5, -0.2;
+  const Eigen::Vector3d origin = state.origin();
+  ASSERT_LT((origin - Eigen::Vector3d(-40, 25, -3)).norm(), 1e-12);
   state.P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
-  const Eigen::Vector3d origin(40, -25, 3);
 
   // The world pose's error (the rotation's a left perturbation, then the translation's) for
   // errors of the pose and the origin.
@@ -187,7 +195,7 @@ TEST(FilterState, WorldPoseCovarianceFoldsInTheOriginsError) {
   for (int i = 0; i < 9; ++i)
     for (int j = 0; j < 9; ++j) pose_and_origin(i, j) = state.P(columns[i], columns[j]);
   const Eigen::Matrix<double, 6, 6> expected = J * pose_and_origin * J.transpose();
-  const Eigen::Matrix<double, 6, 6> published = state.world_pose_covariance(origin);
+  const Eigen::Matrix<double, 6, 6> published = state.world_pose_covariance();
   EXPECT_LT((published - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
 }
 

@@ -51,4 +51,10 @@ struct OutlierDetection {
 OutlierDetection outlier_detection(const std::set<int>& detected_tracks,
                                    const std::set<int>& true_outlier_tracks);
 
+// The angle, degrees, between the estimated and the true direction of travel from frame f to
+// f + span, each in its own camera's frame at f (world_from_cam poses): what a drift of the
+// camera's place in the world shows while its turning and its map stay right.
+double travel_direction_error_deg(const std::vector<Eigen::Isometry3d>& estimate,
+                                  const std::vector<Eigen::Isometry3d>& truth, int f, int span);
+
 }  // namespace omnisfm::eval

@@ -130,13 +130,16 @@ class FilterState {
           const Eigen::MatrixXd& G_camera = Eigen::MatrixXd());
   // The slot's point leaves; the last slot moves into its place.
   void remove(int slot);
+  // Where the state's origin sits in the world: the mean's pose and points are about it.
+  const Eigen::Vector3d& origin() const { return origin_; }
   // Moves the state's origin to the camera's position: the pose's translation becomes zero, known
   // exactly, and its error passes to the points' anchors, whose errors are from then on relative
-  // to the camera, and to the origin's. Returns the move: the camera's position in the old frame.
-  Eigen::Vector3d move_origin_to_camera();
-  // The covariance of the pose's error (rotation, then translation) as a pose in the world, where
-  // the state's origin sits at `origin`: the origin's error folded into the translation's.
-  Eigen::Matrix<double, 6, 6> world_pose_covariance(const Eigen::Vector3d& origin) const;
+  // to the camera, and to the origin's.
+  void move_origin_to_camera();
+  // cam_from_world in the world, and the covariance of its error (rotation, then translation),
+  // the origin's error folded into the translation's.
+  Eigen::Isometry3d world_cam_from_world() const;
+  Eigen::Matrix<double, 6, 6> world_pose_covariance() const;
   // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
   // the mean and the covariance: the state as if that prior had never been applied, exact for a
   // linear model (the information form's subtraction, by Woodbury). Inverse depths stay at
@@ -147,6 +150,7 @@ class FilterState {
 
  private:
   Eigen::MatrixXd camera_covariance_;
+  Eigen::Vector3d origin_{0, 0, 0};
   Eigen::Matrix3d origin_covariance_ = Eigen::Matrix3d::Zero();
   std::vector<PointAnchor> anchors_;  // per slot
   std::vector<int> slot_track_;

@@ -224,9 +224,9 @@ class OnlineFilter {
   // from sensor_states()), and a measurement whose given point does not project.
   void linearise_at(LinearisationPoints points) { linearisation_points_ = std::move(points); }
 
-  Eigen::Isometry3d cam_from_world() const;
+  Eigen::Isometry3d cam_from_world() const { return state_.world_cam_from_world(); }
   // The 6x6 covariance of the pose error (rotation, then translation).
-  Eigen::Matrix<double, 6, 6> pose_covariance() const;
+  Eigen::Matrix<double, 6, 6> pose_covariance() const { return state_.world_pose_covariance(); }
   // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
   // covariance.
   const Eigen::Vector3d& gyro_bias() const { return state_.mean.sensors.gyro_bias; }
@@ -412,8 +412,6 @@ class OnlineFilter {
   // Whether the camera is far enough from the state's origin to move it there (see
   // FilterSettings::origin_follows_camera).
   bool camera_far_from_origin() const;
-  // The world position of the state's origin; its error is a considered state (filter_state.h).
-  Eigen::Vector3d origin_{0, 0, 0};
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
