@@ -3,8 +3,9 @@
 // that error grows with a track's age. The images are those `omnisfm simulate --render` wrote
 // for the same scenario and seed (rendering them again would take most of the time).
 //   omnisfm simulate --scenario rover --render --imaging realistic --out /tmp/rover
-//   track_truth rover /tmp/rover/images [SEED=1] [SETTING=VALUE...]
-// SETTING is one of the TrackerSettings fields listed in `settable` below.
+//   track_truth rover /tmp/rover/images [SEED=1] [SETTING=VALUE...] [--mistracked]
+// SETTING is one of the TrackerSettings fields listed in `settable` below. --mistracked lists the
+// tracks that strayed beyond 1 px, their errors frame by frame and their last step.
 
 #include <algorithm>
 #include <cstdio>
@@ -37,6 +38,7 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
       {"reacquire", [&](double v) { settings->reacquire = v != 0; }},
       {"image_blur_sigma", [&](double v) { settings->image_blur_sigma = v; }},
       {"max_tracks", [&](double v) { settings->max_tracks = static_cast<int>(v); }},
+      {"max_step_deviation_px", [&](double v) { settings->max_step_deviation_px = v; }},
   };
   const size_t equals = assignment.find('=');
   if (equals == std::string::npos) return false;
@@ -75,11 +77,51 @@ void print_errors_by_age(const sim::Dataset& dataset,
   std::printf("\n");
 }
 
+// Per mistracked track: where it started, its error in each frame, and its last step against
+// the median step of the tracks within 100 px (TrackerSettings::max_step_deviation_px).
+void print_mistracked(const sim::Dataset& dataset,
+                      const std::vector<core::TrackObservation>& observations,
+                      const eval::TrackAccuracy& accuracy) {
+  const std::vector<double> errors = eval::track_errors(dataset, observations);
+  std::map<int, std::vector<size_t>> by_track;
+  std::map<int, std::map<int, Eigen::Vector2d>> by_frame;  // frame, track: pixel
+  for (size_t i = 0; i < observations.size(); ++i) {
+    by_track[observations[i].track].push_back(i);
+    by_frame[observations[i].frame][observations[i].track] = observations[i].pixel;
+  }
+  for (const int m : accuracy.mistracked) {
+    const std::vector<size_t>& seen = by_track[m];
+    const core::TrackObservation& first = observations[seen.front()];
+    std::printf("track %d from frame %d at (%.0f, %.0f), error per frame:", m, first.frame,
+                first.pixel.x(), first.pixel.y());
+    for (const size_t i : seen) std::printf(" %.2f", errors[i]);
+    if (seen.size() >= 2) {
+      const core::TrackObservation& last = observations[seen.back()];
+      const core::TrackObservation& before = observations[seen[seen.size() - 2]];
+      std::vector<double> xs, ys;
+      for (const auto& [track, pixel] : by_frame[before.frame]) {
+        const auto now = by_frame[last.frame].find(track);
+        if (track == m || now == by_frame[last.frame].end() ||
+            (pixel - before.pixel).norm() > 100)
+          continue;
+        xs.push_back(now->second.x() - pixel.x());
+        ys.push_back(now->second.y() - pixel.y());
+      }
+      const Eigen::Vector2d step = last.pixel - before.pixel;
+      std::printf("; last step (%.1f, %.1f), neighbours' median (%.1f, %.1f) of %zu", step.x(),
+                  step.y(), core::percentile(xs, 0.5), core::percentile(ys, 0.5), xs.size());
+    }
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: track_truth SCENARIO IMAGES_DIR [SEED=1] [SETTING=VALUE...]\n");
+    std::fprintf(stderr,
+                 "usage: track_truth SCENARIO IMAGES_DIR [SEED=1] [SETTING=VALUE...] "
+                 "[--mistracked]\n");
     return 2;
   }
   sim::SimulationOptions options;
@@ -88,8 +130,11 @@ int main(int argc, char** argv) {
   if (argc > 3 && std::string(argv[3]).find('=') == std::string::npos)
     options.seed = std::strtoull(argv[next++], nullptr, 10);
   track::TrackerSettings settings;
+  bool list_mistracked = false;
   for (; next < argc; ++next)
-    if (!set(argv[next], &settings)) {
+    if (std::string(argv[next]) == "--mistracked")
+      list_mistracked = true;
+    else if (!set(argv[next], &settings)) {
       std::fprintf(stderr, "track_truth: unknown setting %s\n", argv[next]);
       return 2;
     }
@@ -107,9 +152,11 @@ int main(int argc, char** argv) {
       a.p95_px, a.max_px, a.reacquisitions, a.wrong_reacquisitions,
       1000 * tracked.tracking_seconds / std::max(1, s.frames));
   std::printf(
-      "ended: lost %d, forward-backward %d, appearance %d, misfit %d, reshaped %d, left region "
-      "%d, duplicate %d\n",
-      s.lost, s.forward_backward, s.appearance, s.misfit, s.reshaped, s.left_region, s.duplicate);
+      "ended: lost %d, forward-backward %d, appearance %d, misfit %d, reshaped %d, jumped %d, "
+      "left region %d, duplicate %d\n",
+      s.lost, s.forward_backward, s.appearance, s.misfit, s.reshaped, s.jumped, s.left_region,
+      s.duplicate);
   print_errors_by_age(dataset, tracked.observations, a);
+  if (list_mistracked) print_mistracked(dataset, tracked.observations, a);
   return 0;
 }

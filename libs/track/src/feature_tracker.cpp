@@ -7,6 +7,8 @@
 #include <opencv2/video/tracking.hpp>
 #include <type_traits>
 
+#include "omnisfm/core/percentile.h"
+
 namespace omnisfm::track {
 namespace {
 
@@ -89,6 +91,7 @@ std::vector<TrackPixel> FeatureTracker::track(const cv::Mat& full_image) {
                               settings_.pyramid_levels - 1 - finest, true);
   if (frame_ > 0) {
     follow_live_tracks();
+    end_jumped_tracks();
     remove_duplicates();
   }
   replenish();
@@ -191,6 +194,37 @@ void FeatureTracker::follow_live_tracks() {
     t.recent.push_back(t.position);
     if (t.recent.size() > kRecentPositions) t.recent.erase(t.recent.begin());
     kept.push_back(std::move(t));
+  }
+  live_.swap(kept);
+}
+
+void FeatureTracker::end_jumped_tracks() {
+  constexpr size_t kMinNeighbours = 3;
+  const double radius_squared =
+      settings_.neighbourhood_radius_px * settings_.neighbourhood_radius_px;
+  std::vector<bool> jumped(live_.size(), false);
+  std::vector<double> xs, ys;
+  for (size_t i = 0; i < live_.size(); ++i) {
+    const Eigen::Vector2d from = live_[i].position - live_[i].velocity;
+    xs.clear();
+    ys.clear();
+    for (size_t j = 0; j < live_.size(); ++j) {
+      if (j == i || (live_[j].position - live_[j].velocity - from).squaredNorm() > radius_squared)
+        continue;
+      xs.push_back(live_[j].velocity.x());
+      ys.push_back(live_[j].velocity.y());
+    }
+    if (xs.size() < kMinNeighbours) continue;
+    const Eigen::Vector2d median(core::percentile(xs, 0.5), core::percentile(ys, 0.5));
+    jumped[i] = (live_[i].velocity - median).norm() > settings_.max_step_deviation_px;
+  }
+  std::vector<Track> kept;
+  kept.reserve(live_.size());
+  for (size_t i = 0; i < live_.size(); ++i) {
+    if (jumped[i])
+      end_track(i, &statistics_.jumped, false);
+    else
+      kept.push_back(std::move(live_[i]));
   }
   live_.swap(kept);
 }

@@ -262,5 +262,51 @@ TEST(FeatureTracker, RepeatedTextureIsNotReacquired) {
   EXPECT_GT(unguarded.reacquired_wrongly, 0);
 }
 
+// A block of the image jumps: from frame kJump on it shows the texture 11.7 px further on than
+// the rest, as a feature does that the tracker swaps for a look-alike. Returns, over the tracks
+// seen on both sides of the jump, the largest step's deviation from the slide's.
+double largest_step_deviation(const TrackerSettings& settings, TrackerStatistics* statistics) {
+  const WaveTexture texture(7);
+  constexpr int kJump = 12;
+  const cv::Rect block(130, 90, 60, 60);
+  const Eigen::Vector2d jump(10, 6);
+  FeatureTracker tracker(open_region(), settings);
+  std::map<int, Eigen::Vector2d> last;
+  double largest = 0;
+  for (int f = 0; f < kJump + 4; ++f) {
+    cv::Mat image = frame_image(texture, sliding(f));
+    if (f >= kJump) {
+      Motion moved = sliding(f);
+      moved.b += jump;
+      frame_image(texture, moved)(block).copyTo(image(block));
+    }
+    std::map<int, Eigen::Vector2d> seen;
+    for (const TrackPixel& p : tracker.track(image)) {
+      seen[p.track] = p.pixel;
+      if (last.count(p.track))
+        largest = std::max(largest, (p.pixel - last[p.track] - sliding(1).b).norm());
+    }
+    last.swap(seen);
+  }
+  *statistics = tracker.statistics();
+  return largest;
+}
+
+TEST(FeatureTracker, EndsTracksThatJumpAwayFromTheirNeighbours) {
+  TrackerSettings settings;
+  settings.max_tracks = 60;
+  settings.reacquire = false;
+  TrackerStatistics with, without;
+  const double checked = largest_step_deviation(settings, &with);
+  settings.max_step_deviation_px = 1e9;
+  const double unchecked = largest_step_deviation(settings, &without);
+  std::printf("largest step off the slide: %.2f px checked (%d jumped), %.2f px unchecked\n",
+              checked, with.jumped, unchecked);
+  EXPECT_GT(unchecked, 10);  // followed the block's jump
+  EXPECT_EQ(without.jumped, 0);
+  EXPECT_GE(with.jumped, 1);
+  EXPECT_LT(checked, 1);  // every step kept is the slide's
+}
+
 }  // namespace
 }  // namespace omnisfm::track

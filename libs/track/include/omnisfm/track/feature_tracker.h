@@ -40,6 +40,7 @@ struct TrackerStatistics {
   int appearance = 0;        // failed the appearance check
   int misfit = 0;            // its patch's parts pulled apart beyond max_misfit_px
   int reshaped = 0;          // scaled or sheared beyond max_patch_distortion
+  int jumped = 0;            // its step far from its neighbours' (max_step_deviation_px)
   int left_region = 0;
   int duplicate = 0;
 };
@@ -77,6 +78,8 @@ class FeatureTracker {
   // Starts a track at `at` of the current frame; false when there is no texture to follow.
   bool start_track(const cv::Point2f& at, int id);
   void follow_live_tracks();
+  // Ends the tracks whose step this frame left their neighbours' (max_step_deviation_px).
+  void end_jumped_tracks();
   void remove_duplicates();
   // Reacquires lost tracks, then starts new ones from fresh corners up to max_tracks.
   void replenish();

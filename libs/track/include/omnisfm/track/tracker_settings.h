@@ -53,6 +53,13 @@ struct TrackerSettings {
   double max_refinement_shift_px = 1.0;
   double max_misfit_px = 0.2;
   double max_patch_distortion = 0.6;
+  // A track whose step from the last frame differs by more than max_step_deviation_px from the
+  // median step of the tracks within neighbourhood_radius_px of it (at least three) ends: it
+  // jumped to another feature that looks alike, which the appearance checks cannot tell (on the
+  // realistic lab, 12-25 px off its neighbours where followed tracks, parallax included, stay
+  // within 5 px). A jolt of the camera moves the neighbours too.
+  double max_step_deviation_px = 8;
+  double neighbourhood_radius_px = 100;
   // Two live tracks closer than this follow the same feature: the younger one ends.
   double min_track_separation_px = 3;
 
