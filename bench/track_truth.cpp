@@ -3,9 +3,10 @@
 // that error grows with a track's age. The images are those `omnisfm simulate --render` wrote
 // for the same scenario and seed (rendering them again would take most of the time).
 //   omnisfm simulate --scenario rover --render --imaging realistic --out /tmp/rover
-//   track_truth rover /tmp/rover/images [SEED=1] [SETTING=VALUE...] [--mistracked]
+//   track_truth rover /tmp/rover/images [SEED=1] [SETTING=VALUE...] [--mistracked] [--size=WxH]
 // SETTING is one of the TrackerSettings fields listed in `settable` below. --mistracked lists the
-// tracks that strayed beyond 1 px, their errors frame by frame and their last step.
+// tracks that strayed beyond 1 px, their errors frame by frame and their last step. --size: the
+// images' size when they were rendered at another than the default (simulate --width --height).
 
 #include <algorithm>
 #include <cstdio>
@@ -77,7 +78,8 @@ void print_errors_by_age(const sim::Dataset& dataset,
   std::printf("\n");
 }
 
-// Per mistracked track: where it started, its error in each frame, and its last step against
+// Per mistracked track: where it started, its error in each frame (| where it was reacquired
+// after a gap), and its last step against
 // the median step of the tracks within 100 px (TrackerSettings::max_step_deviation_px).
 void print_mistracked(const sim::Dataset& dataset,
                       const std::vector<core::TrackObservation>& observations,
@@ -94,7 +96,12 @@ void print_mistracked(const sim::Dataset& dataset,
     const core::TrackObservation& first = observations[seen.front()];
     std::printf("track %d from frame %d at (%.0f, %.0f), error per frame:", m, first.frame,
                 first.pixel.x(), first.pixel.y());
-    for (const size_t i : seen) std::printf(" %.2f", errors[i]);
+    for (size_t k = 0; k < seen.size(); ++k) {
+      // A gap: the track was reacquired there.
+      if (k > 0 && observations[seen[k]].frame > observations[seen[k - 1]].frame + 1)
+        std::printf(" |");
+      std::printf(" %.2f", errors[seen[k]]);
+    }
     if (seen.size() >= 2) {
       const core::TrackObservation& last = observations[seen.back()];
       const core::TrackObservation& before = observations[seen[seen.size() - 2]];
@@ -121,7 +128,7 @@ int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
                  "usage: track_truth SCENARIO IMAGES_DIR [SEED=1] [SETTING=VALUE...] "
-                 "[--mistracked]\n");
+                 "[--mistracked] [--size=WxH]\n");
     return 2;
   }
   sim::SimulationOptions options;
@@ -134,6 +141,9 @@ int main(int argc, char** argv) {
   for (; next < argc; ++next)
     if (std::string(argv[next]) == "--mistracked")
       list_mistracked = true;
+    else if (std::sscanf(argv[next], "--size=%dx%d", &options.image_width,
+                         &options.image_height) == 2)
+      continue;
     else if (!set(argv[next], &settings)) {
       std::fprintf(stderr, "track_truth: unknown setting %s\n", argv[next]);
       return 2;

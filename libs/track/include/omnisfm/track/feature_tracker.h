@@ -69,7 +69,9 @@ class FeatureTracker {
     FeatureSurroundings first_look;  // around the feature where its reference was taken
     Descriptor descriptor;           // of first_look, once the track is lost
 
-    // Where the track's image motion before its last frames puts it at `frame`.
+    // Whether the track has been seen in two frames or more, so that its image motion is known,
+    // and where that motion before its last frames puts it at `frame`.
+    bool moved_long_enough() const;
     Eigen::Vector2d predicted(int frame) const;
   };
 
@@ -78,6 +80,9 @@ class FeatureTracker {
   // Starts a track at `at` of the current frame; false when there is no texture to follow.
   bool start_track(const cv::Point2f& at, int id);
   void follow_live_tracks();
+  // The median step this frame of the live tracks that were within neighbourhood_radius_px of
+  // `at`, live_[skip] left out; false with fewer than three.
+  bool neighbours_step(const Eigen::Vector2d& at, size_t skip, Eigen::Vector2d* step) const;
   // Ends the tracks whose step this frame left their neighbours' (max_step_deviation_px).
   void end_jumped_tracks();
   void remove_duplicates();
