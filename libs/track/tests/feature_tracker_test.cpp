@@ -308,5 +308,59 @@ TEST(FeatureTracker, EndsTracksThatJumpAwayFromTheirNeighbours) {
   EXPECT_LT(checked, 1);  // every step kept is the slide's
 }
 
+// Frames a real camera delivers now and then: black (the lens covered), saturated (the sun), and
+// one dropped (the texture moves two frames' worth). Returns the outcome of 30 frames of a slide
+// with frame kBad replaced by `bad` (or skipped, a frame's motion lost, when `bad` is empty).
+Outcome through_a_bad_frame(const cv::Mat& bad, int bad_frame) {
+  const WaveTexture texture(5);
+  TrackerSettings settings;
+  settings.max_tracks = 40;
+  FeatureTracker tracker(open_region(), settings);
+  std::map<int, Eigen::Vector2d> texture_point;
+  Outcome o;
+  for (int f = 0, shown = 0; f < 30; ++f, ++shown) {
+    if (f == bad_frame && bad.empty()) ++shown;  // a frame dropped: the motion jumps
+    const Motion m = sliding(shown);
+    const cv::Mat image = f == bad_frame && !bad.empty() ? bad : frame_image(texture, m);
+    for (const TrackPixel& p : tracker.track(image)) {
+      o.frames_of_track[p.track].push_back(f);
+      if (f == bad_frame && !bad.empty()) {
+        ++o.observations;  // nothing in a bad frame can be followed
+        continue;
+      }
+      const auto known = texture_point.find(p.track);
+      if (known == texture_point.end()) {
+        texture_point[p.track] = m.A.inverse() * (p.pixel - m.b);
+        continue;
+      }
+      o.worst_error = std::max(o.worst_error, (m.image_of(known->second) - p.pixel).norm());
+    }
+  }
+  o.statistics = tracker.statistics();
+  return o;
+}
+
+TEST(FeatureTracker, InventsNothingThroughBlackSaturatedOrDroppedFrames) {
+  constexpr int kBad = 12;
+  const cv::Mat black(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
+  const cv::Mat saturated(kHeight, kWidth, CV_8UC1, cv::Scalar(255));
+  for (const cv::Mat& bad : {black, saturated}) {
+    const Outcome o = through_a_bad_frame(bad, kBad);
+    EXPECT_EQ(o.observations, 0) << "tracks reported in a flat frame";
+    // Tracks start again after it, and follow the texture.
+    int after = 0;
+    for (const auto& [track, frames] : o.frames_of_track) after += frames.back() > kBad + 2;
+    EXPECT_GE(after, 20);
+    EXPECT_LT(o.worst_error, 0.1);
+  }
+  // A dropped frame: whatever goes on is where the texture went.
+  const Outcome dropped = through_a_bad_frame(cv::Mat(), kBad);
+  EXPECT_LT(dropped.worst_error, 0.1);
+  int through = 0;
+  for (const auto& [track, frames] : dropped.frames_of_track)
+    through += frames.front() < kBad && frames.back() > kBad;
+  std::printf("a dropped frame: %d tracks went through it\n", through);
+}
+
 }  // namespace
 }  // namespace omnisfm::track
