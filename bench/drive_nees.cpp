@@ -9,14 +9,22 @@
 // state's origin follows the camera (FilterSettings::origin_follows_camera), 0 never, 1 vision
 // alone, 2 always. TAKE_BACK 0: the depth priors kept (FilterSettings::take_back_depth_priors).
 // CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
+// NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px) or a setting of the filter (pixel_sigma,
+// rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
+// update_iterations).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
 //              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=1] [TAKE_BACK=1] [CAMERA.ini]
+//              [NAME=VALUE...]
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <string>
 #include <vector>
 
 namespace {
@@ -44,9 +52,43 @@ double travel_scale(const std::vector<Eigen::Isometry3d>& estimate,
 #include "omnisfm/sim/dead_reckoning.h"
 #include "omnisfm/sim/endless_drive.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+// NAME=VALUE: the tracks' simulated noise (noise, pixels) or a FilterSettings field.
+bool apply(const std::string& assignment, omnisfm::sfm::FilterSettings* settings,
+           double* pixel_noise) {
+  const std::map<std::string, std::function<void(double)>> settable = {
+      {"noise", [&](double v) { *pixel_noise = v; }},
+      {"pixel_sigma", [&](double v) { settings->pixel_sigma = v; }},
+      {"rotation_walk_sigma", [&](double v) { settings->rotation_walk_sigma = v; }},
+      {"translation_walk_sigma", [&](double v) { settings->translation_walk_sigma = v; }},
+      {"initial_depth", [&](double v) { settings->initial_depth = v; }},
+      {"inverse_depth_sigma", [&](double v) { settings->inverse_depth_sigma = v; }},
+      {"update_iterations", [&](double v) { settings->update_iterations = static_cast<int>(v); }},
+  };
+  const size_t equals = assignment.find('=');
+  const auto setter = settable.find(assignment.substr(0, equals));
+  if (setter == settable.end()) return false;
+  setter->second(std::atof(assignment.c_str() + equals + 1));
+  return true;
+}
+
+}  // namespace
+
+int main(int argc_given, char** argv_given) {
   using namespace omnisfm;
   sfm::use_one_blas_thread();  // as the omnisfm command runs the filter
+  // NAME=VALUE arguments are settings, anywhere; the others are positional.
+  std::vector<char*> positional;
+  std::vector<std::string> assignments;
+  for (int k = 0; k < argc_given; ++k) {
+    if (k > 0 && std::strchr(argv_given[k], '='))
+      assignments.push_back(argv_given[k]);
+    else
+      positional.push_back(argv_given[k]);
+  }
+  const int argc = static_cast<int>(positional.size());
+  char** argv = positional.data();
   const int frames = argc > 1 ? std::atoi(argv[1]) : 20000;
   const std::uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
   const int block = argc > 3 ? std::max(1, std::atoi(argv[3])) : 2000;
@@ -61,9 +103,16 @@ int main(int argc, char** argv) {
         std::clamp(std::atoi(argv[7]), 0, 2));
   if (argc > 8) settings.take_back_depth_priors = std::atoi(argv[8]) != 0;
 
+  double pixel_noise = 0.2;
+  for (const std::string& assignment : assignments)
+    if (!apply(assignment, &settings, &pixel_noise)) {
+      std::fprintf(stderr, "drive_nees: unknown setting %s\n", assignment.c_str());
+      return 2;
+    }
+
   const sim::Dataset drive =
-      argc > 9 ? sim::long_drive(frames, 0.2, seed, io::read_camera_file(argv[9]))
-               : sim::long_drive(frames, 0.2, seed);
+      argc > 9 ? sim::long_drive(frames, pixel_noise, seed, io::read_camera_file(argv[9]))
+               : sim::long_drive(frames, pixel_noise, seed);
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
   const sfm::MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
   std::vector<std::vector<sfm::TrackPixel>> by_frame(frames);
