@@ -310,7 +310,7 @@ TEST(FeatureTracker, EndsTracksThatJumpAwayFromTheirNeighbours) {
 
 // Frames a real camera delivers now and then: black (the lens covered), saturated (the sun), and
 // one dropped (the texture moves two frames' worth). Returns the outcome of 30 frames of a slide
-// with frame kBad replaced by `bad` (or skipped, a frame's motion lost, when `bad` is empty).
+// with frame `bad_frame` replaced by `bad` (or a frame's motion lost there, when `bad` is empty).
 Outcome through_a_bad_frame(const cv::Mat& bad, int bad_frame) {
   const WaveTexture texture(5);
   TrackerSettings settings;

@@ -69,8 +69,8 @@ class FeatureTracker {
     FeatureSurroundings first_look;  // around the feature where its reference was taken
     Descriptor descriptor;           // of first_look, once the track is lost
 
-    // Whether the track has been seen in two frames or more, so that its image motion is known,
-    // and where that motion before its last frames puts it at `frame`.
+    // Whether the track has been seen in enough frames (five) for its image motion before its
+    // last frames to be known, and where that motion puts it at `frame`.
     bool moved_long_enough() const;
     Eigen::Vector2d predicted(int frame) const;
   };
