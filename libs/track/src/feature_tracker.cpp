@@ -345,6 +345,21 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
   const Eigen::Vector2d centre = found.b;
   const double apart = t.reference.half_size();
   const int reach = static_cast<int>(std::ceil(radius));
+  // First, at every pixel at once, the plain correlation of the square about the place found
+  // (OpenCV's matchTemplate): where it is below kLooseNcc, the reference's weighted correlation
+  // is far below kTwinStartNcc, and is not computed (it was two thirds of the reacquisition).
+  constexpr float kLooseNcc = 0.5f;
+  const int half = t.reference.half_size();
+  const cv::Point pixel(static_cast<int>(std::lround(centre.x())),
+                        static_cast<int>(std::lround(centre.y())));
+  const cv::Rect image_rect(0, 0, aligned_image_.cols, aligned_image_.rows);
+  const cv::Rect patch(pixel.x - half, pixel.y - half, 2 * half + 1, 2 * half + 1);
+  const cv::Rect search(pixel.x - reach - kStep - half, pixel.y - reach - kStep - half,
+                        2 * (reach + kStep + half) + 1, 2 * (reach + kStep + half) + 1);
+  cv::Mat scores;  // scores(y, x): the square centred at search's corner + (half + x, half + y)
+  const bool filtered = (patch & image_rect) == patch && (search & image_rect) == search;
+  if (filtered)
+    cv::matchTemplate(aligned_image_(search), aligned_image_(patch), scores, cv::TM_CCOEFF_NORMED);
   std::vector<Eigen::Vector2d> tried;  // where alignments ended: their peaks need no second try
   AffineWarp warp = found;
   for (int dy = -reach; dy <= reach; dy += kStep)
@@ -352,6 +367,11 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
       const Eigen::Vector2d at = centre + Eigen::Vector2d(dx, dy);
       if ((at - centre).norm() > radius || (at - found.b).norm() <= apart || !in_region(at))
         continue;
+      if (filtered) {
+        const int x = static_cast<int>(std::lround(at.x())) - search.x - half;
+        const int y = static_cast<int>(std::lround(at.y())) - search.y - half;
+        if (scores.at<float>(y, x) < kLooseNcc) continue;
+      }
       warp = found;
       warp.b = at;
       if (t.reference.ncc(aligned_image_, warp) < kTwinStartNcc) continue;
