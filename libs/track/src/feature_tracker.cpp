@@ -346,8 +346,9 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
   const double apart = t.reference.half_size();
   const int reach = static_cast<int>(std::ceil(radius));
   // First, at every pixel at once, the plain correlation of the square about the place found
-  // (OpenCV's matchTemplate): where it is below kLooseNcc, the reference's weighted correlation
-  // is far below kTwinStartNcc, and is not computed (it was two thirds of the reacquisition).
+  // (OpenCV's matchTemplate): where that is below kLooseNcc the reference's weighted correlation,
+  // two thirds of the reacquisition's time, is not computed. A look-alike correlates highly on
+  // both; with this filter the reacquisitions on every rendered set are those without it.
   constexpr float kLooseNcc = 0.5f;
   const int half = t.reference.half_size();
   const cv::Point pixel(static_cast<int>(std::lround(centre.x())),
