@@ -1121,11 +1121,24 @@ TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
   // The tracks' folder is made, as sfm makes its --out folder.
   const Outcome run = omnisfm(
       "track --camera lab/camera.ini --images lab/images --timestamps lab/frames.vnl"
-      " --out tracked/tracks.vnl");
+      " --out tracked/tracks.vnl --draw 20");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_EQ(run.out.rfind("frames 41, tracks ", 0), 0u) << run.out;
 
   const auto tracks = omnisfm::io::read_tracks((dir_ / "tracked/tracks.vnl").string(), 512, 384);
+  // --draw: frame 20 in colour, each of its tracks marked where it is (the image is grey).
+  const cv::Mat drawn = cv::imread((dir_ / "tracked/tracks_20.png").string(), cv::IMREAD_COLOR);
+  ASSERT_EQ(drawn.size(), cv::Size(512, 384));
+  int marked = 0, seen = 0;
+  for (const auto& o : tracks) {
+    if (o.frame != 20) continue;
+    ++seen;
+    const cv::Vec3b bgr = drawn.at<cv::Vec3b>(static_cast<int>(std::lround(o.pixel.y())),
+                                              static_cast<int>(std::lround(o.pixel.x())));
+    marked += bgr[0] != bgr[1] || bgr[1] != bgr[2];
+  }
+  EXPECT_GT(seen, 50);
+  EXPECT_EQ(marked, seen);
   int first_frame = 0;
   for (const auto& o : tracks) first_frame += o.frame == 0;
   // The summary counts what tracks.vnl holds: its track ids, observations, and its gaps as
@@ -1238,6 +1251,10 @@ TEST_F(CliTest, TrackRejectsBadImagesAndWritesNothing) {
     EXPECT_FALSE(fs::exists(dir_ / "out/tracks.vnl")) << args;
     EXPECT_FALSE(fs::exists(dir_ / "out/frames.vnl")) << args;
   }
+  const Outcome beyond = omnisfm("track --images big/images --out drawn/tracks.vnl --draw 99");
+  EXPECT_EQ(beyond.status, 2);
+  EXPECT_NE(beyond.err.find("no frame 99"), std::string::npos) << beyond.err;
+  EXPECT_FALSE(fs::exists(dir_ / "drawn"));
   const Outcome nowhere = omnisfm("track --images big/images --out no/such/tracks.vnl");
   EXPECT_EQ(nowhere.status, 2) << nowhere.err;
   EXPECT_NE(nowhere.err.find("no is not a writable folder"), std::string::npos) << nowhere.err;
@@ -1333,6 +1350,11 @@ TEST_F(CliTest, RunTracksTheImagesOfARenderedRawlog) {
       "track --images lab/dataset.rawlog --out tracked/again.vnl --timestamps lab/frames.vnl");
   EXPECT_EQ(timed.status, 2);
   EXPECT_NE(timed.err.find("carry their own times"), std::string::npos) << timed.err;
+  EXPECT_FALSE(fs::exists(dir_ / "tracked/again.vnl"));
+  const Outcome drawn =
+      omnisfm("track --images lab/dataset.rawlog --out tracked/again.vnl --draw 3");
+  EXPECT_EQ(drawn.status, 2);
+  EXPECT_NE(drawn.err.find("--draw takes a folder"), std::string::npos) << drawn.err;
   EXPECT_FALSE(fs::exists(dir_ / "tracked/again.vnl"));
   const Outcome sfm = omnisfm(
       "sfm --camera lab/camera.ini --tracks tracked/tracks.vnl --out tracked/sfm "

@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -10,6 +11,7 @@
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
 #include "omnisfm/track/track_lengths.h"
+#include "tracks_drawing.h"
 #include "verb_inputs.h"
 #include "terminal_progress.h"
 #include "verbs.h"
@@ -58,12 +60,28 @@ track::TrackedSequence track_rawlog(const std::string& path, const std::string& 
 #endif
 }
 
-// frames.vnl first: a complete tracks.vnl is the sign that both are written. A folder made for
-// them goes again when writing fails.
-void write_tracks_and_frames(const fs::path& out, const track::TrackedSequence& result) {
+// Frame `frame` of the images, as the tracker read it.
+cv::Mat read_frame(const std::string& images, int frame) {
+  track::ImageSequence sequence(images);
+  track::SequenceFrame f;
+  for (int k = 0; k <= frame; ++k)
+    if (!sequence.next(&f))
+      throw io::InputError(images, 0, "has no frame " + std::to_string(frame));
+  return f.image;
+}
+
+// frames.vnl first (and the drawing, when asked): a complete tracks.vnl is the sign that all are
+// written. A folder made for them goes again when writing fails.
+void write_tracks_and_frames(const fs::path& out, const track::TrackedSequence& result,
+                             const cv::Mat& drawing, int drawn_frame) {
   const fs::path folder = out.parent_path();
   in_folder_made_if_missing(folder, [&] {
     track::write_frames_file((folder / "frames.vnl").string(), result.frames);
+    if (!drawing.empty()) {
+      const fs::path png = folder / ("tracks_" + std::to_string(drawn_frame) + ".png");
+      if (!cv::imwrite(png.string(), drawing))
+        throw io::InputError(png.string(), 0, "cannot be written");
+    }
     io::write_tracks(out.string(), result.observations);
   });
 }
@@ -75,6 +93,7 @@ void add_track_verb(CLI::App& app) {
     std::string camera, images, out, timestamps;
     track::TrackerSettings settings;
     bool no_reacquisition = false;
+    int draw = -1;
   };
   auto o = std::make_shared<Options>();
   CLI::App* verb = app.add_subcommand(
@@ -102,12 +121,28 @@ void add_track_verb(CLI::App& app) {
       ->capture_default_str()
       ->check(number_between(0, 1));
   verb->add_flag("--no-reacquisition", o->no_reacquisition, "Do not look for lost features again");
+  verb->add_option("--draw", o->draw,
+                   "Also write tracks_FRAME.png beside the tracks: that frame (counted from 0) "
+                   "with the path of each track seen in it over its last 10 frames, blue for a "
+                   "track started there to red for one that has lasted 10 frames or more")
+      ->check(whole_number_between(0, 1000000000));
   verb->callback([o] {
     o->settings.reacquire = !o->no_reacquisition;
     const bool rawlog = is_rawlog(o->images);
     if (rawlog && !o->timestamps.empty())
       throw io::InputError(o->timestamps, 0,
                            "a rawlog's images carry their own times: leave out --timestamps");
+    if (rawlog && o->draw >= 0)
+      throw io::InputError(o->images, 0, "is a rawlog: --draw takes a folder of images or a video");
+    const auto no_frame_to_draw = [&](int frames) {
+      return io::InputError(o->images, 0,
+                            "has " + std::to_string(frames) + " frames: there is no frame " +
+                                std::to_string(o->draw) + " to draw");
+    };
+    if (!rawlog && o->draw >= 0) {
+      const int expected = track::ImageSequence(o->images).expected_frames();
+      if (expected > 0 && o->draw >= expected) throw no_frame_to_draw(expected);  // before tracking
+    }
     const fs::path out = fs::absolute(o->out).lexically_normal();
     check_output_file(o->out, out);
     const auto timestamps = o->timestamps.empty() ? std::map<std::string, double>()
@@ -126,7 +161,14 @@ void add_track_verb(CLI::App& app) {
       throw io::InputError(o->images, 0, "holds a single image: there is nothing to track");
     if (!o->timestamps.empty()) track::apply_timestamps(timestamps, o->timestamps, &result.frames);
 
-    write_tracks_and_frames(out, result);
+    constexpr int kTrail = 10;
+    cv::Mat drawing;
+    if (o->draw >= 0) {
+      if (o->draw >= static_cast<int>(result.frames.size()))
+        throw no_frame_to_draw(static_cast<int>(result.frames.size()));
+      drawing = draw_tracks(read_frame(o->images, o->draw), result.observations, o->draw, kTrail);
+    }
+    write_tracks_and_frames(out, result, drawing, o->draw);
 
     if (rawlog) {
       std::printf("frames %zu, observations %zu, from the images of %s\n", result.frames.size(),
