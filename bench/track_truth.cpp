@@ -40,6 +40,7 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
       {"image_blur_sigma", [&](double v) { settings->image_blur_sigma = v; }},
       {"max_tracks", [&](double v) { settings->max_tracks = static_cast<int>(v); }},
       {"max_step_deviation_px", [&](double v) { settings->max_step_deviation_px = v; }},
+      {"rim_margin_px", [&](double v) { settings->rim_margin_px = v; }},
   };
   const size_t equals = assignment.find('=');
   if (equals == std::string::npos) return false;
