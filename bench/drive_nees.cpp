@@ -22,10 +22,19 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <functional>
-#include <map>
 #include <string>
 #include <vector>
+
+#include "omnisfm/eval/filter_consistency.h"
+#include "omnisfm/eval/filter_run.h"
+#include "omnisfm/eval/simulated_sensors.h"
+#include "omnisfm/eval/trajectory_errors.h"
+#include "omnisfm/io/camera_file.h"
+#include "omnisfm/sfm/blas_threads.h"
+#include "omnisfm/sfm/online_filter.h"
+#include "omnisfm/sim/dead_reckoning.h"
+#include "omnisfm/sim/endless_drive.h"
+#include "setting_assignment.h"
 
 namespace {
 
@@ -40,24 +49,10 @@ double travel_scale(const std::vector<Eigen::Isometry3d>& estimate,
   return length(estimate) / length(truth);
 }
 
-}  // namespace
-
-#include "omnisfm/eval/filter_consistency.h"
-#include "omnisfm/eval/simulated_sensors.h"
-#include "omnisfm/eval/trajectory_errors.h"
-#include "omnisfm/io/camera_file.h"
-#include "omnisfm/sfm/blas_threads.h"
-#include "omnisfm/sfm/motion_prediction.h"
-#include "omnisfm/sfm/online_filter.h"
-#include "omnisfm/sim/dead_reckoning.h"
-#include "omnisfm/sim/endless_drive.h"
-
-namespace {
-
 // NAME=VALUE: the tracks' simulated noise (noise, pixels) or a FilterSettings field.
 bool apply(const std::string& assignment, omnisfm::sfm::FilterSettings* settings,
            double* pixel_noise) {
-  const std::map<std::string, std::function<void(double)>> settable = {
+  const omnisfm::bench::Setters settable = {
       {"noise", [&](double v) { *pixel_noise = v; }},
       {"pixel_sigma", [&](double v) { settings->pixel_sigma = v; }},
       {"rotation_walk_sigma", [&](double v) { settings->rotation_walk_sigma = v; }},
@@ -66,11 +61,7 @@ bool apply(const std::string& assignment, omnisfm::sfm::FilterSettings* settings
       {"inverse_depth_sigma", [&](double v) { settings->inverse_depth_sigma = v; }},
       {"update_iterations", [&](double v) { settings->update_iterations = static_cast<int>(v); }},
   };
-  const size_t equals = assignment.find('=');
-  const auto setter = settable.find(assignment.substr(0, equals));
-  if (setter == settable.end()) return false;
-  setter->second(std::atof(assignment.c_str() + equals + 1));
-  return true;
+  return omnisfm::bench::apply_assignment(assignment, settable);
 }
 
 }  // namespace
@@ -115,8 +106,6 @@ int main(int argc_given, char** argv_given) {
                : sim::long_drive(frames, pixel_noise, seed);
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
   const sfm::MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
-  std::vector<std::vector<sfm::TrackPixel>> by_frame(frames);
-  for (const auto& o : drive.observations) by_frame[o.frame].push_back({o.track, o.pixel});
 
   sfm::OnlineFilter filter(drive.camera, settings);
   const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
@@ -126,14 +115,7 @@ int main(int argc_given, char** argv_given) {
   std::printf("# frame rotation_error_deg rotation_sigma_deg position_error_m position_sigma_m "
               "nees nees_rotation nees_translation wheel_scale wheel_scale_sigma "
               "travel_direction_error_deg travel_scale\n");
-  for (int f = 0; f < frames; ++f) {
-    if (f == 0 || !with_sensors)
-      filter.process_frame(f, by_frame[f]);
-    else
-      filter.process_frame(f, by_frame[f],
-                           sfm::predict_camera_motion(sensors, drive.timestamps[f - 1],
-                                                      drive.timestamps[f], settings,
-                                                      filter.sensor_states()));
+  eval::run_filter(drive, with_sensors ? &sensors : nullptr, settings, &filter, [&](int f) {
     const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
     const Eigen::Isometry3d est = filter.cam_from_world();
     estimate.push_back(drive.world_from_cam[0] * est.inverse());
@@ -163,7 +145,7 @@ int main(int argc_given, char** argv_given) {
       nees = nees_rotation = nees_translation = 0;
       counted = 0;
     }
-  }
+  });
   const std::vector<Eigen::Isometry3d> truth(drive.world_from_cam.begin(),
                                              drive.world_from_cam.begin() + frames);
   const eval::TrajectoryErrors rigid = eval::trajectory_errors(estimate, truth, false);

@@ -114,23 +114,16 @@ void BM_OpencvPyrLK(benchmark::State& state) {
 
 void BM_OpencvPyrLKDefaults(benchmark::State& state) { run_opencv_lk(state, 21, 3); }
 
-BENCHMARK(BM_FeatureTracker)->ArgName("realistic")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FeatureTrackerNoReacquisition)
-    ->ArgName("realistic")
-    ->Arg(1)
-    ->Arg(0)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FeatureTrackerNoRefinement)
-    ->ArgName("realistic")
-    ->Arg(1)
-    ->Arg(0)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_OpencvPyrLK)->ArgName("realistic")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_OpencvPyrLKDefaults)
-    ->ArgName("realistic")
-    ->Arg(1)
-    ->Arg(0)
-    ->Unit(benchmark::kMillisecond);
+// Each on the realistic images, then the clean ones.
+void on_both_imagings(benchmark::internal::Benchmark* b) {
+  b->ArgName("realistic")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK(BM_FeatureTracker)->Apply(on_both_imagings);
+BENCHMARK(BM_FeatureTrackerNoReacquisition)->Apply(on_both_imagings);
+BENCHMARK(BM_FeatureTrackerNoRefinement)->Apply(on_both_imagings);
+BENCHMARK(BM_OpencvPyrLK)->Apply(on_both_imagings);
+BENCHMARK(BM_OpencvPyrLKDefaults)->Apply(on_both_imagings);
 
 }  // namespace
 

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -22,6 +21,7 @@
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
 #include "omnisfm/track/track_lengths.h"
+#include "setting_assignment.h"
 
 namespace {
 
@@ -29,7 +29,7 @@ using namespace omnisfm;
 
 // Applies "name=value" to *settings; false for a name not listed.
 bool set(const std::string& assignment, track::TrackerSettings* settings) {
-  const std::map<std::string, std::function<void(double)>> settable = {
+  const bench::Setters settable = {
       {"min_ncc", [&](double v) { settings->min_ncc = v; }},
       {"max_patch_distortion", [&](double v) { settings->max_patch_distortion = v; }},
       {"max_misfit_px", [&](double v) { settings->max_misfit_px = v; }},
@@ -42,12 +42,7 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
       {"max_step_deviation_px", [&](double v) { settings->max_step_deviation_px = v; }},
       {"rim_margin_px", [&](double v) { settings->rim_margin_px = v; }},
   };
-  const size_t equals = assignment.find('=');
-  if (equals == std::string::npos) return false;
-  const auto setter = settable.find(assignment.substr(0, equals));
-  if (setter == settable.end()) return false;
-  setter->second(std::atof(assignment.c_str() + equals + 1));
-  return true;
+  return bench::apply_assignment(assignment, settable);
 }
 
 // The error's median and 95th percentile per band of track age (frames since the track's

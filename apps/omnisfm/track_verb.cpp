@@ -60,13 +60,12 @@ track::TrackedSequence track_rawlog(const std::string& path, const std::string& 
 #endif
 }
 
-// Frame `frame` of the images, as the tracker read it.
+// Frame `frame` of the images, as the tracker read it (the frames before it not decoded).
 cv::Mat read_frame(const std::string& images, int frame) {
   track::ImageSequence sequence(images);
   track::SequenceFrame f;
-  for (int k = 0; k <= frame; ++k)
-    if (!sequence.next(&f))
-      throw io::InputError(images, 0, "has no frame " + std::to_string(frame));
+  if (sequence.skip(frame) < frame || !sequence.next(&f))
+    throw io::InputError(images, 0, "has no frame " + std::to_string(frame));
   return f.image;
 }
 

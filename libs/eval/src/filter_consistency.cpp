@@ -1,9 +1,8 @@
 #include "omnisfm/eval/filter_consistency.h"
 
 #include "omnisfm/eval/calibration_error.h"
+#include "omnisfm/eval/filter_run.h"
 #include "omnisfm/eval/simulated_sensors.h"
-#include "omnisfm/sfm/motion_prediction.h"
-#include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/dead_reckoning.h"
 #include "omnisfm/sim/scenario.h"
 
@@ -49,19 +48,15 @@ PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
       filter.linearise_at({[&d, first](int frame) { return d.world_from_cam[frame].inverse() * first; },
                            [&d, first](int track) { return (first.inverse() * d.track_points[track]).eval(); }});
     }
-    const auto by_frame = sfm::observations_by_frame(d.observations);
-    filter.process_frame(0, by_frame[0]);
-    for (size_t f = 1; f < by_frame.size(); ++f) {
-      filter.process_frame(static_cast<int>(f), by_frame[f],
-                           sfm::predict_camera_motion(sensors, d.timestamps[f - 1], d.timestamps[f],
-                                                      settings, filter.sensor_states()));
+    run_filter(d, &sensors, settings, &filter, [&](int f) {
+      if (f == 0) return;
       const Eigen::Isometry3d truth = d.world_from_cam[f].inverse() * d.world_from_cam[0];
       const Eigen::Matrix<double, 6, 1> e = filter_pose_error(truth, filter.cam_from_world());
       const double nees = e.dot(filter.pose_covariance().ldlt().solve(e));
       sum += nees;
       ++c.frames;
       inside += nees < 12.59;
-    }
+    });
   }
   c.mean_nees = sum / static_cast<double>(c.frames);
   c.inside = static_cast<double>(inside) / static_cast<double>(c.frames);

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "omnisfm/eval/filter_consistency.h"
+#include "omnisfm/eval/filter_run.h"
 #include "omnisfm/eval/simulated_sensors.h"
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/fused_pipeline.h"
-#include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/dead_reckoning.h"
@@ -83,27 +83,18 @@ DriveConsistency drive_consistency(const FilterSettings& settings) {
   options.seed = seed;
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
   const MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
-  std::vector<std::vector<TrackPixel>> by_frame(kFrames);
-  for (const auto& o : drive.observations) by_frame[o.frame].push_back({o.track, o.pixel});
   OnlineFilter filter(drive.camera, settings);
   const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
   std::vector<Eigen::Isometry3d> estimate;
   DriveConsistency result;
-  for (int f = 0; f < kFrames; ++f) {
-    if (f == 0)
-      filter.process_frame(f, by_frame[f]);
-    else
-      filter.process_frame(f, by_frame[f],
-                           predict_camera_motion(sensors, drive.timestamps[f - 1],
-                                                 drive.timestamps[f], settings,
-                                                 filter.sensor_states()));
+  eval::run_filter(drive, &sensors, settings, &filter, [&](int f) {
     estimate.push_back(drive.world_from_cam[0] * filter.cam_from_world().inverse());
     if (f >= kFrames - kLate) {
       const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
       const Eigen::Matrix<double, 6, 1> e = eval::filter_pose_error(truth, filter.cam_from_world());
       result.late_nees += e.dot(filter.pose_covariance().ldlt().solve(e)) / kLate;
     }
-  }
+  });
   result.rigid_percent =
       eval::trajectory_errors(estimate, drive.world_from_cam, false).translation_error_percent;
   return result;

@@ -86,6 +86,14 @@ int ImageSequence::expected_frames() const {
   return count > 0 ? static_cast<int>(count) : 0;
 }
 
+int ImageSequence::skip(int count) {
+  int skipped = 0;
+  for (; skipped < count; ++skipped, ++next_index_) {
+    if (video_ ? !video_->grab() : next_index_ >= static_cast<int>(files_.size())) break;
+  }
+  return skipped;
+}
+
 bool ImageSequence::next(SequenceFrame* frame) {
   cv::Mat image;
   if (video_) {
@@ -114,7 +122,7 @@ bool ImageSequence::next(SequenceFrame* frame) {
     if (image.empty()) throw io::InputError(frame->file, 0, "cannot read this image");
   }
   image = to_grey(image);
-  if (next_index_ == 0)
+  if (size_.empty())  // the first frame decoded
     size_ = image.size();
   else if (image.size() != size_)
     throw io::InputError(video_ ? path_ : frame->file, 0,

@@ -85,6 +85,22 @@ TEST_F(ImageSequenceTest, ReadsAFolderInNameOrderAsGrey) {
   EXPECT_EQ(names, (std::vector<std::string>{"a.png", "b.png", "c.jpg"}));
 }
 
+// Skipped frames are not decoded: a damaged one passed over costs nothing, and the frame after
+// them comes with its own index.
+TEST_F(ImageSequenceTest, SkipsFramesWithoutDecodingThem) {
+  std::ofstream(dir_ / "a.png") << "not a PNG";
+  write_image("b.png", image(40, 30, 2));
+  write_image("c.png", image(40, 30, 3));
+  ImageSequence sequence(dir_.string());
+  EXPECT_EQ(sequence.skip(2), 2);
+  SequenceFrame frame;
+  ASSERT_TRUE(sequence.next(&frame));
+  EXPECT_EQ(frame.index, 2);
+  EXPECT_EQ(frame.image.at<uchar>(0, 0), 3);
+  EXPECT_EQ(sequence.skip(5), 0);  // none left
+  EXPECT_FALSE(sequence.next(&frame));
+}
+
 TEST_F(ImageSequenceTest, BadInputIsAnInputErrorNamingTheFile) {
   EXPECT_NE(read_error((dir_ / "missing").string()).find("no such file"), std::string::npos);
   fs::create_directories(dir_ / "empty");
@@ -142,6 +158,12 @@ TEST_F(ImageSequenceTest, ReadsAVideoWithItsTimes) {
     ++frames;
   }
   EXPECT_EQ(frames, 5);
+  ImageSequence skipping(path);
+  EXPECT_EQ(skipping.skip(3), 3);
+  ASSERT_TRUE(skipping.next(&frame));
+  EXPECT_EQ(frame.index, 3);
+  EXPECT_NEAR(frame.image.at<uchar>(0, 0), 60, 8);  // MJPG is lossy
+  EXPECT_EQ(skipping.skip(9), 1);
 }
 
 TEST_F(ImageSequenceTest, FramesFileNamesImagesBesideItAndTakesTimesByName) {

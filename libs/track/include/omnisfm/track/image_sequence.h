@@ -36,6 +36,9 @@ class ImageSequence {
   // frame) when it cannot be decoded or its size differs from the first frame's, and for a video
   // with no frame at all.
   bool next(SequenceFrame* frame);
+  // Passes over the next `count` frames without decoding them (a video's are grabbed); returns
+  // how many there were.
+  int skip(int count);
 
   bool is_video() const { return video_ != nullptr; }
   // Frames in all: exact for a folder; for a video what its container says (0 when unknown).
