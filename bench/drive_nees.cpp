@@ -9,11 +9,15 @@
 // state's origin follows the camera (FilterSettings::origin_follows_camera), 0 never, 1 vision
 // alone, 2 always. TAKE_BACK 0: the depth priors kept (FilterSettings::take_back_depth_priors).
 // CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
-// NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px) or a setting of the filter (pixel_sigma,
-// rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
+// NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px); which inputs the filter gets (vision,
+// gyro, odometry: 0 or 1); the simulated sensors' noise (gyro_noise_density, gyro_bias_sigma,
+// gyro_bias_walk, odometry_position_noise, odometry_heading_noise); ideal=1, the filter linearised
+// at the truth (with the origin left at the first frame only); or a setting of the filter
+// (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
+// predicted_settle_sigmas, outlier_chi2, smoothed_start_frames, wheel_scale_from_images,
 // update_iterations).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
-//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=1] [TAKE_BACK=1] [CAMERA.ini]
+//              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=2] [TAKE_BACK=1] [CAMERA.ini]
 //              [NAME=VALUE...]
 
 #include <Eigen/Geometry>
@@ -49,17 +53,43 @@ double travel_scale(const std::vector<Eigen::Isometry3d>& estimate,
   return length(estimate) / length(truth);
 }
 
-// NAME=VALUE: the tracks' simulated noise (noise, pixels) or a FilterSettings field.
-bool apply(const std::string& assignment, omnisfm::sfm::FilterSettings* settings,
-           double* pixel_noise) {
+// What a NAME=VALUE argument can set: the simulation's and the filter's settings, and which inputs
+// the filter gets.
+struct Study {
+  omnisfm::sfm::FilterSettings settings;
+  omnisfm::sim::DeadReckoningOptions options;
+  double pixel_noise = 0.2;
+  bool with_vision = true;
+  bool with_gyro = true;
+  bool with_odometry = true;
+  bool linearised_at_truth = false;
+};
+
+bool apply(const std::string& assignment, Study* study) {
+  omnisfm::sfm::FilterSettings& settings = study->settings;
+  omnisfm::sim::DeadReckoningOptions& options = study->options;
   const omnisfm::bench::Setters settable = {
-      {"noise", [&](double v) { *pixel_noise = v; }},
-      {"pixel_sigma", [&](double v) { settings->pixel_sigma = v; }},
-      {"rotation_walk_sigma", [&](double v) { settings->rotation_walk_sigma = v; }},
-      {"translation_walk_sigma", [&](double v) { settings->translation_walk_sigma = v; }},
-      {"initial_depth", [&](double v) { settings->initial_depth = v; }},
-      {"inverse_depth_sigma", [&](double v) { settings->inverse_depth_sigma = v; }},
-      {"update_iterations", [&](double v) { settings->update_iterations = static_cast<int>(v); }},
+      {"noise", [&](double v) { study->pixel_noise = v; }},
+      {"vision", [&](double v) { study->with_vision = v != 0; }},
+      {"gyro", [&](double v) { study->with_gyro = v != 0; }},
+      {"odometry", [&](double v) { study->with_odometry = v != 0; }},
+      {"ideal", [&](double v) { study->linearised_at_truth = v != 0; }},
+      {"gyro_noise_density", [&](double v) { options.gyro_noise_density = v; }},
+      {"gyro_bias_sigma", [&](double v) { options.gyro_bias_sigma = v; }},
+      {"gyro_bias_walk", [&](double v) { options.gyro_bias_walk = v; }},
+      {"odometry_position_noise", [&](double v) { options.odometry_position_noise = v; }},
+      {"odometry_heading_noise", [&](double v) { options.odometry_heading_noise = v; }},
+      {"pixel_sigma", [&](double v) { settings.pixel_sigma = v; }},
+      {"rotation_walk_sigma", [&](double v) { settings.rotation_walk_sigma = v; }},
+      {"translation_walk_sigma", [&](double v) { settings.translation_walk_sigma = v; }},
+      {"initial_depth", [&](double v) { settings.initial_depth = v; }},
+      {"inverse_depth_sigma", [&](double v) { settings.inverse_depth_sigma = v; }},
+      {"predicted_settle_sigmas", [&](double v) { settings.predicted_settle_sigmas = v; }},
+      {"outlier_chi2", [&](double v) { settings.outlier_chi2 = v; }},
+      {"smoothed_start_frames",
+       [&](double v) { settings.smoothed_start_frames = static_cast<int>(v); }},
+      {"wheel_scale_from_images", [&](double v) { settings.wheel_scale_from_images = v != 0; }},
+      {"update_iterations", [&](double v) { settings.update_iterations = static_cast<int>(v); }},
   };
   return omnisfm::bench::apply_assignment(assignment, settable);
 }
@@ -83,32 +113,43 @@ int main(int argc_given, char** argv_given) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 20000;
   const std::uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
   const int block = argc > 3 ? std::max(1, std::atoi(argv[3])) : 2000;
-  sim::DeadReckoningOptions options;
+  Study study;
+  sim::DeadReckoningOptions& options = study.options;
+  sfm::FilterSettings& settings = study.settings;
   options.seed = seed;
   if (argc > 4) options.odometry_scale_error = std::atof(argv[4]);
-  sfm::FilterSettings settings;
   if (argc > 5) settings.estimate_wheel_scale = std::atoi(argv[5]) != 0;
   const bool with_sensors = argc > 6 ? std::atoi(argv[6]) != 0 : true;
   if (argc > 7)
     settings.origin_follows_camera = static_cast<sfm::OriginFollowsCamera>(
         std::clamp(std::atoi(argv[7]), 0, 2));
   if (argc > 8) settings.take_back_depth_priors = std::atoi(argv[8]) != 0;
-
-  double pixel_noise = 0.2;
   for (const std::string& assignment : assignments)
-    if (!apply(assignment, &settings, &pixel_noise)) {
+    if (!apply(assignment, &study)) {
       std::fprintf(stderr, "drive_nees: unknown setting %s\n", assignment.c_str());
       return 2;
     }
 
-  const sim::Dataset drive =
-      argc > 9 ? sim::long_drive(frames, pixel_noise, seed, io::read_camera_file(argv[9]))
-               : sim::long_drive(frames, pixel_noise, seed);
+  sim::Dataset drive =
+      argc > 9 ? sim::long_drive(frames, study.pixel_noise, seed, io::read_camera_file(argv[9]))
+               : sim::long_drive(frames, study.pixel_noise, seed);
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
-  const sfm::MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
-
+  sfm::MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
+  if (!study.with_gyro) sensors.gyro.clear();
+  if (!study.with_odometry) sensors.odometry.clear();
+  if (!study.with_vision)  // the first frame's tracks only, and the last's to keep the length
+    drive.observations.erase(
+        std::remove_if(drive.observations.begin(), drive.observations.end(),
+                       [&](const core::TrackObservation& o) {
+                         return o.frame != 0 && o.frame != frames - 1;
+                       }),
+        drive.observations.end());
   sfm::OnlineFilter filter(drive.camera, settings);
   const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
+  if (study.linearised_at_truth)
+    filter.linearise_at(
+        {[&](int frame) { return drive.world_from_cam[frame].inverse() * drive.world_from_cam[0]; },
+         [&](int track) { return (first_from_world * drive.track_points[track]).eval(); }});
   std::vector<Eigen::Isometry3d> estimate;
   double nees = 0, nees_rotation = 0, nees_translation = 0;
   int counted = 0;

@@ -87,6 +87,18 @@ void FilterState::reset_considered_blocks() {
   const int k = num_camera_params();
   P.block(kCameraColumn, kCameraColumn, k, k) = camera_covariance_;
   P.block<3, 3>(kOriginColumn, kOriginColumn) = origin_covariance_;
+  if (wheel_scale_considered()) P(kScaleColumn, kScaleColumn) = wheel_scale_variance_;
+}
+
+void FilterState::consider_wheel_scale(double variance) {
+  wheel_scale_variance_ = variance;
+  reset_considered_blocks();
+}
+
+void FilterState::hold_considered(Eigen::VectorXd* step) const {
+  step->segment(kCameraColumn, num_camera_params()).setZero();
+  step->segment<3>(kOriginColumn).setZero();
+  if (wheel_scale_considered()) (*step)[kScaleColumn] = 0;
 }
 
 int FilterState::slot_of(int track) const {
@@ -196,7 +208,9 @@ bool FilterState::take_back_prior(int column, double prior_mean, double prior_va
   const double weight = 1 / (prior_variance - P(column, column));
   const Eigen::VectorXd Pe = P.col(column);
   const double value = mean.points[column - first_point_column()];
-  mean = mean.plus(Pe * (weight * (value - prior_mean)), min_inverse_depth);
+  Eigen::VectorXd step = Pe * (weight * (value - prior_mean));
+  hold_considered(&step);
+  mean = mean.plus(step, min_inverse_depth);
   P.noalias() += weight * Pe * Pe.transpose();
   reset_considered_blocks();
   return true;

@@ -383,8 +383,7 @@ double OnlineFilter::take_step(const Iterate& at, const std::vector<int>& point_
   // Considered, never moved. Undamped this is Schmidt's step exactly; a damped one (under the
   // random walk only, about one frame in twelve on the rover) weighs the camera's share of the
   // innovation covariance by 1 / (1 + mu), and its cost ratio is approximate.
-  next->offset.segment(kCamera, camera_params).setZero();
-  next->offset.segment<3>(FilterState::kOriginColumn).setZero();
+  state_.hold_considered(&next->offset);
   next->g *= shrink;
   // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
   // model's residual r - H d is variance times the weighted innovation.

@@ -39,6 +39,8 @@ void OnlineFilter::propagate(const MotionPrediction& motion) {
   }
   if (!scale_started_ && motion.wheel_scale_prior_variance > 0) {
     P(FilterState::kScaleColumn, FilterState::kScaleColumn) = motion.wheel_scale_prior_variance;
+    if (!settings_.wheel_scale_from_images)
+      state_.consider_wheel_scale(motion.wheel_scale_prior_variance);
     scale_started_ = true;
   }
 

@@ -70,8 +70,7 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   Iterate start = *prior;
   start.offset = along * delta;
   start.offset.head<6>() = delta;
-  start.offset.segment(FilterState::kCameraColumn, state_.num_camera_params()).setZero();
-  start.offset.segment<3>(FilterState::kOriginColumn).setZero();
+  state_.hold_considered(&start.offset);
   const FilterMean moved = state_.mean.plus(start.offset, kMinInverseDepth);
   start.offset.tail(n - state_.first_point_column()) = moved.points - state_.mean.points;
   start.g = Eigen::VectorXd::Zero(n);

@@ -27,6 +27,18 @@ PointParams params_of(double a, double b, double rho, const Eigen::Vector3d& off
   return params;
 }
 
+// A random positive-definite covariance over the state, the origin's error nothing yet (a
+// considered block the reset keeps, as for an origin never moved).
+void randomise_covariance(FilterState* state, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0, 1);
+  const int n = static_cast<int>(state->P.rows());
+  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return 0.1 * normal(rng); });
+  state->P = A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(n, n);
+  state->P.middleRows<3>(FilterState::kOriginColumn).setZero();
+  state->P.middleCols<3>(FilterState::kOriginColumn).setZero();
+}
+
 TEST(FilterState, WorldPointJacobianMatchesCentralDifferences) {
   const PointAnchor a = anchor_along({0.1, -0.2, 0.3}, {1, 2, -0.5});
   const PointParams params = params_of(0.02, -0.03, 0.4, {0.01, -0.02, 0.005});
@@ -271,19 +283,12 @@ TEST(FilterState, APointHangsOnTheConsideredCameraParameters) {
 // A prior applied to a point's inverse depth by a Kalman update, then taken back: the state it
 // started from, mean and covariance, everything the prior reached through the correlations.
 TEST(FilterState, TakingBackAPriorUndoesItsUpdate) {
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> normal(0, 1);
   FilterState state;
   for (int track : {3, 5})
     state.add(track, anchor_along(Eigen::Vector3d::Zero(), {1, 0.5 * track, 0}),
               params_of(0.01, -0.02, 0.3 + 0.1 * track, {0.01, 0.02, 0.03}),
               Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
-  const int n = static_cast<int>(state.P.rows());
-  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return 0.1 * normal(rng); });
-  state.P = A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(n, n);
-  // An origin never moved: its error is nothing yet (a considered block the reset keeps).
-  state.P.middleRows<3>(FilterState::kOriginColumn).setZero();
-  state.P.middleCols<3>(FilterState::kOriginColumn).setZero();
+  randomise_covariance(&state, 11);
   state.mean.t << 0.5, -0.2, 1.0;
   state.mean.sensors.wheel_scale = 1.02;
   const FilterState before = state;
@@ -306,6 +311,45 @@ TEST(FilterState, TakingBackAPriorUndoesItsUpdate) {
   EXPECT_LT((state.mean.sensors.gyro_bias - before.mean.sensors.gyro_bias).norm(), 1e-12);
   EXPECT_NEAR(state.mean.sensors.wheel_scale, before.mean.sensors.wheel_scale, 1e-12);
   EXPECT_LT((state.mean.points - before.mean.points).norm(), 1e-12);
+}
+
+// The wheels' scale considered: a step never moves it and its variance stays the calibration's,
+// while the rest takes the Kalman update (Schmidt's: the rest's rows of P - K H P are the Kalman
+// update's, the considered block is not).
+TEST(FilterState, AConsideredWheelScaleNeverMovesAndKeepsItsVariance) {
+  FilterState state;
+  state.add(7, anchor_along(Eigen::Vector3d::Zero(), {1, 0.2, 0}),
+            params_of(0.01, -0.02, 0.5, {0, 0, 0}),
+            Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
+  randomise_covariance(&state, 5);
+  constexpr int kScale = FilterState::kScaleColumn;
+  const double variance = 0.02 * 0.02;
+  EXPECT_FALSE(state.wheel_scale_considered());
+  state.consider_wheel_scale(variance);
+  ASSERT_TRUE(state.wheel_scale_considered());
+  EXPECT_EQ(state.P(kScale, kScale), variance);
+  state.mean.sensors.wheel_scale = 1.01;
+
+  // A scalar measurement of the pose's first translation, 0.1 off.
+  const int c = 3;
+  const Eigen::VectorXd gain = state.P.col(c) / (state.P(c, c) + 1e-4);
+  Eigen::VectorXd step = gain * 0.1;
+  ASSERT_GT(std::abs(step[kScale]), 1e-6) << "the scale is not correlated with the measurement";
+  state.hold_considered(&step);
+  EXPECT_EQ(step[kScale], 0);
+  EXPECT_EQ(step.segment<3>(FilterState::kOriginColumn), Eigen::Vector3d::Zero());
+  EXPECT_EQ(step.head<6>(), (gain * 0.1).head<6>());
+  const FilterMean moved = state.mean.plus(step, 1e-3);
+  EXPECT_EQ(moved.sensors.wheel_scale, 1.01);
+  EXPECT_NEAR(moved.t.x(), state.mean.t.x() + gain[c] * 0.1, 1e-15);
+
+  const Eigen::MatrixXd kalman = state.P - gain * state.P.row(c);
+  state.P = kalman;
+  ASSERT_LT(state.P(kScale, kScale), variance);
+  state.reset_considered_blocks();
+  EXPECT_EQ(state.P(kScale, kScale), variance);
+  EXPECT_EQ(state.P.row(c), kalman.row(c));
+  EXPECT_EQ(state.P.col(kScale).head<6>(), kalman.col(kScale).head<6>());
 }
 
 // A new point's parameters about its anchor under the pose's error, against central differences:

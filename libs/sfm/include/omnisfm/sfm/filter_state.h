@@ -15,7 +15,8 @@
 // (move_origin_to_camera), the camera parameters the filter considers
 // (FilterSettings::camera_uncertainty; none by default), then 6 per slot.
 //
-// The origin and the considered camera parameters are Schmidt's consider states: their error is
+// The origin, the considered camera parameters and, unless the images are to inform it, the wheels'
+// scale are Schmidt's consider states: their error is
 // in the covariance, correlated with the rest, but never estimated. The mean holds no entry for
 // them and their own blocks stay as they were (reset_considered_blocks after each update).
 // The camera stays as given, its block the calibration's covariance: a sequence may well be
@@ -104,8 +105,14 @@ class FilterState {
   int point_column(int slot) const { return first_point_column() + kPointSize * slot; }
   // The considered states' own blocks back to what they were before an update changed them: with
   // their gain zero, Schmidt's update of the rest is the Kalman update's, and their own blocks are
-  // what the calibration said and what the origin's moves left.
+  // what the calibration said, what the origin's moves left and the wheels' scale's variance.
   void reset_considered_blocks();
+  // From now on the wheels' scale is a consider state too, its variance `variance`
+  // (FilterSettings::wheel_scale_from_images).
+  void consider_wheel_scale(double variance);
+  bool wheel_scale_considered() const { return wheel_scale_variance_ > 0; }
+  // A step in the covariance's columns with the considered states' entries zeroed: they never move.
+  void hold_considered(Eigen::VectorXd* step) const;
 
   FilterMean mean;
   Eigen::MatrixXd P;
@@ -152,6 +159,7 @@ class FilterState {
   Eigen::MatrixXd camera_covariance_;
   Eigen::Vector3d origin_{0, 0, 0};
   Eigen::Matrix3d origin_covariance_ = Eigen::Matrix3d::Zero();
+  double wheel_scale_variance_ = 0;  // > 0 while the wheels' scale is considered
   std::vector<PointAnchor> anchors_;  // per slot
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;

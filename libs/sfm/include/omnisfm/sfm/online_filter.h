@@ -118,14 +118,14 @@ struct FilterSettings {
   //   0.2 deg and 0.18-0.38 %. The rover's online error fell from 0.066-0.090 % to
   //   0.022-0.029 % (seeds 1-3). Moved before every frame instead, the crane's doubled
   //   (0.12-0.16 % to 0.24-0.56 %, seeds 1-6), where the threshold leaves it as it was.
-  // - With odometry and gyro (kAlways), the published pose covariance stays near honest over the
-  //   600 m drive: mean NEES per 5,000 frames 3.9 / 5.3 / 31 / 77 at seed 1 (6 when honest),
-  //   against 166 / 1,678 / 6,762 / 14,882 with the origin left at the first frame. But the
-  //   wheels' scale then follows the images' own, which drifts (seed 2: 0.917 +- 0.0014 at the
-  //   end for a true 0.985), and the drive's error after a rigid alignment is 0.59 / 1.31 /
-  //   0.92 % at seeds 1-3 where it is 0.52 / 0.50 / 0.28 % without. Hence the default moves it
-  //   only under the random walk.
-  OriginFollowsCamera origin_follows_camera = OriginFollowsCamera::kVisionAlone;
+  // - With odometry and gyro, the first frame's origin leaves the gyro's small drift honest only
+  //   near it: on the 600 m drive at seed 1 (wheels' scale considered), the rotation's error grew
+  //   to 10 deg while its published sigma shrank to 0.11 deg (mean NEES per 5,000 frames 15 / 174
+  //   / 1,804 / 15,488). The gyro alone drifts 0.8 deg there, honestly; the images' updates, far
+  //   from the origin, lent the rotation information it does not have. With the origin
+  //   following the camera: 2.5 / 2.3 / 9.1 / 17, 0.26 % of the distance after a rigid alignment
+  //   (0.60 % with it left behind).
+  OriginFollowsCamera origin_follows_camera = OriginFollowsCamera::kAlways;
   // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
   int smoothed_start_frames = 20;
   // With a gyro: estimate its bias as a state (else its prior inflates each prediction's rotation
@@ -136,6 +136,17 @@ struct FilterSettings {
   // rover seeds 1-50 with the simulated wheel reading 1.5 % long, the pose's mean NEES is 5.6
   // (92.7 % inside the 95 % bound); taking the calibration as exact, 110 over seeds 1-25.
   bool estimate_wheel_scale = true;
+  // With the wheels' scale a state: whether the images' updates move it. Off (the default), it is
+  // estimated over the smoothed start's window only, then carried as a Schmidt consider state
+  // (filter_state.h): its error, OdometryNoise::scale_sigma, is in every covariance the filter
+  // publishes, with its correlations, but no update moves or narrows it. What the images say of
+  // the scale through a few centimetres of mirror is too little for an online filter to weigh
+  // right: estimated, the wheels' scale followed the images' own over the 600 m drive (0.950 +-
+  // 0.0015 at seed 1 and 0.917 +- 0.0014 at seed 2, for a true 0.985; the drive 0.59 % and 1.32 %
+  // off after a rigid alignment); considered, 0.26 % and 0.28 %, and the mean NEES per 5,000
+  // frames at most 17 and 26 where it reached 77 and 542. The batch (fused_pipeline.h), which
+  // solves all frames together, estimates it from the images, and from GPS where there is any.
+  bool wheel_scale_from_images = false;
   // With the wheels' scale a state, take each leaving point's depth prior (initial_depth,
   // inverse_depth_sigma) back out of the state. Each new point's prior is a guess of the scene's
   // scale, and thousands of them on a long drive outweigh what the mirror shows of it: on the
