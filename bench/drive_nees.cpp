@@ -15,7 +15,7 @@
 // at the truth (with the origin left at the first frame only); or a setting of the filter
 // (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
 // predicted_settle_sigmas, outlier_chi2, smoothed_start_frames, wheel_scale_from_images,
-// update_iterations).
+// origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
 //              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=2] [TAKE_BACK=1] [CAMERA.ini]
 //              [NAME=VALUE...]
@@ -88,6 +88,11 @@ bool apply(const std::string& assignment, Study* study) {
       {"outlier_chi2", [&](double v) { settings.outlier_chi2 = v; }},
       {"smoothed_start_frames",
        [&](double v) { settings.smoothed_start_frames = static_cast<int>(v); }},
+      {"origin_turns",
+       [&](double v) {
+         settings.origin_turns_with_camera =
+             static_cast<omnisfm::sfm::OriginTurnsWithCamera>(std::clamp(static_cast<int>(v), 0, 2));
+       }},
       {"wheel_scale_from_images", [&](double v) { settings.wheel_scale_from_images = v != 0; }},
       {"update_iterations", [&](double v) { settings.update_iterations = static_cast<int>(v); }},
   };

@@ -1,6 +1,8 @@
 #include "omnisfm/sfm/filter_state.h"
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include "so3.h"
 
@@ -86,7 +88,7 @@ FilterState::FilterState(const Eigen::MatrixXd& camera_covariance)
 void FilterState::reset_considered_blocks() {
   const int k = num_camera_params();
   P.block(kCameraColumn, kCameraColumn, k, k) = camera_covariance_;
-  P.block<3, 3>(kOriginColumn, kOriginColumn) = origin_covariance_;
+  P.block<6, 6>(kOriginColumn, kOriginColumn) = origin_covariance_;
   if (wheel_scale_considered()) P(kScaleColumn, kScaleColumn) = wheel_scale_variance_;
 }
 
@@ -97,7 +99,7 @@ void FilterState::consider_wheel_scale(double variance) {
 
 void FilterState::hold_considered(Eigen::VectorXd* step) const {
   step->segment(kCameraColumn, num_camera_params()).setZero();
-  step->segment<3>(kOriginColumn).setZero();
+  step->segment<6>(kOriginColumn).setZero();
   if (wheel_scale_considered()) (*step)[kScaleColumn] = 0;
 }
 
@@ -156,47 +158,117 @@ void FilterState::remove(int slot) {
   P.conservativeResize(n, n);
 }
 
-void FilterState::move_origin_to_camera() {
-  // The camera's position c = -R^T t; with R = exp(dtheta) R its error is
-  // dc = -R^T [t]x dtheta - R^T dt = -M (dtheta, dt). The new origin's error is the old one's
-  // plus dc, and each point's error relative to it is its own minus dc: the origin's rows gain
-  // -M times the pose's, each anchor's offset rows M times, and the translation's rows go
-  // (P <- J P J^T, rows then columns).
-  const Eigen::Matrix3d Rt = mean.R.transpose();
-  Eigen::Matrix<double, 3, 6> M;
-  M << Rt * so3::skew(mean.t), Rt;
-  const Eigen::Vector3d shift = -Rt * mean.t;
+void FilterState::move_origin_to_camera(bool position_only) {
+  // The new frame is N = (Rm, tm) N_from_S of the old, the camera's frame (the pose itself) or
+  // the old frame moved to the camera's position c = -R^T t. Its error (dpsi, dtau), Rm =
+  // exp(dpsi) Rm, is L times the pose's (dtheta, dt): the identity, or for the position alone
+  // dpsi = 0 and dtau = -dc = [R^T [t]x, R^T] (dtheta, dt). Each block of the state then moves
+  // by its own error times A plus the pose's times B (P <- J P J^T, rows then columns):
+  // - a point's ray, origin a' = Rm a + tm and direction d' = Rm d: its offset turns with Rm,
+  //   and the ray moves by -[Rm a]x dpsi + dtau and turns by -[d']x dpsi;
+  // - the frame in the world, world_from_N = world_from_S N_from_S^-1 = (Q Rm^T, o - Q' tm):
+  //   dphi' = dphi - Q' dpsi, do' = do + [Q' tm]x dphi' - Q' dtau;
+  // - the pose, cam_from_N = (R Rm^T, t - R' tm): dtheta' = dtheta - R' dpsi,
+  //   dt' = dt + [R' tm]x dtheta' - R' dtau, nothing when N is the camera's frame.
+  const Eigen::Matrix3d R = mean.R;
+  const Eigen::Vector3d t = mean.t;
+  Eigen::Matrix3d Rm = R;
+  Eigen::Vector3d tm = t;
+  Eigen::Matrix<double, 6, 6> L = Eigen::Matrix<double, 6, 6>::Identity();
+  if (position_only) {
+    Rm.setIdentity();
+    tm = R.transpose() * t;
+    L.setZero();
+    L.bottomLeftCorner<3, 3>() = R.transpose() * so3::skew(t);
+    L.bottomRightCorner<3, 3>() = R.transpose();
+  }
+  const Eigen::Matrix3d R_new = R * Rm.transpose();
+  const Eigen::Matrix3d Q_new = world_from_state_.linear() * Rm.transpose();
+  const auto pose_error_in = [&](const Eigen::Matrix3d& turn, const Eigen::Vector3d& lever) {
+    // (x', y') = (x - turn dpsi, y + [lever]x x' - turn dtau), x and y a frame's errors.
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Identity();
+    A.bottomLeftCorner<3, 3>() = so3::skew(lever);
+    Eigen::Matrix<double, 6, 6> B = Eigen::Matrix<double, 6, 6>::Zero();
+    B.topLeftCorner<3, 3>() = -turn;
+    B.bottomLeftCorner<3, 3>() = -so3::skew(lever) * turn;
+    B.bottomRightCorner<3, 3>() = -turn;
+    return std::make_pair(A, (B * L).eval());
+  };
+  const auto [A_origin, B_origin] = pose_error_in(Q_new, Q_new * tm);
+  auto [A_pose, B_pose] = pose_error_in(R_new, R_new * tm);
+  const Eigen::Matrix<double, 6, 6> K_pose = A_pose + B_pose;  // the pose's rows in its own
+
+  struct BlockMove {
+    int column;
+    Eigen::Matrix<double, 6, 6> A, B;
+  };
+  std::vector<BlockMove> moves;
+  moves.push_back({kOriginColumn, A_origin, B_origin});
+  for (int s = 0; s < num_slots(); ++s) {
+    PointAnchor& anchor = anchors_[s];
+    const PointParams params = mean.params(s);
+    const Eigen::Vector3d ray_origin = anchor.origin + params.tail<3>();
+    const Eigen::Vector3d u =
+        anchor.basis.col(0) + params[0] * anchor.basis.col(1) + params[1] * anchor.basis.col(2);
+    anchor.origin = Rm * anchor.origin + tm;
+    anchor.basis = Rm * anchor.basis;
+    mean.points.segment<3>(kPointSize * s + 3) = Rm * params.tail<3>();
+    // The angles that turn the ray's direction as dpsi does, through the direction's Jacobian
+    // in them (PointAnchor::world_point), exactly also where they are not zero.
+    const Eigen::Vector3d d = Rm * u.normalized();
+    const Eigen::Matrix3d across = (Eigen::Matrix3d::Identity() - d * d.transpose()) / u.norm();
+    Eigen::Matrix<double, 3, 2> J_angles;
+    J_angles << across * anchor.basis.col(1), across * anchor.basis.col(2);
+    BlockMove move{point_column(s), Eigen::Matrix<double, 6, 6>::Identity(),
+                   Eigen::Matrix<double, 6, 6>::Zero()};
+    move.B.topLeftCorner<2, 3>() =
+        (J_angles.transpose() * J_angles).ldlt().solve(J_angles.transpose() * -so3::skew(d));
+    move.B.bottomLeftCorner<3, 3>() = -so3::skew(Rm * ray_origin);
+    move.B.bottomRightCorner<3, 3>().setIdentity();
+    move.B = (move.B * L).eval();
+    move.A.bottomRightCorner<3, 3>() = Rm;
+    moves.push_back(move);
+  }
   const Eigen::MatrixXd pose_rows = P.topRows<6>();
-  P.middleRows<3>(kOriginColumn).noalias() -= M * pose_rows;
-  for (int s = 0; s < num_slots(); ++s)
-    P.middleRows<3>(point_column(s) + 3).noalias() += M * pose_rows;
+  for (const BlockMove& m : moves)
+    P.middleRows<6>(m.column) = m.A * P.middleRows<6>(m.column) + m.B * pose_rows;
+  P.topRows<6>() = K_pose * pose_rows;
   const Eigen::MatrixXd pose_columns = P.leftCols<6>();
-  P.middleCols<3>(kOriginColumn).noalias() -= pose_columns * M.transpose();
-  for (int s = 0; s < num_slots(); ++s)
-    P.middleCols<3>(point_column(s) + 3).noalias() += pose_columns * M.transpose();
-  P.middleRows<3>(3).setZero();
-  P.middleCols<3>(3).setZero();
-  origin_covariance_ = P.block<3, 3>(kOriginColumn, kOriginColumn);
-  for (PointAnchor& anchor : anchors_) anchor.origin -= shift;
+  for (const BlockMove& m : moves)
+    P.middleCols<6>(m.column) = P.middleCols<6>(m.column) * m.A.transpose() +
+                                pose_columns * m.B.transpose();
+  P.leftCols<6>() = pose_columns * K_pose.transpose();
+  const int known = position_only ? 3 : 6;  // the translation, or the whole pose, now exact
+  P.middleRows(6 - known, known).setZero();
+  P.middleCols(6 - known, known).setZero();
+  origin_covariance_ = P.block<6, 6>(kOriginColumn, kOriginColumn);
+
+  Eigen::Isometry3d new_from_old = Eigen::Isometry3d::Identity();
+  new_from_old.linear() = Rm;
+  new_from_old.translation() = tm;
+  world_from_state_ = world_from_state_ * new_from_old.inverse();
+  mean.R = position_only ? R : Eigen::Matrix3d::Identity().eval();
   mean.t.setZero();
-  origin_ += shift;
 }
 
 Eigen::Isometry3d FilterState::world_cam_from_world() const {
-  Eigen::Isometry3d cam_from_world = mean.cam_from_world();
-  cam_from_world.translation() -= mean.R * origin_;
-  return cam_from_world;
+  return mean.cam_from_world() * world_from_state_.inverse();
 }
 
 Eigen::Matrix<double, 6, 6> FilterState::world_pose_covariance() const {
-  // t_world = t - R o: with R = exp(dtheta) R, dt_world = dt + [R o]x dtheta - R do.
-  Eigen::Matrix<double, 9, 9> pose_and_origin;
-  pose_and_origin << P.topLeftCorner<6, 6>(), P.block<6, 3>(0, kOriginColumn),
-      P.block<3, 6>(kOriginColumn, 0), P.block<3, 3>(kOriginColumn, kOriginColumn);
-  Eigen::Matrix<double, 6, 9> J = Eigen::Matrix<double, 6, 9>::Zero();
+  // cam_from_world = (R Q^T, t - R_w o): dtheta_w = dtheta - R_w dphi,
+  // dt_w = dt + [R_w o]x dtheta_w - R_w do.
+  Eigen::Matrix<double, 12, 12> pose_and_origin;
+  pose_and_origin << P.topLeftCorner<6, 6>(), P.block<6, 6>(0, kOriginColumn),
+      P.block<6, 6>(kOriginColumn, 0), P.block<6, 6>(kOriginColumn, kOriginColumn);
+  const Eigen::Matrix3d R_w = mean.R * world_from_state_.linear().transpose();
+  const Eigen::Matrix3d lever = so3::skew(R_w * world_from_state_.translation());
+  Eigen::Matrix<double, 6, 12> J = Eigen::Matrix<double, 6, 12>::Zero();
   J.leftCols<6>().setIdentity();
-  J.block<3, 3>(3, 0) = so3::skew(mean.R * origin_);
-  J.block<3, 3>(3, 6) = -mean.R;
+  J.block<3, 3>(3, 0) = lever;
+  J.block<3, 3>(0, 6) = -R_w;
+  J.block<3, 3>(3, 6) = -lever * R_w;
+  J.block<3, 3>(3, 9) = -R_w;
   return J * pose_and_origin * J.transpose();
 }
 

@@ -52,7 +52,7 @@ std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   }
   for (const auto& [track, point] : held_points_) all[track] = point;
   for (int s = 0; s < state_.num_slots(); ++s)
-    all[state_.track_of(s)] = state_.world_point(s) + state_.origin();
+    all[state_.track_of(s)] = state_.in_world(state_.world_point(s));
   return all;
 }
 
@@ -63,7 +63,7 @@ void OnlineFilter::propagate() {
 
 void OnlineFilter::end_point(int slot) {
   const int track = state_.track_of(slot);
-  const Eigen::Vector3d point = state_.world_point(slot) + state_.origin();
+  const Eigen::Vector3d point = state_.in_world(state_.world_point(slot));
   // Not while the smoothed start is pending: it solves the window again, priors and all.
   if (settings_.take_back_depth_priors && scale_started_ && !smoothing_start_) {
     const int depth_column = state_.point_column(slot) + 2;
@@ -77,6 +77,12 @@ void OnlineFilter::end_point(int slot) {
     held_points_[track] = point;  // the smoothed start revises it, then hands it over
   else
     hand_over(track, point);
+}
+
+bool OnlineFilter::turns_with_camera(bool with_sensors) const {
+  const OriginTurnsWithCamera turns = settings_.origin_turns_with_camera;
+  return turns == OriginTurnsWithCamera::kAlways ||
+         (turns == OriginTurnsWithCamera::kWithSensors && with_sensors);
 }
 
 bool OnlineFilter::camera_far_from_origin() const {
@@ -603,7 +609,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   if ((follows == OriginFollowsCamera::kAlways ||
        (follows == OriginFollowsCamera::kVisionAlone && !motion)) &&
       !smoothing_start_ && !at_given_points() && camera_far_from_origin())
-    state_.move_origin_to_camera();
+    state_.move_origin_to_camera(!turns_with_camera(motion != nullptr));
   const SensorStates predicted_at = state_.mean.sensors;
   if (motion)
     propagate(*motion);

@@ -35,8 +35,8 @@ void randomise_covariance(FilterState* state, std::uint64_t seed) {
   const int n = static_cast<int>(state->P.rows());
   const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return 0.1 * normal(rng); });
   state->P = A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(n, n);
-  state->P.middleRows<3>(FilterState::kOriginColumn).setZero();
-  state->P.middleCols<3>(FilterState::kOriginColumn).setZero();
+  state->P.middleRows<6>(FilterState::kOriginColumn).setZero();
+  state->P.middleCols<6>(FilterState::kOriginColumn).setZero();
 }
 
 TEST(FilterState, WorldPointJacobianMatchesCentralDifferences) {
@@ -104,109 +104,109 @@ TEST(FilterState, RemoveMovesTheLastSlotWithItsCovariance) {
       EXPECT_EQ(state.P(i, j), before(kept[i], kept[j])) << i << ", " << j;
 }
 
-// Moving the origin to the camera leaves every world quantity where it was, and its covariance is
-// that of the errors about the new origin: the camera's position error taken out of each point's
-// and out of the pose, and added to the origin's, by a Jacobian checked against central
-// differences. The origin's own block is kept through an update's reset.
-TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndCarriesTheErrors) {
-  std::mt19937_64 rng(3);
-  std::normal_distribution<double> normal(0, 1);
-  FilterState state;
-  state.mean.R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
-  state.mean.t << 3, -1, 2;
-  for (int track : {1, 2, 3})
-    state.add(track, anchor_along({0.2 * track, -0.1, 0.3}, {1, 0.5 * track, -0.2}),
-              params_of(0.01 * track, -0.02, 0.3 + 0.1 * track, {0.01, 0.02, -0.03}),
-              Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
-  const int n = static_cast<int>(state.P.rows());
-  const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(rng); });
-  state.P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
+// What the world sees of a state under an error `delta` in the covariance's columns (the state
+// frame's at kOriginColumn): the world pose's error (the rotation's a left perturbation, then the
+// translation's) and each point's world position less the estimate's.
+Eigen::VectorXd world_view(const FilterState& state, const Eigen::VectorXd& delta) {
+  constexpr int kOrigin = FilterState::kOriginColumn;
+  const FilterMean m = state.mean.plus(delta, 1e-3);
+  Eigen::Isometry3d world_from_state = state.world_from_state();
+  world_from_state.linear() = so3::exp(delta.segment<3>(kOrigin)) * world_from_state.linear();
+  world_from_state.translation() += delta.segment<3>(kOrigin + 3);
+  const Eigen::Isometry3d cam_from_world = m.cam_from_world() * world_from_state.inverse();
+  const Eigen::Isometry3d estimate = state.world_cam_from_world();
+  Eigen::VectorXd view(6 + 3 * state.num_slots());
+  view.head<3>() = so3::log(cam_from_world.linear() * estimate.linear().transpose());
+  view.segment<3>(3) = cam_from_world.translation() - estimate.translation();
+  for (int s = 0; s < state.num_slots(); ++s)
+    view.segment<3>(6 + 3 * s) = world_from_state * state.anchor(s).world_point(m.params(s)) -
+                                 state.in_world(state.world_point(s));
+  return view;
+}
 
-  // The new state's error as a function of the old one's, delta: the pose's rotation, no
-  // translation, the origin's plus the camera's position error, each point's offset less it.
-  const FilterState before = state;
-  const Eigen::Vector3d camera = -before.mean.R.transpose() * before.mean.t;
-  const auto moved_error = [&](const Eigen::VectorXd& delta) {
-    const FilterMean m = before.mean.plus(delta, 1e-3);
-    const Eigen::Vector3d camera_error = -m.R.transpose() * m.t - camera;
-    Eigen::VectorXd e = delta;
-    e.segment<3>(3).setZero();
-    e.segment<3>(FilterState::kOriginColumn) += camera_error;
-    for (int s = 0; s < before.num_slots(); ++s)
-      e.segment<3>(before.point_column(s) + 3) -= camera_error;
-    return e;
-  };
-  Eigen::MatrixXd J(n, n);
+// world_view's Jacobian at no error, by central differences.
+Eigen::MatrixXd world_view_jacobian(const FilterState& state) {
+  const int n = static_cast<int>(state.P.rows());
+  Eigen::MatrixXd J(6 + 3 * state.num_slots(), n);
   const double h = 1e-6;
   for (int k = 0; k < n; ++k) {
     Eigen::VectorXd up = Eigen::VectorXd::Zero(n), down = up;
     up[k] = h;
     down[k] = -h;
-    J.col(k) = (moved_error(up) - moved_error(down)) / (2 * h);
+    J.col(k) = (world_view(state, up) - world_view(state, down)) / (2 * h);
   }
-
-  state.move_origin_to_camera();
-  const Eigen::Vector3d shift = state.origin();
-  EXPECT_LT((shift - camera).norm(), 1e-12);
-  EXPECT_LT((state.world_cam_from_world().matrix() - before.mean.cam_from_world().matrix()).norm(),
-            1e-12);
-  EXPECT_EQ(state.mean.t, Eigen::Vector3d::Zero());
-  EXPECT_EQ(state.mean.R, before.mean.R);
-  for (int s = 0; s < state.num_slots(); ++s)
-    EXPECT_LT((state.world_point(s) + shift - before.world_point(s)).norm(), 1e-12);
-  const Eigen::MatrixXd expected = J * before.P * J.transpose();
-  EXPECT_LT((state.P - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
-  constexpr int kOrigin = FilterState::kOriginColumn;
-  const Eigen::Matrix3d origin_block = state.P.block<3, 3>(kOrigin, kOrigin);
-  state.P.block<3, 3>(kOrigin, kOrigin).setZero();
-  state.reset_considered_blocks();
-  EXPECT_EQ((state.P.block<3, 3>(kOrigin, kOrigin)), origin_block);
+  return J;
 }
 
-// The pose in the world, t_world = t - R o with the origin o outside the state: its covariance's
-// Jacobian in the pose's and the origin's errors checked against central differences.
-TEST(FilterState, WorldPoseCovarianceFoldsInTheOriginsError) {
-  std::mt19937_64 rng(7);
+// A state whose frame has already moved once, its camera then elsewhere and turned, three points
+// with angles off their first rays, and a random covariance.
+FilterState moved_state(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0, 1);
   FilterState state;
+  state.mean.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 0.3, 1).normalized()).toRotationMatrix();
+  state.mean.t << -4, 2, 0.5;
+  state.move_origin_to_camera();
+  state.mean.R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  state.mean.t << 3, -1, 2;
+  for (int track : {1, 2, 3})
+    state.add(track, anchor_along({0.2 * track, -0.1, 0.3}, {1, 0.5 * track, -0.2}),
+              params_of(0.05 * track, -0.08, 0.3 + 0.1 * track, {0.01, 0.02, -0.03}),
+              Eigen::Matrix<double, FilterState::kPointSize, 6>::Zero(), PointParams::Ones());
   const int n = static_cast<int>(state.P.rows());
   const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return normal(rng); });
-  // The origin moved to a camera at (-40, 25, -3), then a pose and a covariance about it.
-  state.mean.t << 40, -25, 3;
-  state.mean.R.setIdentity();
-  state.move_origin_to_camera();
-  state.mean.R = Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0.3, 1, -0.4).normalized()).toRotationMatrix();
-  state.mean.t << 0.4, 1.5, -0.2;
-  const Eigen::Vector3d origin = state.origin();
-  ASSERT_LT((origin - Eigen::Vector3d(-40, 25, -3)).norm(), 1e-12);
   state.P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
+  return state;
+}
 
-  // The world pose's error (the rotation's a left perturbation, then the translation's) for
-  // errors of the pose and the origin.
-  const auto world_error = [&](const Eigen::Matrix<double, 9, 1>& e) {
-    Eigen::VectorXd delta = Eigen::VectorXd::Zero(n);
-    delta.head<6>() = e.head<6>();
-    const FilterMean m = state.mean.plus(delta, 1e-3);
-    const Eigen::Vector3d t_world = m.t - m.R * (origin + e.tail<3>());
-    Eigen::Matrix<double, 6, 1> error;
-    error << so3::log(m.R * state.mean.R.transpose()),
-        t_world - (state.mean.t - state.mean.R * origin);
-    return error;
-  };
-  Eigen::Matrix<double, 6, 9> J;
-  const double h = 1e-6;
-  for (int k = 0; k < 9; ++k) {
-    Eigen::Matrix<double, 9, 1> up = Eigen::Matrix<double, 9, 1>::Zero(), down = up;
-    up[k] = h;
-    down[k] = -h;
-    J.col(k) = (world_error(up) - world_error(down)) / (2 * h);
+// Moving the state's frame to the camera, with its orientation or its position only, is a change
+// of variables: every world quantity stays where it was, and so does the covariance of all of
+// them together (the world pose and the points, through world_view's Jacobian before and after).
+// The pose is then known exactly where the frame took it, and the frame's own block is kept
+// through an update's reset.
+TEST(FilterState, MovingTheOriginToTheCameraKeepsTheWorldAndItsCovariance) {
+  for (bool position_only : {false, true}) {
+    SCOPED_TRACE(position_only ? "position only" : "position and orientation");
+    FilterState state = moved_state(3);
+    const FilterState before = state;
+    const Eigen::MatrixXd F_before = world_view_jacobian(before);
+
+    state.move_origin_to_camera(position_only);
+    EXPECT_LT((state.world_cam_from_world().matrix() - before.world_cam_from_world().matrix())
+                  .norm(),
+              1e-12);
+    for (int s = 0; s < state.num_slots(); ++s)
+      EXPECT_LT((state.in_world(state.world_point(s)) - before.in_world(before.world_point(s)))
+                    .norm(),
+                1e-12);
+    EXPECT_EQ(state.mean.t, Eigen::Vector3d::Zero());
+    if (position_only)
+      EXPECT_EQ(state.mean.R, before.mean.R);
+    else
+      EXPECT_EQ(state.mean.R, Eigen::Matrix3d::Identity());
+    const int known = position_only ? 3 : 6;
+    EXPECT_EQ(state.P.middleRows(6 - known, known).norm(), 0);
+    EXPECT_EQ(state.P.middleCols(6 - known, known).norm(), 0);
+
+    const Eigen::MatrixXd F_after = world_view_jacobian(state);
+    const Eigen::MatrixXd expected = F_before * before.P * F_before.transpose();
+    const Eigen::MatrixXd moved = F_after * state.P * F_after.transpose();
+    EXPECT_LT((moved - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
+
+    constexpr int kOrigin = FilterState::kOriginColumn;
+    const Eigen::Matrix<double, 6, 6> origin_block = state.P.block<6, 6>(kOrigin, kOrigin);
+    state.P.block<6, 6>(kOrigin, kOrigin).setZero();
+    state.reset_considered_blocks();
+    EXPECT_EQ((state.P.block<6, 6>(kOrigin, kOrigin)), origin_block);
   }
-  std::vector<int> columns = {0, 1, 2, 3, 4, 5};
-  for (int k = 0; k < 3; ++k) columns.push_back(FilterState::kOriginColumn + k);
-  Eigen::Matrix<double, 9, 9> pose_and_origin;
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j) pose_and_origin(i, j) = state.P(columns[i], columns[j]);
-  const Eigen::Matrix<double, 6, 6> expected = J * pose_and_origin * J.transpose();
+}
+
+// The published pose covariance folds in the state frame's error: it is world_view's pose part
+// through central differences.
+TEST(FilterState, WorldPoseCovarianceFoldsInTheStateFramesError) {
+  const FilterState state = moved_state(7);
+  const Eigen::MatrixXd F = world_view_jacobian(state).topRows<6>();
+  const Eigen::Matrix<double, 6, 6> expected = F * state.P * F.transpose();
   const Eigen::Matrix<double, 6, 6> published = state.world_pose_covariance();
   EXPECT_LT((published - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
 }
@@ -337,7 +337,7 @@ TEST(FilterState, AConsideredWheelScaleNeverMovesAndKeepsItsVariance) {
   ASSERT_GT(std::abs(step[kScale]), 1e-6) << "the scale is not correlated with the measurement";
   state.hold_considered(&step);
   EXPECT_EQ(step[kScale], 0);
-  EXPECT_EQ(step.segment<3>(FilterState::kOriginColumn), Eigen::Vector3d::Zero());
+  EXPECT_EQ(step.segment<6>(FilterState::kOriginColumn).norm(), 0);
   EXPECT_EQ(step.head<6>(), (gain * 0.1).head<6>());
   const FilterMean moved = state.mean.plus(step, 1e-3);
   EXPECT_EQ(moved.sensors.wheel_scale, 1.01);

@@ -11,20 +11,22 @@
 // error entered the angles divided by the depth guess (2 m for a point 0.5-20 m away), which
 // left the published pose covariance several times overconfident (eval::rover_pose_consistency).
 // Covariance columns: the pose 0-5 (the rotation's error a left perturbation, R = exp(dtheta) R,
-// then the translation's), the gyro's bias 6-8, the wheels' scale 9, the state's origin 10-12
-// (move_origin_to_camera), the camera parameters the filter considers
+// then the translation's), the gyro's bias 6-8, the wheels' scale 9, the state frame's place in
+// the world 10-15 (its rotation, a left perturbation in the world, then its position;
+// move_origin_to_camera), the camera parameters the filter considers
 // (FilterSettings::camera_uncertainty; none by default), then 6 per slot.
 //
-// The origin, the considered camera parameters and, unless the images are to inform it, the wheels'
-// scale are Schmidt's consider states: their error is
-// in the covariance, correlated with the rest, but never estimated. The mean holds no entry for
-// them and their own blocks stay as they were (reset_considered_blocks after each update).
-// The camera stays as given, its block the calibration's covariance: a sequence may well be
-// unable to tell a mirror's tilt from the rig's attitude, and an estimate that drifts with the
-// latter would then bend every later measurement. The origin's world position is the caller's:
-// nothing observes it, and an estimate of it would move with the little the updates wrongly
-// learn of the rotation about it (FilterSettings::origin_follows_camera), while its error, and
-// how that error goes with the rest, is what the published pose covariance needs.
+// The state frame's place in the world, the considered camera parameters and, unless the images
+// are to inform it, the wheels' scale are Schmidt's consider states: their error is in the
+// covariance, correlated with the rest, but never estimated. The mean holds no entry for them
+// (the frame's place is world_from_state()) and their own blocks stay as they were
+// (reset_considered_blocks after each update). The camera stays as given, its block the
+// calibration's covariance: a sequence may well be unable to tell a mirror's tilt from the
+// rig's attitude, and an estimate that drifts with the latter would then bend every later
+// measurement. Nothing observes where the state's frame is in the world, and an estimate of it
+// would move with the little the updates wrongly learn of the rotation about it
+// (FilterSettings::origin_follows_camera, origin_turns_with_camera), while its error, and how
+// that error goes with the rest, is what the published pose covariance needs.
 
 #include <Eigen/Geometry>
 #include <map>
@@ -93,8 +95,8 @@ class FilterState {
  public:
   static constexpr int kBiasColumn = 6;
   static constexpr int kScaleColumn = 9;
-  static constexpr int kOriginColumn = 10;
-  static constexpr int kCameraColumn = 13;
+  static constexpr int kOriginColumn = 10;  // the state frame's rotation, then its position
+  static constexpr int kCameraColumn = 16;
   static constexpr int kPointSize = 6;
 
   // `camera_covariance`: of the considered camera parameters (0 x 0: none).
@@ -137,14 +139,18 @@ class FilterState {
           const Eigen::MatrixXd& G_camera = Eigen::MatrixXd());
   // The slot's point leaves; the last slot moves into its place.
   void remove(int slot);
-  // Where the state's origin sits in the world: the mean's pose and points are about it.
-  const Eigen::Vector3d& origin() const { return origin_; }
-  // Moves the state's origin to the camera's position: the pose's translation becomes zero, known
-  // exactly, and its error passes to the points' anchors, whose errors are from then on relative
-  // to the camera, and to the origin's.
-  void move_origin_to_camera();
+  // Where the state's frame sits in the world: the mean's pose and points are in it.
+  const Eigen::Isometry3d& world_from_state() const { return world_from_state_; }
+  Eigen::Vector3d in_world(const Eigen::Vector3d& state_point) const {
+    return world_from_state_ * state_point;
+  }
+  // Moves the state's frame to the camera: the pose becomes the identity, known exactly, and its
+  // error passes to the points' anchors, whose errors are from then on relative to the camera,
+  // and to the state frame's. With `position_only`, the frame keeps its axes and only the pose's
+  // translation goes.
+  void move_origin_to_camera(bool position_only = false);
   // cam_from_world in the world, and the covariance of its error (rotation, then translation),
-  // the origin's error folded into the translation's.
+  // the state frame's error folded in.
   Eigen::Isometry3d world_cam_from_world() const;
   Eigen::Matrix<double, 6, 6> world_pose_covariance() const;
   // Takes a Gaussian prior, N(prior_mean, prior_variance) on a point's `column`, back out of
@@ -157,8 +163,10 @@ class FilterState {
 
  private:
   Eigen::MatrixXd camera_covariance_;
-  Eigen::Vector3d origin_{0, 0, 0};
-  Eigen::Matrix3d origin_covariance_ = Eigen::Matrix3d::Zero();
+  Eigen::Isometry3d world_from_state_ = Eigen::Isometry3d::Identity();
+  // Of the state frame's error: a left perturbation of its rotation in the world, then its
+  // position's.
+  Eigen::Matrix<double, 6, 6> origin_covariance_ = Eigen::Matrix<double, 6, 6>::Zero();
   double wheel_scale_variance_ = 0;  // > 0 while the wheels' scale is considered
   std::vector<PointAnchor> anchors_;  // per slot
   std::vector<int> slot_track_;

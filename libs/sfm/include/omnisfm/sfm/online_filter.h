@@ -67,6 +67,14 @@ enum class OriginFollowsCamera {
   kAlways,
 };
 
+// Whether the state's frame, as it moves to the camera, takes the camera's orientation too
+// (FilterSettings::origin_turns_with_camera).
+enum class OriginTurnsWithCamera {
+  kNever,        // its position only: the first frame's axes throughout
+  kWithSensors,  // in frames propagated by the vehicle's sensors
+  kAlways,
+};
+
 struct FilterSettings {
   // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
   // sensors the fused batch's too (fused_pipeline.h).
@@ -123,9 +131,22 @@ struct FilterSettings {
   //   to 10 deg while its published sigma shrank to 0.11 deg (mean NEES per 5,000 frames 15 / 174
   //   / 1,804 / 15,488). The gyro alone drifts 0.8 deg there, honestly; the images' updates, far
   //   from the origin, lent the rotation information it does not have. With the origin
-  //   following the camera: 2.5 / 2.3 / 9.1 / 17, 0.26 % of the distance after a rigid alignment
-  //   (0.60 % with it left behind).
+  //   following the camera's position: 2.5 / 2.3 / 9.1 / 17, 0.26 % of the distance after a
+  //   rigid alignment (0.60 % with it left behind); following its orientation too
+  //   (origin_turns_with_camera): 2.8 / 4.1 / 4.8 / 4.7, 0.46 %.
   OriginFollowsCamera origin_follows_camera = OriginFollowsCamera::kAlways;
+  // As the state's frame moves to the camera, it takes the camera's orientation too: the pose
+  // becomes the identity, known exactly, and the rotation's error passes to the points and to
+  // the frame's place in the world (a considered state: filter_state.h), which no update then
+  // narrows. With its position alone, each update still gained a little information on the
+  // rotation, the orientation's sigma stopped growing and the published covariance grew
+  // overconfident over long drives. On the 600 m drive with odometry and gyro, seeds 1-6, mean
+  // NEES over the last 5,000 frames 4.7 / 6.8 / 2.0 / 8.3 / 2.4 / 17 (17 / 26 / 3.0 / 32 / 27 /
+  // 41 with the position alone; 6 when honest), the orientation's sigma 4.9 deg at the end where
+  // it stayed at 1.5, and the drive 0.15-0.46 % off after a rigid alignment, mean orientation
+  // error 0.9-2.5 deg (0.13-0.30 %, 0.9-1.7 deg). Vision alone it made the orientation worse
+  // (seed 2: 7.95 deg against 2.07 over 600 m), hence the default turns it with the sensors only.
+  OriginTurnsWithCamera origin_turns_with_camera = OriginTurnsWithCamera::kWithSensors;
   // Frames solved exactly before the filter runs on (see above); 0 for the plain filter.
   int smoothed_start_frames = 20;
   // With a gyro: estimate its bias as a state (else its prior inflates each prediction's rotation
@@ -141,11 +162,13 @@ struct FilterSettings {
   // (filter_state.h): its error, OdometryNoise::scale_sigma, is in every covariance the filter
   // publishes, with its correlations, but no update moves or narrows it. What the images say of
   // the scale through a few centimetres of mirror is too little for an online filter to weigh
-  // right: estimated, the wheels' scale followed the images' own over the 600 m drive (0.950 +-
-  // 0.0015 at seed 1 and 0.917 +- 0.0014 at seed 2, for a true 0.985; the drive 0.59 % and 1.32 %
-  // off after a rigid alignment); considered, 0.26 % and 0.28 %, and the mean NEES per 5,000
-  // frames at most 17 and 26 where it reached 77 and 542. The batch (fused_pipeline.h), which
-  // solves all frames together, estimates it from the images, and from GPS where there is any.
+  // right: estimated, the wheels' scale followed the images' own over the 600 m drive (0.949 +-
+  // 0.0015 at seed 1 for a true 0.985), the mean NEES over the last 5,000 frames was 51 and the
+  // drive 0.69 % off after a rigid alignment; considered, 4.7 and 0.46 %. (With the state's
+  // frame following the camera's position only: 0.950 and 0.917 +- 0.0014 at seeds 1 and 2, NEES
+  // 77 and 542, 0.59 % and 1.32 %; considered, 17 and 26, 0.26 % and 0.28 %.) The batch
+  // (fused_pipeline.h), which solves all frames together, estimates it from the images, and
+  // from GPS where there is any.
   bool wheel_scale_from_images = false;
   // With the wheels' scale a state, take each leaving point's depth prior (initial_depth,
   // inverse_depth_sigma) back out of the state. Each new point's prior is a guess of the scene's
@@ -423,6 +446,9 @@ class OnlineFilter {
   // Whether the camera is far enough from the state's origin to move it there (see
   // FilterSettings::origin_follows_camera).
   bool camera_far_from_origin() const;
+  // Whether the state's frame takes the camera's orientation as it moves
+  // (FilterSettings::origin_turns_with_camera), in a frame propagated by the sensors or not.
+  bool turns_with_camera(bool with_sensors) const;
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
