@@ -97,6 +97,24 @@ void FilterState::consider_wheel_scale(double variance) {
   reset_considered_blocks();
 }
 
+std::vector<int> FilterState::considered_columns() const {
+  std::vector<int> columns;
+  if (wheel_scale_considered()) columns.push_back(kScaleColumn);
+  for (int k = 0; k < 6; ++k) columns.push_back(kOriginColumn + k);
+  for (int k = 0; k < num_camera_params(); ++k) columns.push_back(kCameraColumn + k);
+  return columns;
+}
+
+Eigen::MatrixXd FilterState::considered_covariance() const {
+  const std::vector<int> columns = considered_columns();
+  return P(columns, columns);
+}
+
+void FilterState::restore_considered_covariance(const Eigen::MatrixXd& block) {
+  const std::vector<int> columns = considered_columns();
+  P(columns, columns) = block;
+}
+
 void FilterState::hold_considered(Eigen::VectorXd* step) const {
   step->segment(kCameraColumn, num_camera_params()).setZero();
   step->segment<6>(kOriginColumn).setZero();
@@ -283,8 +301,9 @@ bool FilterState::take_back_prior(int column, double prior_mean, double prior_va
   Eigen::VectorXd step = Pe * (weight * (value - prior_mean));
   hold_considered(&step);
   mean = mean.plus(step, min_inverse_depth);
+  const Eigen::MatrixXd considered = considered_covariance();
   P.noalias() += weight * Pe * Pe.transpose();
-  reset_considered_blocks();
+  restore_considered_covariance(considered);
   return true;
 }
 

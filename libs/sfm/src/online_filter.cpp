@@ -387,8 +387,8 @@ double OnlineFilter::take_step(const Iterate& at, const std::vector<int>& point_
         at.H_point[k].transpose() * weighted.segment<2>(2 * static_cast<Eigen::Index>(k));
   next->offset = shrink * (next->offset + mu * at.offset);
   // Considered, never moved. Undamped this is Schmidt's step exactly; a damped one (under the
-  // random walk only, about one frame in twelve on the rover) weighs the camera's share of the
-  // innovation covariance by 1 / (1 + mu), and its cost ratio is approximate.
+  // random walk only, about one frame in twelve on the rover) weighs the considered states' share
+  // of the innovation covariance by 1 / (1 + mu), and its cost ratio is approximate.
   state_.hold_considered(&next->offset);
   next->g *= shrink;
   // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
@@ -463,8 +463,10 @@ double OnlineFilter::Iterate::take(int k, const Linearisation& lin, const Eigen:
 
 void OnlineFilter::accept(Candidate* c) {
   state_.mean = std::move(c->mean);
-  if (c->PHt.size() > 0) downdate_covariance(&state_.P, &c->PHt, c->S_factor);
-  state_.reset_considered_blocks();
+  if (c->PHt.size() == 0) return;
+  const Eigen::MatrixXd considered = state_.considered_covariance();
+  downdate_covariance(&state_.P, &c->PHt, c->S_factor);
+  state_.restore_considered_covariance(considered);
 }
 
 double OnlineFilter::prior_chi2(const Measurement& m) const {

@@ -35,7 +35,7 @@
 namespace omnisfm::sfm {
 
 // A point's parameters about its anchor: angles across its ray (0, 1), inverse distance along it
-// (2), the ray origin's offset in the world frame (3-5).
+// (2), the ray origin's offset in the state's frame (3-5).
 using PointParams = Eigen::Matrix<double, 6, 1>;
 using PointJacobian = Eigen::Matrix<double, 3, 6>;  // world point per parameter
 
@@ -105,9 +105,8 @@ class FilterState {
   int num_camera_params() const { return static_cast<int>(camera_covariance_.rows()); }
   int first_point_column() const { return kCameraColumn + num_camera_params(); }
   int point_column(int slot) const { return first_point_column() + kPointSize * slot; }
-  // The considered states' own blocks back to what they were before an update changed them: with
-  // their gain zero, Schmidt's update of the rest is the Kalman update's, and their own blocks are
-  // what the calibration said, what the origin's moves left and the wheels' scale's variance.
+  // The considered states' own blocks back to what the calibration said, what the origin's moves
+  // left and the wheels' scale's variance (after the smoothed start's restart).
   void reset_considered_blocks();
   // From now on the wheels' scale is a consider state too, its variance `variance`
   // (FilterSettings::wheel_scale_from_images).
@@ -115,6 +114,10 @@ class FilterState {
   bool wheel_scale_considered() const { return wheel_scale_variance_ > 0; }
   // A step in the covariance's columns with the considered states' entries zeroed: they never move.
   void hold_considered(Eigen::VectorXd* step) const;
+  // The covariance among all the considered states, their cross-covariances included, which
+  // Schmidt's update keeps as it was: taken before an update and put back after it.
+  Eigen::MatrixXd considered_covariance() const;
+  void restore_considered_covariance(const Eigen::MatrixXd& block);
 
   FilterMean mean;
   Eigen::MatrixXd P;
@@ -168,6 +171,7 @@ class FilterState {
   // position's.
   Eigen::Matrix<double, 6, 6> origin_covariance_ = Eigen::Matrix<double, 6, 6>::Zero();
   double wheel_scale_variance_ = 0;  // > 0 while the wheels' scale is considered
+  std::vector<int> considered_columns() const;
   std::vector<PointAnchor> anchors_;  // per slot
   std::vector<int> slot_track_;
   std::map<int, int> track_slot_;

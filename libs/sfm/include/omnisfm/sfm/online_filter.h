@@ -7,10 +7,10 @@
 // calibrated one, constant), each coupled to the pose by the predictions that integrate its sensor
 // (with no such sensor it stays out of every product), and one 3D world point per live track.
 // (FilterState, filter_state.h, holds it with its covariance.) The first frame fixes the gauge:
-// its pose is the identity, known exactly. The state's origin follows the camera
-// (FilterSettings::origin_follows_camera): the origin's world position is kept outside the state
-// and its error is a considered state, so that every pose, point and covariance the filter hands
-// out is in the first frame's world. Propagation keeps the estimate and inflates the pose
+// its pose is the identity, known exactly. The state's frame follows the camera
+// (FilterSettings::origin_follows_camera, origin_turns_with_camera): its place in the world is
+// kept outside the state and its error is a considered state, so that every pose, point and
+// covariance the filter hands out is in the first frame's world. Propagation keeps the estimate and inflates the pose
 // covariance by a random walk, or, when the vehicle's sensors predict the motion, moves the pose by
 // that prediction and adds its covariance. A new track's point starts on a sphere around the camera along its
 // ray: very uncertain along the ray, certain across it. Points are held in inverse depth about
@@ -115,8 +115,8 @@ struct FilterSettings {
   // depth priors kept (taken back: 5.82 and 92.7 % at 0.3).
   double predicted_settle_sigmas = 0.3;
   // When to move the state's origin to the camera: whenever the camera is further from it than
-  // half the live points' median distance (the origin's world position kept outside the state,
-  // its error a considered state: filter_state.h). Nothing observes where the world's origin is,
+  // half the live points' median distance (the state frame's place in the world kept outside the
+  // state, its error a considered state: filter_state.h). Nothing observes where the world's origin is,
   // yet each update gains a little information on the rotation about it (its Jacobians at each
   // frame's estimate annihilate another direction than the covariance was built around), and a
   // correction of that rotation moves the camera by its distance from the origin.
@@ -133,7 +133,7 @@ struct FilterSettings {
   //   from the origin, lent the rotation information it does not have. With the origin
   //   following the camera's position: 2.5 / 2.3 / 9.1 / 17, 0.26 % of the distance after a
   //   rigid alignment (0.60 % with it left behind); following its orientation too
-  //   (origin_turns_with_camera): 2.8 / 4.1 / 4.8 / 4.7, 0.46 %.
+  //   (origin_turns_with_camera): 2.7 / 3.9 / 4.6 / 4.3, 0.46 %.
   OriginFollowsCamera origin_follows_camera = OriginFollowsCamera::kAlways;
   // As the state's frame moves to the camera, it takes the camera's orientation too: the pose
   // becomes the identity, known exactly, and the rotation's error passes to the points and to
@@ -141,8 +141,8 @@ struct FilterSettings {
   // narrows. With its position alone, each update still gained a little information on the
   // rotation, the orientation's sigma stopped growing and the published covariance grew
   // overconfident over long drives. On the 600 m drive with odometry and gyro, seeds 1-6, mean
-  // NEES over the last 5,000 frames 4.7 / 6.8 / 2.0 / 8.3 / 2.4 / 17 (17 / 26 / 3.0 / 32 / 27 /
-  // 41 with the position alone; 6 when honest), the orientation's sigma 4.9 deg at the end where
+  // NEES over the last 5,000 frames 4.3 / 4.9 / 1.9 / 7.8 / 2.3 / 16 (17 / 26 / 3.0 / 32 / 27 /
+  // 41 with the position alone; 6 when honest), the orientation's sigma 5.1 deg at the end where
   // it stayed at 1.5, and the drive 0.15-0.46 % off after a rigid alignment, mean orientation
   // error 0.9-2.5 deg (0.13-0.30 %, 0.9-1.7 deg). Vision alone it made the orientation worse
   // (seed 2: 7.95 deg against 2.07 over 600 m), hence the default turns it with the sensors only.
@@ -164,7 +164,7 @@ struct FilterSettings {
   // the scale through a few centimetres of mirror is too little for an online filter to weigh
   // right: estimated, the wheels' scale followed the images' own over the 600 m drive (0.949 +-
   // 0.0015 at seed 1 for a true 0.985), the mean NEES over the last 5,000 frames was 51 and the
-  // drive 0.69 % off after a rigid alignment; considered, 4.7 and 0.46 %. (With the state's
+  // drive 0.69 % off after a rigid alignment; considered, 4.3 and 0.46 %. (With the state's
   // frame following the camera's position only: 0.950 and 0.917 +- 0.0014 at seeds 1 and 2, NEES
   // 77 and 542, 0.59 % and 1.32 %; considered, 17 and 26, 0.26 % and 0.28 %.) The batch
   // (fused_pipeline.h), which solves all frames together, estimates it from the images, and
