@@ -158,7 +158,8 @@ struct FilterSettings {
   // (92.7 % inside the 95 % bound); taking the calibration as exact, 110 over seeds 1-25.
   bool estimate_wheel_scale = true;
   // With the wheels' scale a state: whether the images' updates move it. Off (the default), it is
-  // estimated over the smoothed start's window only, then carried as a Schmidt consider state
+  // estimated over the smoothed start's window only (without a smoothed start it stays at the
+  // calibration's), then carried as a Schmidt consider state
   // (filter_state.h): its error, OdometryNoise::scale_sigma, is in every covariance the filter
   // publishes, with its correlations, but no update moves or narrows it. What the images say of
   // the scale through a few centimetres of mirror is too little for an online filter to weigh
