@@ -11,8 +11,7 @@
 // CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
 // NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px); which inputs the filter gets (vision,
 // gyro, odometry: 0 or 1); the simulated sensors' noise (gyro_noise_density, gyro_bias_sigma,
-// gyro_bias_walk, odometry_position_noise, odometry_heading_noise); ideal=1, the filter linearised
-// at the truth (with the origin left at the first frame only); or a setting of the filter
+// gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting of the filter
 // (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
 // predicted_settle_sigmas, outlier_chi2, smoothed_start_frames, wheel_scale_from_images,
 // origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations).
@@ -62,7 +61,6 @@ struct Study {
   bool with_vision = true;
   bool with_gyro = true;
   bool with_odometry = true;
-  bool linearised_at_truth = false;
 };
 
 bool apply(const std::string& assignment, Study* study) {
@@ -73,7 +71,6 @@ bool apply(const std::string& assignment, Study* study) {
       {"vision", [&](double v) { study->with_vision = v != 0; }},
       {"gyro", [&](double v) { study->with_gyro = v != 0; }},
       {"odometry", [&](double v) { study->with_odometry = v != 0; }},
-      {"ideal", [&](double v) { study->linearised_at_truth = v != 0; }},
       {"gyro_noise_density", [&](double v) { options.gyro_noise_density = v; }},
       {"gyro_bias_sigma", [&](double v) { options.gyro_bias_sigma = v; }},
       {"gyro_bias_walk", [&](double v) { options.gyro_bias_walk = v; }},
@@ -151,10 +148,6 @@ int main(int argc_given, char** argv_given) {
         drive.observations.end());
   sfm::OnlineFilter filter(drive.camera, settings);
   const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
-  if (study.linearised_at_truth)
-    filter.linearise_at(
-        {[&](int frame) { return drive.world_from_cam[frame].inverse() * drive.world_from_cam[0]; },
-         [&](int track) { return (first_from_world * drive.track_points[track]).eval(); }});
   std::vector<Eigen::Isometry3d> estimate;
   double nees = 0, nees_rotation = 0, nees_translation = 0;
   int counted = 0;

@@ -88,7 +88,6 @@ FilterState::FilterState(const Eigen::MatrixXd& camera_covariance)
 void FilterState::reset_considered_blocks() {
   const int k = num_camera_params();
   P.block(kCameraColumn, kCameraColumn, k, k) = camera_covariance_;
-  P.block<6, 6>(kOriginColumn, kOriginColumn) = origin_covariance_;
   if (wheel_scale_considered()) P(kScaleColumn, kScaleColumn) = wheel_scale_variance_;
 }
 
@@ -213,7 +212,7 @@ void FilterState::move_origin_to_camera(bool position_only) {
     return std::make_pair(A, (B * L).eval());
   };
   const auto [A_origin, B_origin] = pose_error_in(Q_new, Q_new * tm);
-  auto [A_pose, B_pose] = pose_error_in(R_new, R_new * tm);
+  const auto [A_pose, B_pose] = pose_error_in(R_new, R_new * tm);
   const Eigen::Matrix<double, 6, 6> K_pose = A_pose + B_pose;  // the pose's rows in its own
 
   struct BlockMove {
@@ -259,7 +258,6 @@ void FilterState::move_origin_to_camera(bool position_only) {
   const int known = position_only ? 3 : 6;  // the translation, or the whole pose, now exact
   P.middleRows(6 - known, known).setZero();
   P.middleCols(6 - known, known).setZero();
-  origin_covariance_ = P.block<6, 6>(kOriginColumn, kOriginColumn);
 
   Eigen::Isometry3d new_from_old = Eigen::Isometry3d::Identity();
   new_from_old.linear() = Rm;

@@ -33,6 +33,14 @@ const Eigen::MatrixXd& checked_uncertainty(const camera::CatadioptricCamera& cam
   return uncertainty.covariance;
 }
 
+// Whether the state's frame takes the camera's orientation as it moves
+// (FilterSettings::origin_turns_with_camera), in a frame propagated by the sensors or not.
+bool turns_with_camera(const FilterSettings& settings, bool with_sensors) {
+  const OriginTurnsWithCamera turns = settings.origin_turns_with_camera;
+  return turns == OriginTurnsWithCamera::kAlways ||
+         (turns == OriginTurnsWithCamera::kWithSensors && with_sensors);
+}
+
 }  // namespace
 
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
@@ -77,12 +85,6 @@ void OnlineFilter::end_point(int slot) {
     held_points_[track] = point;  // the smoothed start revises it, then hands it over
   else
     hand_over(track, point);
-}
-
-bool OnlineFilter::turns_with_camera(bool with_sensors) const {
-  const OriginTurnsWithCamera turns = settings_.origin_turns_with_camera;
-  return turns == OriginTurnsWithCamera::kAlways ||
-         (turns == OriginTurnsWithCamera::kWithSensors && with_sensors);
 }
 
 bool OnlineFilter::camera_far_from_origin() const {
@@ -611,7 +613,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   if ((follows == OriginFollowsCamera::kAlways ||
        (follows == OriginFollowsCamera::kVisionAlone && !motion)) &&
       !smoothing_start_ && !at_given_points() && camera_far_from_origin())
-    state_.move_origin_to_camera(!turns_with_camera(motion != nullptr));
+    state_.move_origin_to_camera(!turns_with_camera(settings_, motion != nullptr));
   const SensorStates predicted_at = state_.mean.sensors;
   if (motion)
     propagate(*motion);

@@ -19,8 +19,8 @@
 // The state frame's place in the world, the considered camera parameters and, unless the images
 // are to inform it, the wheels' scale are Schmidt's consider states: their error is in the
 // covariance, correlated with the rest, but never estimated. The mean holds no entry for them
-// (the frame's place is world_from_state()) and their own blocks stay as they were
-// (reset_considered_blocks after each update). The camera stays as given, its block the
+// (the frame's place is world_from_state()), and each update puts the covariance among them back
+// as it was (considered_covariance). The camera stays as given, its block the
 // calibration's covariance: a sequence may well be unable to tell a mirror's tilt from the
 // rig's attitude, and an estimate that drifts with the latter would then bend every later
 // measurement. Nothing observes where the state's frame is in the world, and an estimate of it
@@ -105,8 +105,8 @@ class FilterState {
   int num_camera_params() const { return static_cast<int>(camera_covariance_.rows()); }
   int first_point_column() const { return kCameraColumn + num_camera_params(); }
   int point_column(int slot) const { return first_point_column() + kPointSize * slot; }
-  // The considered states' own blocks back to what the calibration said, what the origin's moves
-  // left and the wheels' scale's variance (after the smoothed start's restart).
+  // The considered camera parameters' and wheels' scale's own blocks set to the calibration's, for
+  // a covariance made anew (the smoothed start's restart, before the state's frame has moved).
   void reset_considered_blocks();
   // From now on the wheels' scale is a consider state too, its variance `variance`
   // (FilterSettings::wheel_scale_from_images).
@@ -167,9 +167,6 @@ class FilterState {
  private:
   Eigen::MatrixXd camera_covariance_;
   Eigen::Isometry3d world_from_state_ = Eigen::Isometry3d::Identity();
-  // Of the state frame's error: a left perturbation of its rotation in the world, then its
-  // position's.
-  Eigen::Matrix<double, 6, 6> origin_covariance_ = Eigen::Matrix<double, 6, 6>::Zero();
   double wheel_scale_variance_ = 0;  // > 0 while the wheels' scale is considered
   std::vector<int> considered_columns() const;
   std::vector<PointAnchor> anchors_;  // per slot

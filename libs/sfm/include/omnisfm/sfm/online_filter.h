@@ -447,9 +447,6 @@ class OnlineFilter {
   // Whether the camera is far enough from the state's origin to move it there (see
   // FilterSettings::origin_follows_camera).
   bool camera_far_from_origin() const;
-  // Whether the state's frame takes the camera's orientation as it moves
-  // (FilterSettings::origin_turns_with_camera), in a frame propagated by the sensors or not.
-  bool turns_with_camera(bool with_sensors) const;
 
   camera::CatadioptricCamera camera_;
   FilterSettings settings_;
