@@ -1,7 +1,7 @@
 // The filter's published pose covariance against its actual errors (not a benchmark: one run,
 // one line), eval::rover_pose_consistency over the simulated rover's seeds.
 //   filter_nees [SEEDS=25] [WHEEL_SCALE_ERROR=0.015] [ESTIMATE_WHEEL_SCALE=1] [AT_TRUTH=0]
-//               [PREDICTED_SETTLE_SIGMAS=0.3] [CAL.ini|- [ERROR_SIGMAS=1] [CONSIDER=1]]
+//               [PREDICTED_SETTLE_SIGMAS=0.3] [CAL.ini|- [ERROR_SIGMAS=1] [CONSIDER=1]] [SENSORS=1]
 // WHEEL_SCALE_ERROR: how long the simulated wheel reads (the filter takes the calibration as
 // exact when ESTIMATE_WHEEL_SCALE is 0: FilterSettings::estimate_wheel_scale). AT_TRUTH 1: the
 // filter linearised at the truth (OnlineFilter::linearise_at), Huang et al.'s ideal EKF.
@@ -9,6 +9,7 @@
 // CAL.ini: a camera file with [omni_camera_covariance] (omnisfm calibrate's); the filter's camera
 // is then the rover's with an error drawn from that covariance times ERROR_SIGMAS, seed by seed,
 // and with CONSIDER 1 the filter is given the covariance (FilterSettings::camera_uncertainty).
+// SENSORS 0: the camera alone (its covariance then holds the map's scale).
 
 #include <cstdio>
 #include <cstdlib>
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   const bool calibrated = argc > 6 && std::string(argv[6]) != "-";
   const double error_sigmas = argc > 7 ? std::atof(argv[7]) : 1;
   const bool consider = calibrated && (argc <= 8 || std::atoi(argv[8]) != 0);
+  const bool with_sensors = argc <= 9 || std::atoi(argv[9]) != 0;
   sfm::CameraPrior calibration;
   if (calibrated) {
     const auto covariance = io::read_camera_covariance(argv[6]);
@@ -44,15 +46,30 @@ int main(int argc, char** argv) {
     calibration = sfm::camera_prior_from(sim::simulate(rover).camera, *covariance);
     if (consider) settings.camera_uncertainty = calibration;
   }
-  const eval::PoseConsistency c = eval::rover_pose_consistency(
-      seeds, wheel_error, settings, at_truth, calibrated ? &calibration : nullptr, error_sigmas);
+  eval::RoverStudy study;
+  study.wheel_scale_error = wheel_error;
+  study.with_sensors = with_sensors;
+  study.linearised_at_truth = at_truth;
+  study.calibration_error = calibrated ? &calibration : nullptr;
+  study.error_sigmas = error_sigmas;
+  const eval::PoseConsistency c = eval::rover_pose_consistency(seeds, settings, study);
   std::string camera = "";
   if (calibrated)
     camera = ", camera " + std::to_string(error_sigmas).substr(0, 4) + " sigmas off" +
              (consider ? " and its covariance considered" : " and taken as exact");
-  std::printf("rover seeds 1-%d, wheel reading %+.1f %%%s%s%s: mean NEES %.2f (6 when honest), "
+  std::string inputs = "the camera alone";
+  if (with_sensors) {
+    char wheel[96];
+    std::snprintf(wheel, sizeof wheel, "wheel reading %+.1f %%%s", 100 * wheel_error,
+                  settings.estimate_wheel_scale ? ", its scale estimated" : "");
+    inputs = wheel;
+  }
+  std::printf("rover seeds 1-%d, %s%s%s: mean NEES %.2f (6 when honest), "
               "%.1f %% of %ld frames inside the 95 %% bound\n",
-              seeds, 100 * wheel_error, settings.estimate_wheel_scale ? ", its scale estimated" : "",
-              at_truth ? ", linearised at the truth" : "", camera.c_str(), c.mean_nees,
+              seeds, inputs.c_str(), at_truth ? ", linearised at the truth" : "", camera.c_str(), c.mean_nees,
               100 * c.inside, c.frames);
+  if (!with_sensors)
+    std::printf("the map's scale at the last frame %.2f-%.2f, its log's mean square over the "
+                "published sigma %.2f (1 when honest)\n",
+                c.smallest_scale, c.largest_scale, c.mean_scale_nees);
 }

@@ -1,5 +1,8 @@
 #include "omnisfm/eval/filter_consistency.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "omnisfm/eval/calibration_error.h"
 #include "omnisfm/eval/filter_run.h"
 #include "omnisfm/eval/simulated_sensors.h"
@@ -18,14 +21,12 @@ Eigen::Matrix<double, 6, 1> filter_pose_error(const Eigen::Isometry3d& true_cam_
   return e;
 }
 
-PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
-                                       const sfm::FilterSettings& settings,
-                                       bool linearised_at_truth,
-                                       const sfm::CameraPrior* calibration_error,
-                                       double error_sigmas) {
-  double sum = 0;
+PoseConsistency rover_pose_consistency(int seeds, const sfm::FilterSettings& settings,
+                                       const RoverStudy& study) {
+  double sum = 0, scale_sum = 0;
   long inside = 0;
   PoseConsistency c;
+  c.smallest_scale = INFINITY;
   for (int seed = 1; seed <= seeds; ++seed) {
     sim::SimulationOptions simulation;
     simulation.scenario = "rover";
@@ -33,22 +34,22 @@ PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
     const sim::Dataset d = sim::simulate(simulation);
     sim::DeadReckoningOptions options;
     options.seed = static_cast<std::uint64_t>(seed);
-    options.odometry_scale_error = wheel_scale_error;
+    options.odometry_scale_error = study.wheel_scale_error;
     const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(d, options);
     const sfm::MotionSensors sensors = motion_sensors(&dead_reckoning, options, nullptr);
     camera::CatadioptricCamera camera = d.camera;
-    if (calibration_error) {
-      sfm::CameraPrior scaled = *calibration_error;
-      scaled.covariance *= error_sigmas * error_sigmas;
+    if (study.calibration_error) {
+      sfm::CameraPrior scaled = *study.calibration_error;
+      scaled.covariance *= study.error_sigmas * study.error_sigmas;
       camera = calibrated_with_error(d.camera, scaled, 1000 + static_cast<std::uint64_t>(seed));
     }
     sfm::OnlineFilter filter(camera, settings);
-    if (linearised_at_truth) {
+    if (study.linearised_at_truth) {
       const Eigen::Isometry3d first = d.world_from_cam[0];
       filter.linearise_at({[&d, first](int frame) { return d.world_from_cam[frame].inverse() * first; },
                            [&d, first](int track) { return (first.inverse() * d.track_points[track]).eval(); }});
     }
-    run_filter(d, &sensors, settings, &filter, [&](int f) {
+    run_filter(d, study.with_sensors ? &sensors : nullptr, settings, &filter, [&](int f) {
       if (f == 0) return;
       const Eigen::Isometry3d truth = d.world_from_cam[f].inverse() * d.world_from_cam[0];
       const Eigen::Matrix<double, 6, 1> e = filter_pose_error(truth, filter.cam_from_world());
@@ -57,7 +58,17 @@ PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
       ++c.frames;
       inside += nees < 12.59;
     });
+    if (const double sigma = filter.vision_scale_log_sigma(); sigma > 0) {
+      const Eigen::Isometry3d last = d.world_from_cam.back().inverse() * d.world_from_cam[0];
+      const double scale =
+          filter.cam_from_world().translation().norm() / last.translation().norm();
+      scale_sum += std::pow(std::log(scale) / sigma, 2);
+      c.largest_scale = std::max(c.largest_scale, scale);
+      c.smallest_scale = std::min(c.smallest_scale, scale);
+    }
   }
+  c.mean_scale_nees = scale_sum / seeds;
+  if (c.largest_scale == 0) c.smallest_scale = 0;
   c.mean_nees = sum / static_cast<double>(c.frames);
   c.inside = static_cast<double>(inside) / static_cast<double>(c.frames);
   return c;

@@ -87,6 +87,23 @@ void OnlineFilter::end_point(int slot) {
     hand_over(track, point);
 }
 
+double OnlineFilter::vision_scale_log_sigma() const {
+  return scale_started_ ? 0 : settings_.inverse_depth_sigma * settings_.initial_depth;
+}
+
+Eigen::Matrix<double, 6, 6> OnlineFilter::pose_covariance() const {
+  Eigen::Matrix<double, 6, 6> covariance = state_.world_pose_covariance();
+  const double sigma = vision_scale_log_sigma();
+  if (sigma > 0) {
+    // The truth is the map scaled by exp(-u), u the log of its scale's error: its translation
+    // moves by -t du.
+    Eigen::Matrix<double, 6, 1> along_scale = Eigen::Matrix<double, 6, 1>::Zero();
+    along_scale.tail<3>() = state_.world_cam_from_world().translation();
+    covariance += sigma * sigma * along_scale * along_scale.transpose();
+  }
+  return covariance;
+}
+
 bool OnlineFilter::camera_far_from_origin() const {
   // A fraction of the map's own size: vision alone its scale is the filter's, not metres.
   constexpr double kFractionOfMedianDistance = 0.5;

@@ -19,19 +19,33 @@ struct PoseConsistency {
   double mean_nees = 0;
   double inside = 0;  // the fraction of frames inside the 95 % bound
   long frames = 0;
+  // The map's scale at each seed's last frame: the estimated over the true distance of the camera
+  // from the first, its logarithm over the published sigma (OnlineFilter::vision_scale_log_sigma),
+  // squared, averaged over the seeds (1 when honest). 0 with the sensors.
+  double mean_scale_nees = 0;
+  double largest_scale = 0, smallest_scale = 0;  // over the seeds, vision alone
 };
 
-// Rover seeds 1..seeds, the simulated wheel reading `wheel_scale_error` long (0.015: 1.5 %).
-// linearised_at_truth: the filter takes its Jacobians at the true poses and points
-// (OnlineFilter::linearise_at), which shows what the filter's model alone is worth.
-// calibration_error: the filter's camera is not the rover's but a calibration of it, drawn per
-// seed from this covariance about the truth (calibrated_with_error, seeded 1000 + the seed),
-// its parameters' errors scaled by `error_sigmas`; the filter is told of it only through
-// settings.camera_uncertainty.
-PoseConsistency rover_pose_consistency(int seeds, double wheel_scale_error,
-                                       const sfm::FilterSettings& settings = {},
-                                       bool linearised_at_truth = false,
-                                       const sfm::CameraPrior* calibration_error = nullptr,
-                                       double error_sigmas = 1);
+// What rover_pose_consistency runs.
+struct RoverStudy {
+  // How long the simulated wheel reads (0.015: 1.5 %).
+  double wheel_scale_error = 0.015;
+  // False: the camera alone (the filter's covariance then holds the map's scale,
+  // OnlineFilter::vision_scale_log_sigma).
+  bool with_sensors = true;
+  // The filter takes its Jacobians at the true poses and points (OnlineFilter::linearise_at),
+  // which shows what the filter's model alone is worth.
+  bool linearised_at_truth = false;
+  // Non-null: the filter's camera is not the rover's but a calibration of it, drawn per seed from
+  // this covariance about the truth (calibrated_with_error, seeded 1000 + the seed), its
+  // parameters' errors scaled by error_sigmas; the filter is told of it only through
+  // FilterSettings::camera_uncertainty.
+  const sfm::CameraPrior* calibration_error = nullptr;
+  double error_sigmas = 1;
+};
+
+// Rover seeds 1..seeds.
+PoseConsistency rover_pose_consistency(int seeds, const sfm::FilterSettings& settings = {},
+                                       const RoverStudy& study = {});
 
 }  // namespace omnisfm::eval

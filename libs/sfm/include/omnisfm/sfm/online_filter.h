@@ -260,8 +260,21 @@ class OnlineFilter {
   void linearise_at(LinearisationPoints points) { linearisation_points_ = std::move(points); }
 
   Eigen::Isometry3d cam_from_world() const { return state_.world_cam_from_world(); }
-  // The 6x6 covariance of the pose error (rotation, then translation).
-  Eigen::Matrix<double, 6, 6> pose_covariance() const { return state_.world_pose_covariance(); }
+  // The 6x6 covariance of the pose error (rotation, then translation) in the first frame's gauge.
+  // Without odometry it holds the map's scale too (vision_scale_log_sigma()), along the direction
+  // a change of scale moves the pose: its translation's.
+  Eigen::Matrix<double, 6, 6> pose_covariance() const;
+  // Until odometry comes, nothing fixes the map's scale but the depth priors and the mirror's few
+  // centimetres, which the online updates weigh wrongly: at 0.2 px the iterated updates grow the
+  // map until a frame's step is about two translation_walk_sigma (5.2-6.6x at the rover's end,
+  // seeds 1-25; 3.2-3.6x over the 600 m drive, whatever the priors' depth), where the batch, from
+  // the same tracks, finds the scale within its sigma. The state's covariance is then conditional
+  // on the scale, and pose_covariance() adds the scale's own: the truth is the map scaled by
+  // exp(-u), u of this sigma, linearised, so the translation's error along itself has sigma
+  // |t|, which holds a map up to 2x small or any larger ((1 - 1/s) |t|). The sigma is the depth
+  // prior's relative one, inverse_depth_sigma times initial_depth (1 by default). 0 once odometry
+  // fixes the scale.
+  double vision_scale_log_sigma() const;
   // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
   // covariance.
   const Eigen::Vector3d& gyro_bias() const { return state_.mean.sensors.gyro_bias; }
