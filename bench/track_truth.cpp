@@ -31,6 +31,9 @@ using namespace omnisfm;
 bool set(const std::string& assignment, track::TrackerSettings* settings) {
   const bench::Setters settable = {
       {"min_ncc", [&](double v) { settings->min_ncc = v; }},
+      {"quality_level", [&](double v) { settings->quality_level = v; }},
+      {"max_renewals", [&](double v) { settings->max_renewals = static_cast<int>(v); }},
+      {"min_followable_ncc", [&](double v) { settings->min_followable_ncc = v; }},
       {"max_patch_distortion", [&](double v) { settings->max_patch_distortion = v; }},
       {"max_misfit_px", [&](double v) { settings->max_misfit_px = v; }},
       {"max_refinement_shift_px", [&](double v) { settings->max_refinement_shift_px = v; }},
@@ -159,9 +162,9 @@ int main(int argc, char** argv) {
       1000 * tracked.tracking_seconds / std::max(1, s.frames));
   std::printf(
       "ended: lost %d, forward-backward %d, appearance %d, misfit %d, reshaped %d, jumped %d, "
-      "left region %d, duplicate %d\n",
+      "left region %d, duplicate %d; renewed %d, corners too faint %d\n",
       s.lost, s.forward_backward, s.appearance, s.misfit, s.reshaped, s.jumped, s.left_region,
-      s.duplicate);
+      s.duplicate, s.renewed, s.too_faint);
   print_errors_by_age(dataset, tracked.observations, a);
   if (list_mistracked) print_mistracked(dataset, tracked.observations, a);
   return 0;

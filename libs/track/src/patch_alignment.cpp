@@ -131,6 +131,34 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   return true;
 }
 
+double ReferencePatch::contrast_at(const cv::Mat& image, const Eigen::Vector2d& feature,
+                                   int half_size) {
+  CV_Assert(image.type() == CV_32FC1 && half_size >= 1);
+  const int cx = static_cast<int>(std::lround(feature.x()));
+  const int cy = static_cast<int>(std::lround(feature.y()));
+  if (!(cx - half_size >= 0 && cy - half_size >= 0 && cx + half_size < image.cols &&
+        cy + half_size < image.rows))
+    return 0;
+  // The same Gaussian window as extract's, about the feature.
+  const double sigma = half_size;
+  double sum_w = 0, sum_wv = 0, sum_wvv = 0;
+  for (int y = -half_size; y <= half_size; ++y) {
+    const double v_offset = y + cy - feature.y();
+    const double row_weight = std::exp(-v_offset * v_offset / (2 * sigma * sigma));
+    const float* row = image.ptr<float>(cy + y);
+    for (int x = -half_size; x <= half_size; ++x) {
+      const double u_offset = x + cx - feature.x();
+      const double w = row_weight * std::exp(-u_offset * u_offset / (2 * sigma * sigma));
+      const double v = row[cx + x];
+      sum_w += w;
+      sum_wv += w * v;
+      sum_wvv += w * v * v;
+    }
+  }
+  const double mean = sum_wv / sum_w;
+  return std::sqrt(std::max(0.0, sum_wvv / sum_w - mean * mean));
+}
+
 double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp, float* values,
                               double* mean, double* gain) const {
   const int side = 2 * half_size_ + 1;
@@ -245,6 +273,7 @@ AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, in
     if (step.norm() < step_tolerance_px) {
       result.converged = true;
       result.misfit_px = misfit(values, *warp);
+      result.residual_rms = std::sqrt((weights_ * values.square()).sum());
       return result;
     }
   }

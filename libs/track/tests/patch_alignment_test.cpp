@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <vector>
 #include <cstdio>
 #include <string>
 
@@ -140,6 +143,44 @@ TEST(PatchAlignment, IgnoresContrastAndBrightness) {
   warp.b = {50, 50};
   ASSERT_TRUE(patch.align(dimmer, &warp, 30, 1e-4).converged);
   EXPECT_LT((warp.b - Eigen::Vector2d(49.6, 50.3)).norm(), kPositionTolerancePx);
+}
+
+// The template's contrast, as extract finds it and as contrast_at finds it without extracting;
+// and what an alignment leaves: two looks with independent noise of sigma leave sqrt(2) sigma.
+TEST(PatchAlignment, TellsTheContrastAndTheNoiseLeft) {
+  const WaveTexture texture(3);
+  const cv::Mat clean = as_float(texture.image(100, 100, Eigen::Matrix2d::Identity(), {0, 0}, false));
+  ReferencePatch patch;
+  const Eigen::Vector2d feature(50.3, 49.8);
+  ASSERT_TRUE(ReferencePatch::extract(clean, feature, 7, &patch));
+  EXPECT_NEAR(ReferencePatch::contrast_at(clean, feature, 7), patch.contrast(),
+              1e-4 * patch.contrast());
+  EXPECT_EQ(ReferencePatch::contrast_at(clean, {3, 50}, 7), 0);
+
+  constexpr double kNoise = 2;
+  std::vector<double> left;
+  for (int trial = 0; trial < 20; ++trial) {
+    cv::Mat first = clean.clone(), second = clean.clone(), noise(clean.size(), CV_32FC1);
+    cv::theRNG().state = 100 + static_cast<std::uint64_t>(trial);
+    cv::randn(noise, 0, kNoise);
+    first += noise;
+    cv::randn(noise, 0, kNoise);
+    second += noise;
+    ReferencePatch noisy;
+    ASSERT_TRUE(ReferencePatch::extract(first, {50, 50}, 7, &noisy));
+    AffineWarp warp;
+    warp.b = {50, 50};
+    const AlignmentResult r = noisy.align(second, &warp, 30, 1e-3);
+    ASSERT_TRUE(r.converged);
+    left.push_back(r.residual_rms);
+  }
+  std::sort(left.begin(), left.end());
+  const double median = left[left.size() / 2];
+  std::printf("residual after alignment: median %.3f grey levels, sqrt(2) sigma %.3f\n", median,
+              std::sqrt(2.0) * kNoise);
+  // The alignment fits six parameters and the gain to the noise too: a little less is left.
+  EXPECT_GT(median, 0.8 * std::sqrt(2.0) * kNoise);
+  EXPECT_LT(median, 1.05 * std::sqrt(2.0) * kNoise);
 }
 
 TEST(PatchAlignment, RefusesFlatPatchesAndPatchesOutsideTheImage) {

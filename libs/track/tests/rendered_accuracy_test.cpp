@@ -108,15 +108,20 @@ std::string scenario_name(const ::testing::TestParamInfo<Expected>& param) {
 // spans twice the angle it does at full size, where the realistic rover's tracks went from 7 to
 // 13 frames). The bounds sit just below; tracks.vnl leaves out single sightings, so no bound
 // below 3 could fail; the tracker is deterministic, so the crane's realistic bound sits at its
-// measured 3.
+// measured 3. With each track's reference renewed as its look changes steadily
+// (TrackerSettings::max_renewals) and no track started on a corner the noise would take below
+// min_followable_ncc: lab 11 clean and 4 realistic, crane 29 and 3, rover 9 and 8 frames; the
+// realistic rover's 95th percentile 0.244 px (0.178 before), none of its 265 tracks beyond 1 px;
+// the clean rover's mistracked 14 of 463 (3.0 %), where renewed references let its procedural
+// textures change their look with the scale past max_patch_distortion.
 INSTANTIATE_TEST_SUITE_P(Scenarios, RenderedAccuracy,
-                         ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 0, 9},
-                                           Expected{"crane", "clean", 60, 0.1, 0.3, 0.015, 0, 20},
-                                           Expected{"rover", "clean", 60, 0.1, 0.4, 0.02, 0, 8},
+                         ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 0, 10},
+                                           Expected{"crane", "clean", 60, 0.1, 0.3, 0.02, 0, 27},
+                                           Expected{"rover", "clean", 60, 0.1, 0.4, 0.035, 0, 8},
                                            Expected{"lab", "realistic", 41, 0.15, 0.4, 0.01, 0, 3},
                                            Expected{"crane", "realistic", 60, 0.1, 0.3, 0.01, 0, 3},
-                                           Expected{"rover", "realistic", 60, 0.1, 0.2, 0.01, 0,
-                                                    5}),
+                                           Expected{"rover", "realistic", 60, 0.1, 0.27, 0.01, 0,
+                                                    7}),
                          scenario_name);
 
 }  // namespace

@@ -7,11 +7,13 @@
 // forward-backward check). The track's reference patch, taken where the track
 // started, is then aligned affinely at the prediction (patch_alignment.h): the track's position
 // comes from that alignment, so it does not drift, and a poor correlation or a large correction
-// ends the track (the appearance check). Tracks leaving the trackable region end; of two tracks
+// ends the track (the appearance check). A look that changes steadily renews the reference a few
+// times (TrackerSettings::max_renewals). Tracks leaving the trackable region end; of two tracks
 // on one feature the younger ends. Tracks that end suddenly are remembered and looked for again
 // near where their image motion predicts them (tracker_settings.h, reacquisition); found, they
 // continue under their old id. Whenever fewer than max_tracks are alive, new corners start new
-// tracks, spread over the image.
+// tracks, spread over the image, where the images' noise lets their patch be followed
+// (TrackerSettings::min_followable_ncc).
 
 #include <Eigen/Core>
 #include <deque>
@@ -32,6 +34,8 @@ using core::TrackPixel;
 struct TrackerStatistics {
   int frames = 0;
   int started = 0;
+  int too_faint = 0;  // corners not started: the noise leaves their patch below min_followable_ncc
+  int renewed = 0;    // references taken anew (TrackerSettings::max_renewals)
   int reacquired = 0;
   // Of those, found again in the frame that lost them: their tracks show no gap.
   int reacquired_at_once = 0;
@@ -65,6 +69,7 @@ class FeatureTracker {
     std::vector<Eigen::Vector2d> recent;  // the last few positions, oldest first
     AffineWarp warp;                      // the reference patch in the latest image
     ReferencePatch reference;
+    int renewals = 0;  // of the reference (TrackerSettings::max_renewals)
     double ncc = 1;                  // of the latest alignment
     FeatureSurroundings first_look;  // around the feature where its reference was taken
     Descriptor descriptor;           // of first_look, once the track is lost
@@ -128,6 +133,10 @@ class FeatureTracker {
   TrackerSettings settings_;
   FeatureDetector detector_;
   int frame_ = -1;
+  // The images' noise, grey levels of the alignment image: from the live tracks' alignment
+  // residuals (each holds two looks' noise), 0 until tracks have been followed.
+  double noise_ = 0;
+  void estimate_noise(std::vector<double> residuals);
   int next_id_ = 0;
   std::vector<cv::Mat> previous_pyramid_, pyramid_;
   cv::Mat image_, aligned_image_;  // the current frame: grey, and for alignment

@@ -39,6 +39,9 @@ struct AlignmentResult {
   // the truth on the rendered sets). The centre catches the even part of such a change (the same
   // for opposite halves), which shifts the whole patch's best fit but not the centre's.
   double misfit_px = 0;
+  // Converged: the weighted RMS of what is left of the template after the alignment (grey levels
+  // of the template): the noise of both images, and whatever the warp does not follow.
+  double residual_rms = 0;
 };
 
 class ReferencePatch {
@@ -49,6 +52,9 @@ class ReferencePatch {
   // the patch does not fit in the image or is flat (no texture to align on).
   static bool extract(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size,
                       ReferencePatch* patch);
+  // What contrast() of that patch would be, at a fraction of extract's work; 0 where it does not
+  // fit.
+  static double contrast_at(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size);
 
   // Moves *warp to the best alignment, starting from it. Not converged when the patch leaves the
   // image, the warp degenerates, or max_iterations pass before a step of the feature is
@@ -61,6 +67,8 @@ class ReferencePatch {
   double ncc(const cv::Mat& image, const AffineWarp& warp) const;
 
   int half_size() const { return half_size_; }
+  // The template's weighted standard deviation, grey levels.
+  double contrast() const { return norm_; }
 
   // Template pixels sampled at once.
   static constexpr int kLanes = 4;
