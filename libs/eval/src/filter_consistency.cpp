@@ -23,7 +23,7 @@ Eigen::Matrix<double, 6, 1> filter_pose_error(const Eigen::Isometry3d& true_cam_
 
 PoseConsistency rover_pose_consistency(int seeds, const sfm::FilterSettings& settings,
                                        const RoverStudy& study) {
-  double sum = 0, scale_sum = 0;
+  double sum = 0, scale_sum = 0, linearised_sum = 0;
   long inside = 0;
   PoseConsistency c;
   c.smallest_scale = INFINITY;
@@ -63,11 +63,13 @@ PoseConsistency rover_pose_consistency(int seeds, const sfm::FilterSettings& set
       const double scale =
           filter.cam_from_world().translation().norm() / last.translation().norm();
       scale_sum += std::pow(std::log(scale) / sigma, 2);
+      linearised_sum += std::pow((1 - 1 / scale) / sigma, 2);
       c.largest_scale = std::max(c.largest_scale, scale);
       c.smallest_scale = std::min(c.smallest_scale, scale);
     }
   }
   c.mean_scale_nees = scale_sum / seeds;
+  c.mean_linearised_scale_nees = linearised_sum / seeds;
   if (c.largest_scale == 0) c.smallest_scale = 0;
   c.mean_nees = sum / static_cast<double>(c.frames);
   c.inside = static_cast<double>(inside) / static_cast<double>(c.frames);

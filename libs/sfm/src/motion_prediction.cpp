@@ -58,6 +58,7 @@ MotionPrediction predict_camera_motion(const BodyMotion& body,
   camera.bias_prior_variance = body.bias_prior_variance;
   camera.wheel_scale_jacobian = J * body.wheel_scale_jacobian;
   camera.wheel_scale_prior_variance = body.wheel_scale_prior_variance;
+  camera.measures_distance = body.measures_distance;
   return camera;
 }
 
@@ -65,6 +66,7 @@ MotionPrediction predict_camera_motion(const FrameMotion& motion, const MotionSe
                                        const FilterSettings& settings, double wheel_scale) {
   BodyMotion body = predict_body_motion(motion, sensors.gyro_noise, settings);
   if (motion.odometry.valid) {
+    body.measures_distance = true;
     // Distances read times the scale; their noise with them.
     const double s = sensors.odometry_scale * wheel_scale;
     body.previous_body_from_body.translation() *= s;

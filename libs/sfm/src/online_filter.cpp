@@ -88,7 +88,7 @@ void OnlineFilter::end_point(int slot) {
 }
 
 double OnlineFilter::vision_scale_log_sigma() const {
-  return scale_started_ ? 0 : settings_.inverse_depth_sigma * settings_.initial_depth;
+  return distance_measured_ ? 0 : settings_.inverse_depth_sigma * settings_.initial_depth;
 }
 
 Eigen::Matrix<double, 6, 6> OnlineFilter::pose_covariance() const {

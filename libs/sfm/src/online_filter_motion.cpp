@@ -37,6 +37,7 @@ void OnlineFilter::propagate(const MotionPrediction& motion) {
         motion.bias_prior_variance * Eigen::Matrix3d::Identity();
     bias_started_ = true;
   }
+  distance_measured_ = distance_measured_ || motion.measures_distance;
   if (!scale_started_ && motion.wheel_scale_prior_variance > 0) {
     P(FilterState::kScaleColumn, FilterState::kScaleColumn) = motion.wheel_scale_prior_variance;
     if (!settings_.wheel_scale_from_images)

@@ -198,14 +198,22 @@ void FeatureTracker::follow_live_tracks() {
       continue;
     }
     if (settings_.refine) residuals.push_back(aligned.residual_rms);
+    double ncc = aligned.ncc;
     if (settings_.refine && t.renewals < settings_.max_renewals &&
         aligned.misfit_px <= 0.5 * settings_.max_misfit_px &&
         (aligned.ncc < 0.5 * (1 + settings_.min_ncc) ||
          distortion > 0.5 * settings_.max_patch_distortion)) {
       ReferencePatch renewed;
       if (ReferencePatch::extract(aligned_image_, warp.b, settings_.patch_half_size, &renewed)) {
+        // The patch as it now looks, and, should the track be lost, its surroundings as they now
+        // look: reacquisition compares with both.
         t.reference = std::move(renewed);
-        warp.A.setIdentity();  // the new reference is the patch as it now looks
+        warp.A.setIdentity();
+        ncc = 1;
+        if (settings_.reacquire) {
+          t.first_look = surroundings(image_, point(warp.b));
+          t.descriptor = Descriptor();
+        }
         ++t.renewals;
         ++statistics_.renewed;
       }
@@ -214,7 +222,7 @@ void FeatureTracker::follow_live_tracks() {
     t.position = warp.b;
     t.warp = warp;
     t.last_frame = frame_;
-    t.ncc = aligned.ncc;
+    t.ncc = ncc;
     t.recent.push_back(t.position);
     if (t.recent.size() > kRecentPositions) t.recent.erase(t.recent.begin());
     kept.push_back(std::move(t));

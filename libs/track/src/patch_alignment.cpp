@@ -136,8 +136,9 @@ double ReferencePatch::contrast_at(const cv::Mat& image, const Eigen::Vector2d& 
   CV_Assert(image.type() == CV_32FC1 && half_size >= 1);
   const int cx = static_cast<int>(std::lround(feature.x()));
   const int cy = static_cast<int>(std::lround(feature.y()));
-  if (!(cx - half_size >= 0 && cy - half_size >= 0 && cx + half_size < image.cols &&
-        cy + half_size < image.rows))
+  // Where extract's patch fits, with its pixel for the gradients.
+  const int reach = half_size + 1;
+  if (!(cx - reach >= 0 && cy - reach >= 0 && cx + reach < image.cols && cy + reach < image.rows))
     return 0;
   // The same Gaussian window as extract's, about the feature.
   const double sigma = half_size;

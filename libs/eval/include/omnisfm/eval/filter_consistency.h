@@ -23,6 +23,10 @@ struct PoseConsistency {
   // from the first, its logarithm over the published sigma (OnlineFilter::vision_scale_log_sigma),
   // squared, averaged over the seeds (1 when honest). 0 with the sensors.
   double mean_scale_nees = 0;
+  // The same linearised as the published covariance holds it: the translation's error along
+  // itself, (1 - 1/scale), over the sigma, squared, averaged over the seeds (at most 1 when
+  // honest or cautious).
+  double mean_linearised_scale_nees = 0;
   double largest_scale = 0, smallest_scale = 0;  // over the seeds, vision alone
 };
 

@@ -30,6 +30,7 @@ struct BodyMotion {
   double bias_prior_variance = 0;
   Eigen::Matrix<double, 6, 1> wheel_scale_jacobian = Eigen::Matrix<double, 6, 1>::Zero();
   double wheel_scale_prior_variance = 0;
+  bool measures_distance = false;  // the odometry measured it (MotionPrediction's)
 };
 
 BodyMotion predict_body_motion(const FrameMotion& motion, const GyroNoise& gyro_noise,

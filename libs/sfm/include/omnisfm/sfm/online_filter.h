@@ -213,6 +213,9 @@ struct MotionPrediction {
   // per unit of that correction's error, and its prior variance.
   Eigen::Matrix<double, 6, 1> wheel_scale_jacobian = Eigen::Matrix<double, 6, 1>::Zero();
   double wheel_scale_prior_variance = 0;
+  // Whether a metric sensor (the odometry) measured the distance moved: from then on the map's
+  // scale is the sensor's (OnlineFilter::vision_scale_log_sigma), estimated or not.
+  bool measures_distance = false;
 };
 
 using core::TrackPixel;
@@ -272,8 +275,11 @@ class OnlineFilter {
   // on the scale, and pose_covariance() adds the scale's own: the truth is the map scaled by
   // exp(-u), u of this sigma, linearised, so the translation's error along itself has sigma
   // |t|, which holds a map up to 2x small or any larger ((1 - 1/s) |t|). The sigma is the depth
-  // prior's relative one, inverse_depth_sigma times initial_depth (1 by default). 0 once odometry
-  // fixes the scale.
+  // prior's relative one, inverse_depth_sigma times initial_depth (1 by default). Over rover seeds
+  // 1-25 the maps all grew, and the term holds them linearised (the error along the scale over
+  // this sigma: mean square 0.70), not their logarithm (1.8 sigmas). 0 once odometry has measured
+  // a distance (MotionPrediction::measures_distance), the wheels' scale estimated or not; the
+  // map made before then keeps its scale and the term leaves at once.
   double vision_scale_log_sigma() const;
   // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
   // covariance.
@@ -469,7 +475,8 @@ class OnlineFilter {
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
-  bool scale_started_ = false;  // by the first with odometry
+  bool scale_started_ = false;  // by the first with odometry, the wheels' scale a state
+  bool distance_measured_ = false;  // by the first with odometry
   // Ended points: held for the smoothed start while it is pending; then the latest kept_history
   // handed over, a ring (no allocation once full, however long the run) whose oldest is at
   // history_next_.

@@ -59,6 +59,9 @@ class FeatureTracker {
 
   const TrackerStatistics& statistics() const { return statistics_; }
   int num_live_tracks() const { return static_cast<int>(live_.size()); }
+  // The images' noise as estimated so far (grey levels of the blurred images patches are aligned
+  // on; 0 before any track was followed): TrackerSettings::min_followable_ncc.
+  double noise() const { return noise_; }
 
  private:
   struct Track {
@@ -71,7 +74,7 @@ class FeatureTracker {
     ReferencePatch reference;
     int renewals = 0;  // of the reference (TrackerSettings::max_renewals)
     double ncc = 1;                  // of the latest alignment
-    FeatureSurroundings first_look;  // around the feature where its reference was taken
+    FeatureSurroundings first_look;  // around the feature where its reference was last taken
     Descriptor descriptor;           // of first_look, once the track is lost
 
     // Whether the track has been seen in enough frames (five) for its image motion before its

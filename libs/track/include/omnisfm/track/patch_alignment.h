@@ -1,7 +1,7 @@
 #pragma once
 // Sub-pixel alignment of a track's reference patch into a later image, so that a track's position
-// is measured against how the feature first looked rather than chained from frame to frame (a
-// chain of frame-to-frame matches drifts as a random walk).
+// is measured against how the feature looked when its reference was taken rather than chained
+// from frame to frame (a chain of frame-to-frame matches drifts as a random walk).
 //
 // The patch is an affine image of the reference: template offset x (pixels from the feature)
 // lands at A x + b in the image. Alignment is inverse-compositional Lucas-Kanade (Baker and

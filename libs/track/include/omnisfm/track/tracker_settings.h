@@ -24,8 +24,10 @@ struct TrackerSettings {
   // tracks' alignment residuals). A fainter patch fails the appearance check (min_ncc) within a
   // frame or two however well it is followed: on the realistic rover, more than half of the
   // tracks that ended on it did so at an age of one or two frames, with a median contrast of 8.5
-  // grey levels against 17 for the others. While fewer than half of max_tracks are alive, faint
-  // corners start tracks too. 0: every corner with texture starts a track.
+  // grey levels against 17 for the others. The noise estimate is approximate: the patches'
+  // misfit raises it and bilinear sampling lowers it by up to a fifth. While fewer than half of
+  // max_tracks are alive, faint corners start tracks too. 0: every corner with texture starts a
+  // track.
   double min_followable_ncc = 0.99;
 
   // Frame-to-frame pyramidal Lucas-Kanade (OpenCV), window lk_window x lk_window, on pyramid
@@ -40,8 +42,8 @@ struct TrackerSettings {
   double max_forward_backward_px = 0.5;
 
   // Refinement: the track's reference patch (2 patch_half_size + 1 wide, from the image where the
-  // track started) aligned affinely into the frame, which removes the drift of frame-to-frame
-  // chaining. The appearance check ends a track whose aligned patch correlates (zero-mean NCC)
+  // track started, or where it was last renewed: max_renewals) aligned affinely into the frame,
+  // which removes the drift of frame-to-frame chaining. The appearance check ends a track whose aligned patch correlates (zero-mean NCC)
   // below min_ncc, or whose refined position leaves the Lucas-Kanade one by more than
   // max_refinement_shift_px. A track also ends when a part of its patch (a half, or the centre)
   // would move the feature by more than max_misfit_px on its own (AlignmentResult::misfit_px):
@@ -62,10 +64,11 @@ struct TrackerSettings {
   // Renewal: a track whose look has come halfway to where those checks would end it (its
   // correlation below (1 + min_ncc) / 2, or its patch distorted by more than half
   // max_patch_distortion) while its parts still agree within half max_misfit_px takes its
-  // reference anew where it now is, at most max_renewals times. A renewed reference inherits the
+  // reference anew where it now is, at most max_renewals times (so max_patch_distortion and
+  // min_ncc hold against the latest reference, not the first). A renewed reference inherits the
   // track's error at that moment, so the errors add up as renewals come, hence the limit. Over a
   // surface coming closer under the rig the look changes steadily, and with a fixed reference
-  // the realistic rover's tracks lasted 16 frames at the median; renewed up to 4 times, 28-30
+  // the realistic rover's tracks lasted 16 frames at the median; renewed up to 4 times, 29-31
   // (seeds 1-3), their error's 95th percentile 0.18 -> 0.22 px, none beyond 1 px. 0: never.
   int max_renewals = 4;
   // A track whose step from the last frame differs by more than max_step_deviation_px from the
@@ -85,7 +88,7 @@ struct TrackerSettings {
   // from that prediction, from the nearest new corners and from tracks started since the loss.
   // If it aligns as well as it did before the loss (sudden_loss_ncc: a feature still partly
   // hidden would be pulled off) at exactly one place, the ORB descriptor there is within
-  // max_descriptor_distance bits of the one taken where the track started, and no twin lies
+  // max_descriptor_distance bits of the one taken with its reference, and no twin lies
   // nearby (twin_ncc), the old track
   // continues; a young track that had started on the feature ends there (what it saw before
   // stays under its own id).
