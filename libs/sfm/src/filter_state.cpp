@@ -1,12 +1,34 @@
 #include "omnisfm/sfm/filter_state.h"
 
 #include <algorithm>
-#include <utility>
 #include <vector>
 
 #include "so3.h"
 
 namespace omnisfm::sfm {
+namespace {
+
+// A pose's error (x, y: the rotation's left perturbation, then the translation's) as it becomes
+// when its frame changes by an error (dpsi, dtau) of its own, the frame's rotation becoming
+// `turn` and the pose's position seen from it `lever`:
+//   x' = x - turn dpsi,  y' = y + [lever]x x' - turn dtau,
+// that is (x', y') = own (x, y) + frame (dpsi, dtau).
+struct FrameChange {
+  Eigen::Matrix<double, 6, 6> own, frame;
+};
+
+FrameChange frame_change(const Eigen::Matrix3d& turn, const Eigen::Vector3d& lever) {
+  FrameChange c;
+  c.own.setIdentity();
+  c.own.bottomLeftCorner<3, 3>() = so3::skew(lever);
+  c.frame.setZero();
+  c.frame.topLeftCorner<3, 3>() = -turn;
+  c.frame.bottomLeftCorner<3, 3>() = -so3::skew(lever) * turn;
+  c.frame.bottomRightCorner<3, 3>() = -turn;
+  return c;
+}
+
+}  // namespace
 
 Eigen::Vector3d PointAnchor::world_point(const PointParams& params,
                                          PointJacobian* J_params) const {
@@ -201,26 +223,17 @@ void FilterState::move_origin_to_camera(bool position_only) {
   }
   const Eigen::Matrix3d R_new = R * Rm.transpose();
   const Eigen::Matrix3d Q_new = world_from_state_.linear() * Rm.transpose();
-  const auto pose_error_in = [&](const Eigen::Matrix3d& turn, const Eigen::Vector3d& lever) {
-    // (x', y') = (x - turn dpsi, y + [lever]x x' - turn dtau), x and y a frame's errors.
-    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Identity();
-    A.bottomLeftCorner<3, 3>() = so3::skew(lever);
-    Eigen::Matrix<double, 6, 6> B = Eigen::Matrix<double, 6, 6>::Zero();
-    B.topLeftCorner<3, 3>() = -turn;
-    B.bottomLeftCorner<3, 3>() = -so3::skew(lever) * turn;
-    B.bottomRightCorner<3, 3>() = -turn;
-    return std::make_pair(A, (B * L).eval());
-  };
-  const auto [A_origin, B_origin] = pose_error_in(Q_new, Q_new * tm);
-  const auto [A_pose, B_pose] = pose_error_in(R_new, R_new * tm);
-  const Eigen::Matrix<double, 6, 6> K_pose = A_pose + B_pose;  // the pose's rows in its own
+  // The frame's error is L times the pose's.
+  const FrameChange origin = frame_change(Q_new, Q_new * tm);
+  const FrameChange pose = frame_change(R_new, R_new * tm);
+  const Eigen::Matrix<double, 6, 6> K_pose = pose.own + pose.frame * L;  // the pose's rows
 
   struct BlockMove {
     int column;
     Eigen::Matrix<double, 6, 6> A, B;
   };
   std::vector<BlockMove> moves;
-  moves.push_back({kOriginColumn, A_origin, B_origin});
+  moves.push_back({kOriginColumn, origin.own, origin.frame * L});
   for (int s = 0; s < num_slots(); ++s) {
     PointAnchor& anchor = anchors_[s];
     const PointParams params = mean.params(s);
@@ -278,13 +291,9 @@ Eigen::Matrix<double, 6, 6> FilterState::world_pose_covariance() const {
   pose_and_origin << P.topLeftCorner<6, 6>(), P.block<6, 6>(0, kOriginColumn),
       P.block<6, 6>(kOriginColumn, 0), P.block<6, 6>(kOriginColumn, kOriginColumn);
   const Eigen::Matrix3d R_w = mean.R * world_from_state_.linear().transpose();
-  const Eigen::Matrix3d lever = so3::skew(R_w * world_from_state_.translation());
-  Eigen::Matrix<double, 6, 12> J = Eigen::Matrix<double, 6, 12>::Zero();
-  J.leftCols<6>().setIdentity();
-  J.block<3, 3>(3, 0) = lever;
-  J.block<3, 3>(0, 6) = -R_w;
-  J.block<3, 3>(3, 6) = -lever * R_w;
-  J.block<3, 3>(3, 9) = -R_w;
+  const FrameChange to_world = frame_change(R_w, R_w * world_from_state_.translation());
+  Eigen::Matrix<double, 6, 12> J;
+  J << to_world.own, to_world.frame;
   return J * pose_and_origin * J.transpose();
 }
 

@@ -47,17 +47,48 @@ double lane_sum(const Lanes& l) {
   return sum;
 }
 
+// The pixels a patch of this half size about `feature` reads: those about the nearest pixel
+// (cx, cy), one more around for central-difference gradients, and its Gaussian window (sigma: the
+// half size), separable: a weight per column and per row, which multiply to the pixel's.
+struct PatchWindow {
+  int cx = 0, cy = 0;
+  Eigen::Vector2d phase{0, 0};  // from the feature to (cx, cy)
+  Eigen::ArrayXd column_weight, row_weight;
+};
+
+// False when the patch and its gradients' pixels do not fit in the image.
+bool patch_window(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size,
+                  PatchWindow* w) {
+  w->cx = static_cast<int>(std::lround(feature.x()));
+  w->cy = static_cast<int>(std::lround(feature.y()));
+  const int reach = half_size + 1;
+  if (!(w->cx - reach >= 0 && w->cy - reach >= 0 && w->cx + reach < image.cols &&
+        w->cy + reach < image.rows))
+    return false;
+  w->phase = Eigen::Vector2d(w->cx - feature.x(), w->cy - feature.y());
+  const int side = 2 * half_size + 1;
+  const double sigma = half_size;
+  w->column_weight.resize(side);
+  w->row_weight.resize(side);
+  for (int i = 0; i < side; ++i) {
+    const double u = i - half_size + w->phase.x(), v = i - half_size + w->phase.y();
+    w->column_weight(i) = std::exp(-u * u / (2 * sigma * sigma));
+    w->row_weight(i) = std::exp(-v * v / (2 * sigma * sigma));
+  }
+  return true;
+}
+
 }  // namespace
 
 bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size,
                              ReferencePatch* patch) {
   CV_Assert(image.type() == CV_32FC1 && half_size >= 1);
-  const int cx = static_cast<int>(std::lround(feature.x()));
-  const int cy = static_cast<int>(std::lround(feature.y()));
-  // One pixel beyond the patch, for central-difference gradients.
-  const int reach = half_size + 1;
-  if (!(cx - reach >= 0 && cy - reach >= 0 && cx + reach < image.cols && cy + reach < image.rows))
-    return false;
+  PatchWindow window;
+  if (!patch_window(image, feature, half_size, &window)) return false;
+  const int cx = window.cx, cy = window.cy;
+  const Eigen::Vector2d& phase = window.phase;
+  const Eigen::ArrayXd& column_weight = window.column_weight;
+  const Eigen::ArrayXd& row_weight = window.row_weight;
 
   ReferencePatch p;
   p.half_size_ = half_size;
@@ -68,15 +99,6 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   const Eigen::Index padded = (count + kLanes - 1) / kLanes * kLanes;
   for (Eigen::ArrayXf* a : {&p.offsets_x_, &p.offsets_y_, &p.weights_, &p.values_})
     a->setZero(padded);
-  const Eigen::Vector2d phase(cx - feature.x(), cy - feature.y());
-  const double sigma = half_size;
-  // The Gaussian window is separable: one exponential per row and per column.
-  Eigen::ArrayXd column_weight(side), row_weight(side);
-  for (int i = 0; i < side; ++i) {
-    const double u = i - half_size + phase.x(), v = i - half_size + phase.y();
-    column_weight(i) = std::exp(-u * u / (2 * sigma * sigma));
-    row_weight(i) = std::exp(-v * v / (2 * sigma * sigma));
-  }
   const double weight_sum = column_weight.sum() * row_weight.sum();
   Eigen::Index k = 0;
   for (int y = -half_size; y <= half_size; ++y)
@@ -134,26 +156,17 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
 double ReferencePatch::contrast_at(const cv::Mat& image, const Eigen::Vector2d& feature,
                                    int half_size) {
   CV_Assert(image.type() == CV_32FC1 && half_size >= 1);
-  const int cx = static_cast<int>(std::lround(feature.x()));
-  const int cy = static_cast<int>(std::lround(feature.y()));
-  // Where extract's patch fits, with its pixel for the gradients.
-  const int reach = half_size + 1;
-  if (!(cx - reach >= 0 && cy - reach >= 0 && cx + reach < image.cols && cy + reach < image.rows))
-    return 0;
-  // The same Gaussian window as extract's, about the feature.
-  const double sigma = half_size;
+  PatchWindow w;
+  if (!patch_window(image, feature, half_size, &w)) return 0;
   double sum_w = 0, sum_wv = 0, sum_wvv = 0;
   for (int y = -half_size; y <= half_size; ++y) {
-    const double v_offset = y + cy - feature.y();
-    const double row_weight = std::exp(-v_offset * v_offset / (2 * sigma * sigma));
-    const float* row = image.ptr<float>(cy + y);
+    const float* row = image.ptr<float>(w.cy + y);
     for (int x = -half_size; x <= half_size; ++x) {
-      const double u_offset = x + cx - feature.x();
-      const double w = row_weight * std::exp(-u_offset * u_offset / (2 * sigma * sigma));
-      const double v = row[cx + x];
-      sum_w += w;
-      sum_wv += w * v;
-      sum_wvv += w * v * v;
+      const double weight = w.row_weight(y + half_size) * w.column_weight(x + half_size);
+      const double v = row[w.cx + x];
+      sum_w += weight;
+      sum_wv += weight * v;
+      sum_wvv += weight * v * v;
     }
   }
   const double mean = sum_wv / sum_w;
