@@ -10,6 +10,7 @@
 
 #include "omnisfm/core/pose_direction.h"
 #include "omnisfm/core/pose_vector.h"
+#include "omnisfm/sfm/track_consistency.h"
 #include "omnisfm/sfm/track_triangulation.h"
 #include "pipeline_steps.h"
 
@@ -180,14 +181,23 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (result->batch.camera_refined && !optimised.set_params(result->batch.camera_params))
     throw std::runtime_error("the batch's refined camera is not a valid camera");
   std::map<int, int> failing;
+  std::map<int, TrackResidualSum> residual_sums;
   for (const auto& o : inliers) {
     const auto point = result->batch.points.find(o.track);
     Eigen::Vector2d pixel;
-    const bool fits =
+    const bool projects =
         point != result->batch.points.end() &&
-        optimised.project(batch_cam_from_world[o.frame] * point->second, &pixel) &&
-        (pixel - o.pixel).norm() <= threshold;
+        optimised.project(batch_cam_from_world[o.frame] * point->second, &pixel);
+    const bool fits = projects && (pixel - o.pixel).norm() <= threshold;
     if (!fits && !failing.count(o.track)) failing[o.track] = o.frame;
+    if (projects) residual_sums[o.track].add(o.frame, (pixel - o.pixel).norm());
+  }
+  // And the tracks that fit at every frame but not over their length (slow drifts).
+  if (settings.batch_track_false_alarm > 0) {
+    const InconsistentTracks drifting =
+        inconsistent_tracks(residual_sums, settings.batch_track_false_alarm,
+                            settings.filter.pixel_sigma);
+    for (const auto& [track, frame] : drifting.tracks) failing.emplace(track, frame);
   }
   // And the filter's rejections that it does explain, taken back.
   const std::map<int, Eigen::Vector3d> explained =

@@ -38,6 +38,11 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
   settings.batch_outlier_threshold_px =
       s.get_positive("batch_outlier_threshold_px", settings.batch_outlier_threshold_px, true);
+  settings.batch_track_false_alarm =
+      s.get_positive("batch_track_false_alarm", settings.batch_track_false_alarm, true);
+  if (!(settings.batch_track_false_alarm < 1))
+    s.fail("batch_track_false_alarm",
+           "must be a probability below 1 (the chance a good track fails), or 0 (off)");
   settings.batch.huber_px = s.get_positive("huber_px", settings.batch.huber_px, true);
   settings.batch.covariances = s.get_flag("covariances", settings.batch.covariances);
   settings.batch.max_iterations =

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <set>
+
 #include "../src/pipeline_steps.h"
 #include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/scenario.h"
@@ -52,6 +55,47 @@ TEST(BatchRetest, ASolutionThatFitsRetestsAsBefore) {
                     nullptr, &result);
   EXPECT_LT(result.batch.final_rms_px, 0.3);
   EXPECT_TRUE(result.retest_skipped.empty()) << result.retest_skipped;
+}
+
+// A good track that slowly drifts off its point (3.5 px by its end, along u) stays within the
+// residual limit at every frame, as its point follows it halfway; over its length the batch
+// rejects it, and with the whole-track test off it keeps it.
+TEST(BatchRetest, ASlowDriftIsRejectedOverTheTracksLength) {
+  sim::SimulationOptions options;
+  options.scenario = "rover";
+  options.seed = 1;
+  sim::Dataset data = sim::simulate(options);
+  std::set<int> true_outliers;
+  for (const auto& o : data.outliers) true_outliers.insert(o.track);
+  std::map<int, std::pair<int, int>> span;  // track -> first and last frame
+  for (const auto& o : data.observations) {
+    auto [it, added] = span.emplace(o.track, std::make_pair(o.frame, o.frame));
+    it->second.first = std::min(it->second.first, o.frame);
+    it->second.second = std::max(it->second.second, o.frame);
+  }
+  int drifting = -1;
+  for (const auto& [track, frames] : span)
+    if (!true_outliers.count(track) && frames.second - frames.first >= 60) drifting = track;
+  ASSERT_GE(drifting, 0);
+  const auto [first, last] = span[drifting];
+  const int start = first + (last - first) / 4;
+  for (auto& o : data.observations)
+    if (o.track == drifting && o.frame > start)
+      o.pixel.x() += 3.5 * (o.frame - start) / (last - start);
+
+  SfmSettings settings;
+  const SfmResult result = run_sfm(data.camera, data.observations, settings);
+  std::set<int> rejected;
+  for (const auto& o : result.outliers) rejected.insert(o.track);
+  std::set<int> expected = true_outliers;
+  expected.insert(drifting);
+  EXPECT_EQ(rejected, expected);
+
+  settings.batch_track_false_alarm = 0;
+  const SfmResult without = run_sfm(data.camera, data.observations, settings);
+  std::set<int> rejected_without;
+  for (const auto& o : without.outliers) rejected_without.insert(o.track);
+  EXPECT_EQ(rejected_without, true_outliers);
 }
 
 }  // namespace

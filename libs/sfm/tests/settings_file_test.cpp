@@ -35,8 +35,9 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
       "[sfm]\npixel_sigma = 0.5\nupdate_iterations = 3\nsmoothed_start_frames = 0\n"
       "batch = 1\nbatch_outlier_threshold_px = 3\nhuber_px = 1.5\ncovariances = 0\n"
       "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n"
-      "refine_camera = 1\nconsider_camera = 1\n");
+      "refine_camera = 1\nconsider_camera = 1\nbatch_track_false_alarm = 0.001\n");
   EXPECT_EQ(s.filter.pixel_sigma, 0.5);
+  EXPECT_EQ(s.batch_track_false_alarm, 0.001);
   EXPECT_EQ(s.filter.update_iterations, 3);
   EXPECT_EQ(s.filter.smoothed_start_frames, 0);
   EXPECT_TRUE(s.run_batch);
@@ -80,6 +81,11 @@ TEST(SfmSettings, BadValuesAndUnknownKeysNameTheirLine) {
   EXPECT_NE(error_of("[sfm]\n\nmax_iterations = 2.5\n").find("test.ini:3:"), std::string::npos);
   EXPECT_NE(error_of("[sfm]\nupdate_iterations = 0\n").find("test.ini:2:"), std::string::npos);
   EXPECT_NE(error_of("[sfm]\nbatch_scale = 1\n").find("unknown key"), std::string::npos);
+  EXPECT_NE(error_of("[sfm]\nbatch_track_false_alarm = 1\n").find("test.ini:2:"),
+            std::string::npos);
+  EXPECT_NE(error_of("[sfm]\nbatch_track_false_alarm = -0.1\n").find("test.ini:2:"),
+            std::string::npos);
+  EXPECT_EQ(settings_of("[sfm]\nbatch_track_false_alarm = 0\n").batch_track_false_alarm, 0);
 }
 
 // Settings that make the problem meaningless: a noise of 0 (every residual infinitely sure), a
@@ -128,7 +134,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
        {"pixel_sigma", "rotation_walk_sigma", "translation_walk_sigma", "initial_depth",
         "inverse_depth_sigma", "outlier_test", "outlier_chi2", "outlier_threshold_px",
         "innovation_gate_chi2", "update_iterations", "smoothed_start_frames", "batch",
-        "batch_outliers", "batch_outlier_threshold_px", "huber_px", "covariances",
+        "batch_outliers", "batch_outlier_threshold_px", "batch_track_false_alarm", "huber_px", "covariances",
         "max_iterations", "batch_scale_start", "known_distance_m", "refine_camera",
         "consider_camera"})
     EXPECT_TRUE(section.has(key)) << key;
@@ -149,6 +155,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(read.run_batch, defaults.run_batch);
   EXPECT_EQ(read.batch_outliers, defaults.batch_outliers);
   EXPECT_EQ(read.batch_outlier_threshold_px, defaults.batch_outlier_threshold_px);
+  EXPECT_EQ(read.batch_track_false_alarm, defaults.batch_track_false_alarm);
   EXPECT_EQ(read.batch.huber_px, defaults.batch.huber_px);
   EXPECT_EQ(read.batch.covariances, defaults.batch.covariances);
   EXPECT_EQ(read.batch.max_iterations, defaults.batch.max_iterations);
