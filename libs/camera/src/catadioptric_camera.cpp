@@ -101,6 +101,20 @@ CatadioptricCamera::CatadioptricCamera(std::unique_ptr<InnerCamera> inner,
   refresh();
 }
 
+CatadioptricCamera CatadioptricCamera::with_wider_patch(double fraction) const {
+  CatadioptricCamera wider(*this);
+  const double width = mirror_->s_max() - mirror_->s_min();
+  // Halved until the profile takes it (its domain ends near the pole of the equiangular mirror).
+  for (double f = fraction; f > fraction / 64; f /= 2)
+    if (wider.mirror_->set_valid_range(
+            std::max(std::min(0.0, mirror_->s_min()), mirror_->s_min() - f * width),
+            mirror_->s_max() + f * width)) {
+      wider.refresh();
+      return wider;
+    }
+  return wider;
+}
+
 CatadioptricCamera::CatadioptricCamera(const CatadioptricCamera& other)
     : inner_(other.inner_->clone()),
       mirror_(other.mirror_->clone()),

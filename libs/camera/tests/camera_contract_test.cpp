@@ -286,6 +286,38 @@ TEST_P(CameraContract, RayJacobianKeepsTheRaysPointsOnTheirPixel) {
   }
 }
 
+// A copy with a wider patch (for estimators, whose iterates cross the rim) projects as the camera
+// does inside the patch, and beyond the rim where the camera reports invalid.
+TEST_P(CameraContract, AWiderPatchProjectsTheSameWithinAndBeyondTheRim) {
+  const CatadioptricCamera wider = camera_->with_wider_patch(0.05);
+  const MirrorProfile& mirror = camera_->mirror();
+  EXPECT_GT(wider.mirror().s_max(), mirror.s_max());
+  EXPECT_LE(wider.mirror().s_min(), mirror.s_min());
+  for (const Eigen::Vector3d& X : field_points(50, 11)) {
+    Eigen::Vector2d pixel, wider_pixel;
+    ASSERT_TRUE(camera_->project(X, &pixel));
+    ASSERT_TRUE(wider.project(X, &wider_pixel));
+    EXPECT_LT((pixel - wider_pixel).norm(), 1e-9);
+  }
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(0, 1023), v(0, 767);
+  int beyond = 0;
+  for (int i = 0; i < 20000 && beyond < 20; ++i) {
+    Eigen::Vector3d o, d;
+    if (!wider.unproject({u(rng), v(rng)}, &o, &d)) continue;
+    const Eigen::Vector3d X = o + 3 * d;
+    Eigen::Vector2d pixel;
+    Reflection reflection;
+    if (!wider.project(X, &pixel, nullptr, nullptr, &reflection) ||
+        reflection.s <= mirror.s_max())
+      continue;
+    ++beyond;
+    EXPECT_FALSE(camera_->project(X, &pixel)) << reflection.s;
+  }
+  // Where the rim lies inside the image.
+  EXPECT_GT(beyond, 0);
+}
+
 TEST_P(CameraContract, InvalidGeometryIsReportedNotReturned) {
   Eigen::Vector2d pixel;
   // The camera centre, and points on the mirror axis: behind the mirror, inside its body, and

@@ -18,6 +18,11 @@ double FilterSettings::residual_limit_px() const {
 
 namespace {
 
+// How much further than the camera's valid patch the filter predicts pixels, as a fraction of its
+// width (CatadioptricCamera::with_wider_patch): a track seen just inside the rim is as often
+// predicted just outside it, and was rejected for it, or froze the smoothed start's solve.
+constexpr double kPredictionPatchMargin = 0.05;
+
 // Updates after which a point's depth counts as established (see update()).
 constexpr int kEstablishedUpdates = 2;
 
@@ -44,7 +49,7 @@ bool turns_with_camera(const FilterSettings& settings, bool with_sensors) {
 }  // namespace
 
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
-    : camera_(camera),
+    : camera_(camera.with_wider_patch(kPredictionPatchMargin)),
       settings_(settings),
       state_(checked_uncertainty(camera, settings.camera_uncertainty)),
       smoothing_start_(settings.smoothed_start_frames > 0) {}
