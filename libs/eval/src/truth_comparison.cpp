@@ -20,12 +20,17 @@ std::string figures_line(const std::string& name, const TrajectoryErrors& e) {
 TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
                                    const std::vector<io::StampedPose>& truth,
                                    const std::string& truth_file, bool rigid_too) {
-  if (truth.size() != static_cast<size_t>(result.num_frames))
+  const size_t frames = static_cast<size_t>(result.num_frames);
+  if (truth.size() < frames)
     throw io::InputError(truth_file, 0,
                          "has " + std::to_string(truth.size()) + " poses for " +
                              std::to_string(result.num_frames) + " frames");
   TruthComparison comparison;
-  for (const auto& p : truth) comparison.truth.push_back(p.world_from_cam);
+  if (truth.size() > frames)
+    comparison.report = "truth: " + truth_file + " has " + std::to_string(truth.size()) +
+                        " poses and the tracks end at frame " + std::to_string(frames - 1) +
+                        "; compared over its first " + std::to_string(frames) + "\n";
+  for (size_t f = 0; f < frames; ++f) comparison.truth.push_back(truth[f].world_from_cam);
   const auto compare = [&](const std::string& name,
                            const std::vector<Eigen::Isometry3d>& world_from_cam) {
     const TrajectoryErrors similar = trajectory_errors(world_from_cam, comparison.truth, true);

@@ -64,5 +64,21 @@ TEST(TruthComparison, ATruthOfAnotherLengthIsRefusedNamingItsFile) {
   }
 }
 
+// The last images gave no tracks: the truth runs on beyond the estimate, and the figures are
+// those of the frames both have, said in the report.
+TEST(TruthComparison, ATruthLongerThanTheTracksIsComparedOverTheirFrames) {
+  Fixture f = circle(10);
+  Fixture longer = circle(13);
+  const TruthComparison c = compare_with_truth(f.result, true, longer.truth, "gt.tum");
+  ASSERT_EQ(c.truth.size(), 10u);
+  EXPECT_LT(trajectory_errors(c.estimates[0].world_from_cam, c.truth, true).mean_translation_error_m,
+            1e-9);
+  EXPECT_EQ(c.report.rfind("truth: gt.tum has 13 poses and the tracks end at frame 9; compared "
+                           "over its first 10\n",
+                           0),
+            0u)
+      << c.report;
+}
+
 }  // namespace
 }  // namespace omnisfm::eval

@@ -23,13 +23,16 @@ struct ComparedTrajectory {
 };
 
 struct TruthComparison {
-  std::string report;  // a figures_line per estimate (and per rigid alignment)
+  // A figures_line per estimate (and per rigid alignment), after a line on a truth left unpaired.
+  std::string report;
   std::vector<ComparedTrajectory> estimates;
   std::vector<Eigen::Isometry3d> truth;  // world_from_cam, frame by frame
 };
 
-// The result's estimates against `truth`, paired frame by frame. Throws io::InputError naming
-// `truth_file` when it has another number of poses than the result has frames.
+// The result's estimates against `truth`, paired frame by frame. A truth longer than the result
+// (the last images, dark or lost, gave no tracks, so the tracks end early) is compared over its
+// first frames, and the report says so in its first line. Throws io::InputError naming
+// `truth_file` when it has fewer poses than the result has frames.
 TruthComparison compare_with_truth(const sfm::SfmResult& result, bool batch_ran,
                                    const std::vector<io::StampedPose>& truth,
                                    const std::string& truth_file, bool rigid_too = false);
