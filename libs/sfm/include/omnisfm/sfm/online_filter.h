@@ -269,7 +269,7 @@ class OnlineFilter {
   Eigen::Matrix<double, 6, 6> pose_covariance() const;
   // Until odometry comes, nothing fixes the map's scale but the depth priors and the mirror's few
   // centimetres, which the online updates weigh wrongly: at 0.2 px the iterated updates grow the
-  // map until a frame's step is about two translation_walk_sigma (5.2-6.6x at the rover's end,
+  // map until a frame's step is about two translation_walk_sigma (5.6-6.6x at the rover's end,
   // seeds 1-25; 3.2-3.6x over the 600 m drive, whatever the priors' depth), where the batch, from
   // the same tracks, finds the scale within its sigma. The state's covariance is then conditional
   // on the scale, and pose_covariance() adds the scale's own: the truth is the map scaled by
