@@ -9,8 +9,8 @@ sequence goes through `omnisfm sfm` (filter and batch), and the rejected tracks 
 the drifting ones.
 
 usage: courtyard_outliers.py OMNISFM CAMERA.ini WORKDIR [SEEDS] [--filter-only] [--noise PX]
-       [--drift-min PX_PER_FRAME] [--drift-max PX_PER_FRAME] [--frames N] [--points N]
-       [--drifting N] [--config INI] [--sfm-camera CAL.ini] [--verbose]
+       [--drift-min PX_PER_FRAME] [--drift-max PX_PER_FRAME] [--frames N] [--length M]
+       [--points N] [--drifting N] [--config INI] [--sfm-camera CAL.ini] [--verbose]
 """
 import argparse
 import math
@@ -59,7 +59,7 @@ def courtyard_points(rng, count):
 
 
 def trajectory(rng, frames, length):
-    """world_from_cam poses: an arc of `length` metres turning 40 deg, 1 m up, with a wobble."""
+    """world_from_cam poses: an arc of `length` metres turning 25-50 deg, 1 m up, with a wobble."""
     turn = math.radians(rng.uniform(25, 50)) * (1 if rng.random() < 0.5 else -1)
     heading0 = rng.uniform(-math.pi, math.pi)
     radius = length / abs(turn)

@@ -103,15 +103,19 @@ CatadioptricCamera::CatadioptricCamera(std::unique_ptr<InnerCamera> inner,
 
 CatadioptricCamera CatadioptricCamera::with_wider_patch(double fraction) const {
   CatadioptricCamera wider(*this);
-  const double width = mirror_->s_max() - mirror_->s_min();
-  // Halved until the profile takes it (its domain ends near the pole of the equiangular mirror).
+  const double s_min = mirror_->s_min(), s_max = mirror_->s_max();
+  const double width = s_max - s_min;
+  // Each end on its own, its margin halved until the profile takes it (the equiangular mirror's
+  // domain ends near its pole, a table's where its samples do). A refused range changes nothing.
+  double hi = s_max;
   for (double f = fraction; f > fraction / 64; f /= 2)
-    if (wider.mirror_->set_valid_range(
-            std::max(std::min(0.0, mirror_->s_min()), mirror_->s_min() - f * width),
-            mirror_->s_max() + f * width)) {
-      wider.refresh();
-      return wider;
+    if (wider.mirror_->set_valid_range(s_min, s_max + f * width)) {
+      hi = s_max + f * width;
+      break;
     }
+  for (double f = fraction; f > fraction / 64; f /= 2)
+    if (wider.mirror_->set_valid_range(std::max(0.0, s_min - f * width), hi)) break;
+  wider.refresh();
   return wider;
 }
 

@@ -19,8 +19,7 @@ double FilterSettings::residual_limit_px() const {
 namespace {
 
 // How much further than the camera's valid patch the filter predicts pixels, as a fraction of its
-// width (CatadioptricCamera::with_wider_patch): a track seen just inside the rim is as often
-// predicted just outside it, and was rejected for it, or froze the smoothed start's solve.
+// width (OnlineFilter::prediction_camera_).
 constexpr double kPredictionPatchMargin = 0.05;
 
 // Updates after which a point's depth counts as established (see update()).
@@ -49,7 +48,8 @@ bool turns_with_camera(const FilterSettings& settings, bool with_sensors) {
 }  // namespace
 
 OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const FilterSettings& settings)
-    : camera_(camera.with_wider_patch(kPredictionPatchMargin)),
+    : camera_(camera),
+      prediction_camera_(camera.with_wider_patch(kPredictionPatchMargin)),
       settings_(settings),
       state_(checked_uncertainty(camera, settings.camera_uncertainty)),
       smoothing_start_(settings.smoothed_start_frames > 0) {}
@@ -213,8 +213,8 @@ bool OnlineFilter::linearise(const PointAnchor& anchor, const Eigen::Matrix3d& R
   const std::vector<int>& considered = settings_.camera_uncertainty.parameters;
   thread_local camera::ParamsJacobian J_params;
   const bool camera_jacobian = jacobians && !considered.empty();
-  if (!camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr,
-                       camera_jacobian ? &J_params : nullptr))
+  if (!prediction_camera_.project(RX + t, &out->pixel, jacobians ? &J_X : nullptr,
+                                  camera_jacobian ? &J_params : nullptr))
     return false;
   if (jacobians) {
     out->pose << -J_X * so3::skew(RX), J_X;

@@ -193,15 +193,29 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
     if (projects) residual_sums[o.track].add(o.frame, (pixel - o.pixel).norm());
   }
   // And the tracks that fit at every frame but not over their length (slow drifts).
-  if (settings.batch_track_false_alarm > 0) {
-    const InconsistentTracks drifting =
-        inconsistent_tracks(residual_sums, settings.batch_track_false_alarm,
-                            settings.filter.pixel_sigma);
+  const bool whole_track_test = settings.batch_track_false_alarm > 0;
+  InconsistentTracks drifting;
+  if (whole_track_test) {
+    drifting = inconsistent_tracks(residual_sums, settings.batch_track_false_alarm,
+                                   settings.filter.pixel_sigma);
     for (const auto& [track, frame] : drifting.tracks) failing.emplace(track, frame);
   }
-  // And the filter's rejections that it does explain, taken back.
-  const std::map<int, Eigen::Vector3d> explained =
+  // And the filter's rejections that it does explain, taken back, unless they drift too.
+  std::map<int, Eigen::Vector3d> explained =
       explained_rejections(optimised, tracks, rejected, batch_cam_from_world, threshold);
+  if (whole_track_test) {
+    std::map<int, TrackResidualSum> explained_sums;
+    for (const auto& o : tracks) {
+      const auto point = explained.find(o.track);
+      Eigen::Vector2d pixel;
+      if (point != explained.end() && o.frame < static_cast<int>(batch_cam_from_world.size()) &&
+          optimised.project(batch_cam_from_world[o.frame] * point->second, &pixel))
+        explained_sums[o.track].add(o.frame, (pixel - o.pixel).norm());
+    }
+    for (const auto& [track, sum] : explained_sums)
+      if (exceeds_its_noise(sum, drifting.noise_px, settings.batch_track_false_alarm))
+        explained.erase(track);
+  }
   if (failing.empty() && explained.empty()) return;
   std::vector<RejectedTrack> outliers;
   for (const auto& r : result->outliers)
@@ -233,6 +247,10 @@ void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings&
   check(settings.refine_camera, "refine_camera", settings.batch.camera_prior, "batch.camera_prior");
   check(settings.consider_camera, "consider_camera", settings.filter.camera_uncertainty,
         "filter.camera_uncertainty");
+  if (!(settings.batch_track_false_alarm >= 0 && settings.batch_track_false_alarm < 1))
+    throw std::invalid_argument("batch_track_false_alarm: " +
+                                std::to_string(settings.batch_track_false_alarm) +
+                                " is not a probability below 1 (0 turns the test off)");
 }
 
 SfmResult run_sfm(const camera::CatadioptricCamera& camera,

@@ -22,7 +22,8 @@ std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& came
 
 // Throws std::invalid_argument, before any work, for settings that cannot be run: refine_camera
 // without the camera's prior to refine it under, consider_camera without the uncertainty to
-// consider, or either prior unusable (camera_prior_problem).
+// consider, either prior unusable (camera_prior_problem), or a batch_track_false_alarm that is
+// no probability below 1.
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings);
 
 // Throws std::runtime_error when the filter's camera barely translates against the scene's depth.

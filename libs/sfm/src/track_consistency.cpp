@@ -11,7 +11,7 @@ namespace {
 
 constexpr int kMinTracksForNoise = 5;
 
-double degrees_of_freedom(const TrackResidualSum& s) { return 2.0 * s.sightings - 3; }
+double track_degrees_of_freedom(const TrackResidualSum& s) { return 2.0 * s.sightings - 3; }
 
 }  // namespace
 
@@ -31,7 +31,7 @@ InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& su
   // below what the long ones show.
   std::vector<double> variances;
   for (const auto& [track, s] : sums) {
-    const double dof = degrees_of_freedom(s);
+    const double dof = track_degrees_of_freedom(s);
     if (dof < 3) continue;
     const double median_fraction = std::pow(1 - 2 / (9 * dof), 3);
     variances.push_back(s.squared_px2 / dof / median_fraction);
@@ -39,20 +39,22 @@ InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& su
   InconsistentTracks result;
   double variance = stated_noise_px * stated_noise_px;
   if (static_cast<int>(variances.size()) >= kMinTracksForNoise) {
-    // The lower median: with an even count, the better of the two middle tracks.
+    // The lower median, index (n - 1) / 2: with an even count, the better of the two middle tracks.
     const double measured = core::percentile(variances, 0.5 - 0.5 / variances.size());
     result.measured_noise_px = std::sqrt(measured);
     variance = std::max(variance, measured);
   }
   if (!(variance > 0)) return result;
   result.noise_px = std::sqrt(variance);
-  for (const auto& [track, s] : sums) {
-    const double dof = degrees_of_freedom(s);
-    if (dof < 1) continue;
-    if (s.squared_px2 / variance > core::chi_square_upper_quantile(dof, false_alarm))
-      result.tracks[track] = s.worst_frame;
-  }
+  for (const auto& [track, s] : sums)
+    if (exceeds_its_noise(s, result.noise_px, false_alarm)) result.tracks[track] = s.worst_frame;
   return result;
+}
+
+bool exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double false_alarm) {
+  const double dof = track_degrees_of_freedom(sum);
+  return dof >= 1 && sum.squared_px2 / (noise_px * noise_px) >
+                         core::chi_square_upper_quantile(dof, false_alarm);
 }
 
 }  // namespace omnisfm::sfm

@@ -44,7 +44,7 @@ TEST(FilterConsistency, VisionAloneThePoseCovarianceHoldsTheScale) {
               c.smallest_scale, c.largest_scale, c.mean_linearised_scale_nees,
               c.mean_scale_nees);
   // Along the scale the published sigma holds the translation's error, (1 - 1/s) |t|: measured
-  // 0.69 (the map 5.2-6.6x), 1 when honest. A sigma twice as large would give 0.17, one half as
+  // 0.70 (the map 5.6-6.6x), 1 when honest. A sigma twice as large would give 0.17, one half as
   // large 2.8. As a logarithm the error is 1.8 sigmas (3.3): the linearised term holds a map
   // up to 2x small or any larger, not its logarithm.
   EXPECT_GT(c.mean_linearised_scale_nees, 0.3);

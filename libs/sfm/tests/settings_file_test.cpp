@@ -134,9 +134,9 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
        {"pixel_sigma", "rotation_walk_sigma", "translation_walk_sigma", "initial_depth",
         "inverse_depth_sigma", "outlier_test", "outlier_chi2", "outlier_threshold_px",
         "innovation_gate_chi2", "update_iterations", "smoothed_start_frames", "batch",
-        "batch_outliers", "batch_outlier_threshold_px", "batch_track_false_alarm", "huber_px", "covariances",
-        "max_iterations", "batch_scale_start", "known_distance_m", "refine_camera",
-        "consider_camera"})
+        "batch_outliers", "batch_outlier_threshold_px", "batch_track_false_alarm", "huber_px",
+        "covariances", "max_iterations", "batch_scale_start", "known_distance_m",
+        "refine_camera", "consider_camera"})
     EXPECT_TRUE(section.has(key)) << key;
   const SfmSettings read = read_sfm_settings(section);
   const SfmSettings defaults;

@@ -80,9 +80,9 @@ class CatadioptricCamera {
   int pose_param_offset() const { return inner_->num_params() + mirror_->num_shape_params(); }
 
   // A copy whose valid patch reaches `fraction` of its width further at both ends (the rim and
-  // the camera's own reflection), or less where the profile's domain ends first. For estimators:
-  // a point seen just inside the rim is as often predicted just outside it, and a solver stalls
-  // against a wall of invalid projections.
+  // the camera's own reflection), or less, or not at all, where the profile's domain ends first
+  // (a table's where its samples do). For estimators: a point seen just inside the rim is as
+  // often predicted just outside it, and a solver stalls against a wall of invalid projections.
   CatadioptricCamera with_wider_patch(double fraction) const;
 
   const InnerCamera& inner() const { return *inner_; }

@@ -222,7 +222,9 @@ using core::TrackPixel;
 
 struct RejectedTrack {
   int track = 0;
-  int frame = 0;  // where the filter rejected it
+  // Where the filter rejected it; for the batch's rejections, the first frame beyond its
+  // residual limit, or for a track that fails over its length, the frame of its largest residual.
+  int frame = 0;
 };
 
 // Where a consistency study has the filter take its Jacobians: Huang, Mourikis and Roumeliotis's
@@ -467,7 +469,11 @@ class OnlineFilter {
   // FilterSettings::origin_follows_camera).
   bool camera_far_from_origin() const;
 
-  camera::CatadioptricCamera camera_;
+  camera::CatadioptricCamera camera_;  // as given: the pixels that start points
+  // The same with the mirror's patch a little wider, for predicted pixels: a track seen just
+  // inside the rim is as often predicted just outside it, and was rejected for it, or froze the
+  // smoothed start's solve (CatadioptricCamera::with_wider_patch).
+  camera::CatadioptricCamera prediction_camera_;
   FilterSettings settings_;
   LinearisationPoints linearisation_points_;
   int frame_ = 0;           // the frame being processed

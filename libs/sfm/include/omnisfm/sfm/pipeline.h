@@ -31,10 +31,11 @@ struct SfmSettings {
   // good track the filter rejected while its depth was unknown fits it. 0 turns both off.
   bool batch_outliers = true;
   double batch_outlier_threshold_px = 2.0;  // with OutlierTest::kPixels; 0 is off too
-  // With batch_outliers, a track whose residuals over its length a good track would exceed with
-  // this probability, at the filter's pixel_sigma (or the tracks' own noise where larger), is
-  // rejected too (track_consistency.h): a slow drift stays within the residual limit at every
-  // frame. 0 turns it off.
+  // With the batch's re-test on (a residual limit above 0), a track whose residuals over its
+  // length a good track would exceed with this probability, at the filter's pixel_sigma (or the
+  // tracks' own noise where larger), is rejected too, and a track the filter rejected is taken
+  // back only if it passes (track_consistency.h): a slow drift stays within the residual limit
+  // at every frame. 0 turns it off; run_sfm refuses 1 or more.
   double batch_track_false_alarm = 1e-4;
   // The batch's limit on a residual: 0 when its test is off, else batch_outlier_threshold_px
   // with the paper's test and FilterSettings::residual_limit_px() with the chi-square one.

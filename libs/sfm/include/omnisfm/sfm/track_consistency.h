@@ -35,4 +35,8 @@ struct InconsistentTracks {
 InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& sums,
                                        double false_alarm, double stated_noise_px);
 
+// Whether one track's residuals are beyond what a good track reaches with probability
+// `false_alarm` at `noise_px` per coordinate (false for a track of one sighting).
+bool exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double false_alarm);
+
 }  // namespace omnisfm::sfm
