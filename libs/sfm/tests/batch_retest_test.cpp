@@ -59,74 +59,74 @@ TEST(BatchRetest, ASolutionThatFitsRetestsAsBefore) {
 
 // The rover, seed 1, with one good track made to drift slowly off its point from a quarter of
 // its life on (3.5 px along u by its end): each residual stays within the limit, as the point
-// triangulated from it follows it halfway. `drifting` is that track.
-sim::Dataset rover_with_a_slow_drift(int* drifting, std::set<int>* true_outliers) {
+// triangulated from it follows it halfway.
+struct SlowDrift {
+  sim::Dataset data;
+  int drifting = -1;  // that track
+  std::set<int> true_outliers;  // the simulator's
+  std::set<int> outliers() const {
+    std::set<int> all = true_outliers;
+    all.insert(drifting);
+    return all;
+  }
+};
+
+SlowDrift rover_with_a_slow_drift() {
   sim::SimulationOptions options;
   options.scenario = "rover";
   options.seed = 1;
-  sim::Dataset data = sim::simulate(options);
-  for (const auto& o : data.outliers) true_outliers->insert(o.track);
+  SlowDrift d{sim::simulate(options), -1, {}};
+  for (const auto& o : d.data.outliers) d.true_outliers.insert(o.track);
   std::map<int, std::pair<int, int>> span;  // track -> first and last frame
-  for (const auto& o : data.observations) {
+  for (const auto& o : d.data.observations) {
     auto [it, added] = span.emplace(o.track, std::make_pair(o.frame, o.frame));
     it->second.first = std::min(it->second.first, o.frame);
     it->second.second = std::max(it->second.second, o.frame);
   }
-  *drifting = -1;
   for (const auto& [track, frames] : span)
-    if (!true_outliers->count(track) && frames.second - frames.first >= 60) *drifting = track;
-  if (*drifting < 0) return data;
-  const auto [first, last] = span[*drifting];
+    if (!d.true_outliers.count(track) && frames.second - frames.first >= 60) d.drifting = track;
+  if (d.drifting < 0) return d;
+  const auto [first, last] = span[d.drifting];
   const int start = first + (last - first) / 4;
-  for (auto& o : data.observations)
-    if (o.track == *drifting && o.frame > start)
+  for (auto& o : d.data.observations)
+    if (o.track == d.drifting && o.frame > start)
       o.pixel.x() += 3.5 * (o.frame - start) / (last - start);
-  return data;
+  return d;
 }
 
-std::set<int> rejected_tracks(const SfmResult& result) {
+std::set<int> rejected_tracks(const SlowDrift& d, const SfmSettings& settings) {
   std::set<int> rejected;
-  for (const auto& o : result.outliers) rejected.insert(o.track);
+  for (const auto& o : run_sfm(d.data.camera, d.data.observations, settings).outliers)
+    rejected.insert(o.track);
   return rejected;
 }
 
 // Over its length the batch rejects the slow drift; with the whole-track test off it keeps it.
 TEST(BatchRetest, ASlowDriftIsRejectedOverTheTracksLength) {
-  int drifting;
-  std::set<int> true_outliers;
-  const sim::Dataset data = rover_with_a_slow_drift(&drifting, &true_outliers);
-  ASSERT_GE(drifting, 0);
+  const SlowDrift d = rover_with_a_slow_drift();
+  ASSERT_GE(d.drifting, 0);
   SfmSettings settings;
-  std::set<int> expected = true_outliers;
-  expected.insert(drifting);
-  EXPECT_EQ(rejected_tracks(run_sfm(data.camera, data.observations, settings)), expected);
-
+  EXPECT_EQ(rejected_tracks(d, settings), d.outliers());
   settings.batch_track_false_alarm = 1;  // every track would fail
-  EXPECT_THROW(run_sfm(data.camera, data.observations, settings), std::invalid_argument);
+  EXPECT_THROW(rejected_tracks(d, settings), std::invalid_argument);
   settings.batch_track_false_alarm = 0;
-  EXPECT_EQ(rejected_tracks(run_sfm(data.camera, data.observations, settings)), true_outliers);
+  EXPECT_EQ(rejected_tracks(d, settings), d.true_outliers);
 }
 
 // A filter whose test is far too tight (the paper's rule at 0.6 px) rejects the drift with dozens
 // of good tracks; the batch takes the good ones back, and not the drift, whose every residual
 // it explains but not their sum.
 TEST(BatchRetest, ASlowDriftTheFilterRejectedIsNotTakenBack) {
-  int drifting;
-  std::set<int> true_outliers;
-  const sim::Dataset data = rover_with_a_slow_drift(&drifting, &true_outliers);
-  ASSERT_GE(drifting, 0);
+  const SlowDrift d = rover_with_a_slow_drift();
+  ASSERT_GE(d.drifting, 0);
   SfmSettings settings;
   settings.filter.outlier_test = OutlierTest::kPixels;
   settings.filter.outlier_threshold_px = 0.6;
   settings.batch_outlier_threshold_px = 1.6;  // the chi-square test's limit at 0.3 px
-  const SfmResult result = run_sfm(data.camera, data.observations, settings);
-  EXPECT_GT(result.taken_back, 20);
-  std::set<int> expected = true_outliers;
-  expected.insert(drifting);
-  EXPECT_EQ(rejected_tracks(result), expected);
-
+  EXPECT_GT(run_sfm(d.data.camera, d.data.observations, settings).taken_back, 20);
+  EXPECT_EQ(rejected_tracks(d, settings), d.outliers());
   settings.batch_track_false_alarm = 0;
-  EXPECT_EQ(rejected_tracks(run_sfm(data.camera, data.observations, settings)), true_outliers);
+  EXPECT_EQ(rejected_tracks(d, settings), d.true_outliers);
 }
 
 }  // namespace
