@@ -107,14 +107,17 @@ CatadioptricCamera CatadioptricCamera::with_wider_patch(double fraction) const {
   const double width = s_max - s_min;
   // Each end on its own, its margin halved until the profile takes it (the equiangular mirror's
   // domain ends near its pole, a table's where its samples do). A refused range changes nothing.
-  double hi = s_max;
-  for (double f = fraction; f > fraction / 64; f /= 2)
-    if (wider.mirror_->set_valid_range(s_min, s_max + f * width)) {
-      hi = s_max + f * width;
-      break;
-    }
-  for (double f = fraction; f > fraction / 64; f /= 2)
-    if (wider.mirror_->set_valid_range(std::max(0.0, s_min - f * width), hi)) break;
+  const auto widest = [fraction](const auto& take) {
+    for (double f = fraction; f > fraction / 64; f /= 2)
+      if (take(f)) return f;
+    return 0.0;
+  };
+  const double hi = s_max + width * widest([&](double f) {
+    return wider.mirror_->set_valid_range(s_min, s_max + f * width);
+  });
+  widest([&](double f) {
+    return wider.mirror_->set_valid_range(std::max(0.0, s_min - f * width), hi);
+  });
   wider.refresh();
   return wider;
 }

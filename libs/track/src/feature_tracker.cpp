@@ -55,7 +55,8 @@ FeatureTracker::FeatureTracker(const cv::Mat& region, const TrackerSettings& set
   static_assert(std::is_nothrow_move_constructible_v<Track>);
   CV_Assert(settings.max_tracks >= 0 && settings.lk_window >= 3 && settings.pyramid_levels >= 1 &&
             settings.prediction_level >= 0 && settings.prediction_level < settings.pyramid_levels &&
-            settings.patch_half_size >= 1);
+            settings.patch_half_size >= 1 && settings.min_followable_ncc >= 0 &&
+            settings.min_followable_ncc < 1 && settings.max_renewals >= 0);
 }
 
 cv::Mat FeatureTracker::alignment_image(const cv::Mat& image) const {
@@ -304,7 +305,7 @@ bool FeatureTracker::start_track(const cv::Point2f& at, int id) {
   // alive the scene offers little better: a faint track then beats none (the realistic crane at
   // half size kept 17 tracks over 60 frames without that exception).
   double min_contrast = 0;
-  if (noise_ > 0 && settings_.min_followable_ncc > 0 && settings_.min_followable_ncc < 1 &&
+  if (noise_ > 0 && settings_.min_followable_ncc > 0 &&
       2 * static_cast<int>(live_.size()) >= settings_.max_tracks)
     min_contrast = noise_ / std::sqrt(1 - settings_.min_followable_ncc);
   if (min_contrast > 0 &&

@@ -241,6 +241,16 @@ TEST(FeatureTracker, StartsNoTrackTheNoiseWouldEndAtOnce) {
   EXPECT_EQ(faint_starts(checked), 0);
   EXPECT_GT(faint_starts(unchecked), 20);
   EXPECT_LT(2 * checked.statistics.appearance, unchecked.statistics.appearance);
+  // A correlation of 1 or more no patch reaches, and a negative one, are refused, as are negative
+  // renewals.
+  const cv::Mat region(kHeight, kWidth, CV_8UC1, cv::Scalar(255));
+  for (const double ncc : {1.0, 1.5, -0.1}) {
+    settings.min_followable_ncc = ncc;
+    EXPECT_THROW(FeatureTracker(region, settings), cv::Exception) << ncc;
+  }
+  settings.min_followable_ncc = 0.99;
+  settings.max_renewals = -1;
+  EXPECT_THROW(FeatureTracker(region, settings), cv::Exception);
 }
 
 TEST(FeatureTracker, KeepsTheAskedNumberOfTracksInsideTheRegionSpreadOut) {
