@@ -146,91 +146,124 @@ std::string retest_problem(const BatchResult& batch, std::size_t num_frames, dou
 
 }  // namespace
 
+namespace {
+
+// The batch's re-test: with its solution, the tracks it kept that the whole sequence cannot
+// explain, and the tracks the filter rejected that it does.
+struct TrackRetest {
+  std::map<int, int> failing;                 // kept track -> the frame it fails at
+  std::map<int, Eigen::Vector3d> explained;  // left-out track -> its point
+};
+
+TrackRetest retest_tracks(const camera::CatadioptricCamera& optimised,
+                         const std::vector<core::TrackObservation>& tracks,
+                         const std::set<int>& kept, const std::set<int>& left_out,
+                         const BatchResult& batch, double threshold, double false_alarm,
+                         double stated_noise_px) {
+  const std::vector<Eigen::Isometry3d> cam_from_world =
+      cam_from_world_of(batch.cam_from_world_parameters);
+  // A track's residual and its derivative by the point, at one sighting.
+  const auto residual_at = [&](const core::TrackObservation& o, const Eigen::Vector3d& point,
+                               Eigen::Vector2d* residual, Eigen::Matrix<double, 2, 3>* by_point) {
+    Eigen::Vector2d pixel;
+    if (!optimised.project(cam_from_world[o.frame] * point, &pixel, by_point)) return false;
+    *residual = pixel - o.pixel;
+    *by_point = *by_point * cam_from_world[o.frame].linear();
+    return true;
+  };
+  TrackRetest retest;
+  // The kept tracks beyond the residual limit at a frame, from the first frame they are.
+  std::map<int, TrackResidualSum> residual_sums;
+  for (const auto& o : tracks) {
+    if (!kept.count(o.track)) continue;
+    const auto point = batch.points.find(o.track);
+    Eigen::Vector2d residual;
+    Eigen::Matrix<double, 2, 3> by_point;
+    const bool projects =
+        point != batch.points.end() && residual_at(o, point->second, &residual, &by_point);
+    if (!(projects && residual.norm() <= threshold) && !retest.failing.count(o.track))
+      retest.failing[o.track] = o.frame;
+    if (projects) residual_sums[o.track].add(o.frame, residual, by_point);
+  }
+  // And those that fit at every frame but not over their length (slow drifts).
+  const bool whole_track_test = false_alarm > 0;
+  InconsistentTracks drifting;
+  if (whole_track_test) {
+    drifting = inconsistent_tracks(residual_sums, false_alarm, stated_noise_px);
+    for (const auto& [track, frame] : drifting.tracks) retest.failing.emplace(track, frame);
+  }
+  // The left-out tracks it explains, unless they drift too.
+  retest.explained = explained_rejections(optimised, tracks, left_out, cam_from_world, threshold);
+  if (whole_track_test) {
+    std::map<int, TrackResidualSum> explained_sums;
+    for (const auto& o : tracks) {
+      const auto point = retest.explained.find(o.track);
+      Eigen::Vector2d residual;
+      Eigen::Matrix<double, 2, 3> by_point;
+      if (point != retest.explained.end() && o.frame < static_cast<int>(cam_from_world.size()) &&
+          residual_at(o, point->second, &residual, &by_point))
+        explained_sums[o.track].add(o.frame, residual, by_point);
+    }
+    for (const auto& [track, sum] : explained_sums)
+      if (exceeds_its_noise(sum, drifting.noise_px, drifting.ramp_noise_px, false_alarm))
+        retest.explained.erase(track);
+  }
+  return retest;
+}
+
+}  // namespace
+
 void adjust_on_inliers(const camera::CatadioptricCamera& camera,
                        const std::vector<core::TrackObservation>& tracks, const SfmSettings& settings,
                        const std::vector<Eigen::Isometry3d>& online_cam_from_world,
                        ExtraTerms* extra, SfmResult* result) {
-  std::set<int> rejected;
+  std::set<int> rejected, kept;
   for (const auto& r : result->outliers) rejected.insert(r.track);
-  const auto inlier = [&](int track) {
-    return !rejected.count(track) && result->online_points.count(track);
-  };
-  std::vector<core::TrackObservation> inliers;
   for (const auto& o : tracks)
-    if (inlier(o.track)) inliers.push_back(o);
-  if (inliers.empty())
+    if (!rejected.count(o.track) && result->online_points.count(o.track)) kept.insert(o.track);
+  const auto observations_of = [&tracks](const std::set<int>& of) {
+    std::vector<core::TrackObservation> chosen;
+    for (const auto& o : tracks)
+      if (of.count(o.track)) chosen.push_back(o);
+    return chosen;
+  };
+  if (kept.empty())
     throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
                              std::to_string(rejected.size()) + " as outliers");
   // The pixels' noise weighs them against the sensors' terms (alone it is not read: the
   // camera's prior is weighed at the noise the batch measures).
   BatchSettings batch = settings.batch;
   batch.pixel_sigma = settings.filter.pixel_sigma;
-  result->batch = batch_adjust_with_terms(camera, inliers, online_cam_from_world,
+  result->batch = batch_adjust_with_terms(camera, observations_of(kept), online_cam_from_world,
                                           result->online_points, batch, extra);
   const double threshold = settings.batch_residual_limit_px();
   if (threshold <= 0) return;
   result->retest_skipped =
       retest_problem(result->batch, online_cam_from_world.size(), threshold);
   if (!result->retest_skipped.empty()) return;
-  const std::vector<Eigen::Isometry3d> batch_cam_from_world =
-      cam_from_world_of(result->batch.cam_from_world_parameters);
 
-  // Tracks whose residuals the whole sequence cannot explain, from the frame they first fail,
-  // with the camera as the batch left it.
+  // With the camera as the batch left it.
   camera::CatadioptricCamera optimised = batch_camera(camera);
   if (result->batch.camera_refined && !optimised.set_params(result->batch.camera_params))
     throw std::runtime_error("the batch's refined camera is not a valid camera");
-  std::map<int, int> failing;
-  std::map<int, TrackResidualSum> residual_sums;
-  for (const auto& o : inliers) {
-    const auto point = result->batch.points.find(o.track);
-    Eigen::Vector2d pixel;
-    const bool projects =
-        point != result->batch.points.end() &&
-        optimised.project(batch_cam_from_world[o.frame] * point->second, &pixel);
-    const bool fits = projects && (pixel - o.pixel).norm() <= threshold;
-    if (!fits && !failing.count(o.track)) failing[o.track] = o.frame;
-    if (projects) residual_sums[o.track].add(o.frame, (pixel - o.pixel).norm());
-  }
-  // And the tracks that fit at every frame but not over their length (slow drifts).
-  const bool whole_track_test = settings.batch_track_false_alarm > 0;
-  InconsistentTracks drifting;
-  if (whole_track_test) {
-    drifting = inconsistent_tracks(residual_sums, settings.batch_track_false_alarm,
-                                   settings.filter.pixel_sigma);
-    for (const auto& [track, frame] : drifting.tracks) failing.emplace(track, frame);
-  }
-  // And the filter's rejections that it does explain, taken back, unless they drift too.
-  std::map<int, Eigen::Vector3d> explained =
-      explained_rejections(optimised, tracks, rejected, batch_cam_from_world, threshold);
-  if (whole_track_test) {
-    std::map<int, TrackResidualSum> explained_sums;
-    for (const auto& o : tracks) {
-      const auto point = explained.find(o.track);
-      Eigen::Vector2d pixel;
-      if (point != explained.end() && o.frame < static_cast<int>(batch_cam_from_world.size()) &&
-          optimised.project(batch_cam_from_world[o.frame] * point->second, &pixel))
-        explained_sums[o.track].add(o.frame, (pixel - o.pixel).norm());
-    }
-    for (const auto& [track, sum] : explained_sums)
-      if (exceeds_its_noise(sum, drifting.noise_px, settings.batch_track_false_alarm))
-        explained.erase(track);
-  }
-  if (failing.empty() && explained.empty()) return;
+  const TrackRetest retest =
+      retest_tracks(optimised, tracks, kept, rejected, result->batch, threshold,
+                   settings.batch_track_false_alarm, settings.filter.pixel_sigma);
+  if (retest.failing.empty() && retest.explained.empty()) return;
   std::vector<RejectedTrack> outliers;
   for (const auto& r : result->outliers)
-    if (!explained.count(r.track)) outliers.push_back(r);
-  for (const auto& [track, frame] : failing) outliers.push_back({track, frame});
+    if (!retest.explained.count(r.track)) outliers.push_back(r);
+  for (const auto& [track, frame] : retest.failing) outliers.push_back({track, frame});
   result->outliers = std::move(outliers);
-  result->taken_back = static_cast<int>(explained.size());
-  std::vector<core::TrackObservation> kept;
-  for (const auto& o : tracks)
-    if ((explained.count(o.track) || inlier(o.track)) && !failing.count(o.track))
-      kept.push_back(o);
+  result->taken_back = static_cast<int>(retest.explained.size());
+  for (const auto& [track, frame] : retest.failing) kept.erase(track);
+  for (const auto& [track, point] : retest.explained) kept.insert(track);
   std::map<int, Eigen::Vector3d> start_points = result->batch.points;
-  for (const auto& [track, point] : explained) start_points[track] = point;
+  for (const auto& [track, point] : retest.explained) start_points[track] = point;
   result->batch =
-      batch_adjust_with_terms(camera, kept, batch_cam_from_world, start_points, batch, extra);
+      batch_adjust_with_terms(camera, observations_of(kept),
+                              cam_from_world_of(result->batch.cam_from_world_parameters),
+                              start_points, batch, extra);
 }
 
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings) {

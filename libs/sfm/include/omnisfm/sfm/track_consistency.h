@@ -7,9 +7,19 @@
 // a camera a little off, raises every track's residuals together and rejects none for it). Not
 // below the stated noise: a real tracker's tracks differ in noise with their contrast, and the
 // best half of them would make the rest look like drifts.
+//
+// A drift's residuals are also ordered: they grow from the frame it starts. The sum spreads them
+// over all 2n - 3 degrees of freedom; a ramp from each frame on, fitted to the residuals together
+// with a move of the point (which takes part of any drift), puts them in 2 and catches drifts too
+// slow for the sum (a generalised likelihood ratio, its false alarm shared among the frames it
+// may start at). A camera a little off makes the residuals of the tracks where its error is
+// largest smooth, as a drift's, so the ramp's noise is also measured from the tracks: from the
+// 90th percentile of their whole-length ramps, which lets a tenth of the tracks drift.
 
+#include <Eigen/Core>
 #include <cmath>
 #include <map>
+#include <vector>
 
 namespace omnisfm::sfm {
 
@@ -19,14 +29,21 @@ struct TrackResidualSum {
   double squared_px2 = 0;  // sum of the residuals' squared norms
   int worst_frame = -1;    // where its residual is largest
   double worst_px = 0;
-  void add(int frame, double residual_px);
+  std::vector<int> frames;  // in the order added, frames increasing
+  std::vector<Eigen::Vector2d> residuals_px;
+  // The pixel's derivative by the point, per sighting; without them the ramp is fitted alone.
+  std::vector<Eigen::Matrix<double, 2, 3>> point_jacobians;
+  void add(int frame, const Eigen::Vector2d& residual_px);
+  void add(int frame, const Eigen::Vector2d& residual_px,
+           const Eigen::Matrix<double, 2, 3>& point_jacobian);
 };
 
 struct InconsistentTracks {
   // The tracks' own noise per coordinate, from the median track; NaN when too few tracks (fewer
   // than 5 of 3 or more sightings) tell it.
   double measured_noise_px = NAN;
-  double noise_px = NAN;  // the noise the test took
+  double noise_px = NAN;       // the noise the sum's test took
+  double ramp_noise_px = NAN;  // and the ramp's: the sum's, or the tracks' ramps' where larger
   std::map<int, int> tracks;  // rejected track -> the frame of its largest residual
 };
 
@@ -36,7 +53,25 @@ InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& su
                                        double false_alarm, double stated_noise_px);
 
 // Whether one track's residuals are beyond what a good track reaches with probability
-// `false_alarm` at `noise_px` per coordinate (false for a track of one sighting).
-bool exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double false_alarm);
+// `false_alarm` (shared between the two tests below) at `noise_px` per coordinate in their sum,
+// or at `ramp_noise_px` as a ramp (false for a track of one sighting).
+bool exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double ramp_noise_px,
+                       double false_alarm);
+
+// The sum's test alone: chi-square with 2n - 3 degrees of freedom, exceeded with probability
+// `false_alarm` by a good track.
+bool sum_exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double false_alarm);
+
+// The ramp's test alone: exceeded by a good track with probability at most `false_alarm`.
+bool ramp_exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double false_alarm);
+
+// The ramp's statistic from each sighting on, at a noise of 1 (0 where it tells nothing).
+std::vector<double> ramp_statistics(const TrackResidualSum& sum);
+
+// The largest, over the sightings a drift may start at, of the squared norm of the ramp fitted
+// to the residuals from there on, in units of its own variance at `noise_px` (chi-square with 2
+// degrees of freedom for each start of a good track's white residuals). With the point's
+// Jacobians, the ramp's variance is what is left of it beside a move of the point.
+double largest_ramp_statistic(const TrackResidualSum& sum, double noise_px);
 
 }  // namespace omnisfm::sfm
