@@ -11,6 +11,8 @@ namespace omnisfm::sfm {
 namespace {
 
 constexpr int kMinTracksForNoise = 5;
+// At least two tracks above the 90th percentile.
+constexpr int kMinTracksForRampNoise = 20;
 
 double track_degrees_of_freedom(const TrackResidualSum& s) { return 2.0 * s.sightings - 3; }
 
@@ -24,14 +26,17 @@ void TrackResidualSum::add(int frame, const Eigen::Vector2d& residual_px) {
     worst_frame = frame;
     worst_px = norm;
   }
-  frames.push_back(frame);
-  residuals_px.push_back(residual_px);
+  // In the frames' order, whatever the order given.
+  const auto at = std::upper_bound(frames.begin(), frames.end(), frame) - frames.begin();
+  frames.insert(frames.begin() + at, frame);
+  residuals_px.insert(residuals_px.begin() + at, residual_px);
 }
 
 void TrackResidualSum::add(int frame, const Eigen::Vector2d& residual_px,
                            const Eigen::Matrix<double, 2, 3>& point_jacobian) {
+  const auto at = std::upper_bound(frames.begin(), frames.end(), frame) - frames.begin();
   add(frame, residual_px);
-  point_jacobians.push_back(point_jacobian);
+  point_jacobians.insert(point_jacobians.begin() + at, point_jacobian);
 }
 
 std::vector<double> ramp_statistics(const TrackResidualSum& sum) {
@@ -107,28 +112,34 @@ InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& su
                                        double false_alarm, double stated_noise_px) {
   // Each track's variance per coordinate, over the median a chi-square of its degrees of freedom
   // takes (Wilson-Hilferty: dof (1 - 2 / (9 dof))^3), so that short tracks do not pull the noise
-  // below what the long ones show. And the same from each track's whole-length ramp, a
-  // chi-square of 2 for a good track, at its 90th percentile (2 ln 10): a camera a little off
-  // makes the residuals smooth where its error is largest, which the ramp gathers more of than
-  // the sum.
-  std::vector<double> variances, ramp_variances;
+  // below what the long ones show.
+  std::vector<double> variances;
   for (const auto& [track, s] : sums) {
     const double dof = track_degrees_of_freedom(s);
     if (dof < 3) continue;
     const double median_fraction = std::pow(1 - 2 / (9 * dof), 3);
     variances.push_back(s.squared_px2 / dof / median_fraction);
-    ramp_variances.push_back(ramp_statistics(s).front() / (2 * std::log(10.0)));
   }
   InconsistentTracks result;
-  double variance = stated_noise_px * stated_noise_px, ramp_variance = variance;
+  double variance = stated_noise_px * stated_noise_px;
   if (static_cast<int>(variances.size()) >= kMinTracksForNoise) {
     // The lower median, index (n - 1) / 2: with an even count, the better of the two middle tracks.
-    const double lower_median = 0.5 - 0.5 / variances.size();
-    const double measured = core::percentile(variances, lower_median);
+    const double measured = core::percentile(variances, 0.5 - 0.5 / variances.size());
     result.measured_noise_px = std::sqrt(measured);
     variance = std::max(variance, measured);
-    ramp_variance = std::max(variance, core::percentile(ramp_variances, 0.9));
   }
+  // The same from each whole-length ramp, a chi-square of 2 for a good track, at the 90th
+  // percentile (2 ln 10): a camera a little off makes the residuals smooth where its error is
+  // largest, which the ramp gathers more of than the sum. With fewer tracks the percentile would
+  // be the worst track's own, and hide it. (Leaving out the tracks that fail the sum leaves out
+  // those a camera far off bends most: 3 more good tracks rejected in 20 courtyards.)
+  double ramp_variance = variance;
+  std::vector<double> ramp_variances;
+  for (const auto& [track, s] : sums)
+    if (track_degrees_of_freedom(s) >= 3)
+      ramp_variances.push_back(ramp_statistics(s).front() / (2 * std::log(10.0)));
+  if (static_cast<int>(ramp_variances.size()) >= kMinTracksForRampNoise)
+    ramp_variance = std::max(variance, core::percentile(ramp_variances, 0.9));
   if (!(variance > 0)) return result;
   result.noise_px = std::sqrt(variance);
   result.ramp_noise_px = std::sqrt(ramp_variance);

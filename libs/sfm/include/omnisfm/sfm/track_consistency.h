@@ -14,7 +14,8 @@
 // slow for the sum (a generalised likelihood ratio, its false alarm shared among the frames it
 // may start at). A camera a little off makes the residuals of the tracks where its error is
 // largest smooth, as a drift's, so the ramp's noise is also measured from the tracks: from the
-// 90th percentile of their whole-length ramps, which lets a tenth of the tracks drift.
+// 90th percentile of the tracks' whole-length ramps (with 20 tracks or more), which leaves room
+// for about a tenth of them to drift.
 
 #include <Eigen/Core>
 #include <cmath>
@@ -29,9 +30,10 @@ struct TrackResidualSum {
   double squared_px2 = 0;  // sum of the residuals' squared norms
   int worst_frame = -1;    // where its residual is largest
   double worst_px = 0;
-  std::vector<int> frames;  // in the order added, frames increasing
+  std::vector<int> frames;  // increasing, whatever the order added
   std::vector<Eigen::Vector2d> residuals_px;
-  // The pixel's derivative by the point, per sighting; without them the ramp is fitted alone.
+  // The pixel's derivative by the point, per sighting (every sighting added with one, or none);
+  // without them the ramp is fitted alone.
   std::vector<Eigen::Matrix<double, 2, 3>> point_jacobians;
   void add(int frame, const Eigen::Vector2d& residual_px);
   void add(int frame, const Eigen::Vector2d& residual_px,
