@@ -9,6 +9,7 @@ sequence goes through `omnisfm sfm` (filter and batch), and the rejected tracks 
 the drifting ones.
 
 usage: courtyard_outliers.py OMNISFM CAMERA.ini WORKDIR [SEEDS] [--filter-only] [--noise PX]
+       [--noise-correlation RHO]
        [--drift-min PX_PER_FRAME] [--drift-max PX_PER_FRAME] [--frames N] [--length M]
        [--points N] [--drifting N] [--config INI] [--sfm-camera CAL.ini] [--verbose]
 """
@@ -129,8 +130,13 @@ def make_sequence(args, seed, folder):
         direction /= np.linalg.norm(direction)
         if track_id in drifting:
             truth_outliers.append((track_id, drift_start, rate * (last - drift_start)))
+        noise = None
         for f in range(first, last + 1):
-            uv = pixels[f, p] + rng.normal(scale=args.noise, size=2)
+            # AR(1) in time with the given correlation from frame to frame, at the same sigma.
+            draw = rng.normal(scale=args.noise, size=2)
+            rho = args.noise_correlation
+            noise = draw if noise is None else rho * noise + math.sqrt(1 - rho * rho) * draw
+            uv = pixels[f, p] + noise
             if track_id in drifting and f > drift_start:
                 uv = uv + direction * rate * (f - drift_start)
             rows.append((f, track_id, uv[0], uv[1]))
@@ -169,6 +175,8 @@ def main():
     parser.add_argument("--length", type=float, default=5.0)
     parser.add_argument("--points", type=int, default=80)
     parser.add_argument("--drifting", type=int, default=6)
+    parser.add_argument("--noise-correlation", type=float, default=0.0,
+                        help="the tracks' noise correlated from frame to frame (AR(1), 0 <= it < 1)")
     parser.add_argument("--noise", type=float, default=0.2)
     parser.add_argument("--drift-min", type=float, default=0.05)
     parser.add_argument("--drift-max", type=float, default=0.3)
