@@ -8,7 +8,11 @@
 // covariance; then per scenario the median and worst ratios to the exact camera's errors (the
 // refined ones over the seeds where the camera was refined) and the refined parameters' mean
 // NEES.
+// KNOWN_DISTANCE 1: every solve is told the true distance from the first camera position to the
+// last (known_distance_m), which holds the scale there and lets the camera be refined where the
+// images alone do not fix the scale.
 //   calibration_error_cost CALIBRATED_CAMERA.ini [SEEDS=10] [SIGMA_FACTOR=1] [FIRST_SEED=1]
+//                          [KNOWN_DISTANCE=0]
 
 #include <algorithm>
 #include <cmath>
@@ -29,10 +33,15 @@ namespace {
 
 using namespace omnisfm;
 
+// With `known_distance`, the batch is told the true distance from the first camera position to
+// the last (sfm's known_distance_m), as a user with a tape would.
 sfm::SfmResult solved(const camera::CatadioptricCamera& camera, const sim::Dataset& d,
-                      const sfm::CameraPrior& prior) {
+                      const sfm::CameraPrior& prior, bool known_distance) {
   sfm::SfmSettings settings;
   settings.batch.camera_prior = prior;
+  if (known_distance)
+    settings.batch.known_distance_m =
+        (d.world_from_cam.back().translation() - d.world_from_cam.front().translation()).norm();
   return sfm::run_sfm(camera, d.observations, settings);
 }
 
@@ -52,7 +61,7 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: calibration_error_cost CALIBRATED_CAMERA.ini [SEEDS] [SIGMA_FACTOR] "
-                 "[FIRST_SEED]\n");
+                 "[FIRST_SEED] [KNOWN_DISTANCE]\n");
     return 2;
   }
   sfm::use_one_blas_thread();
@@ -64,6 +73,7 @@ int main(int argc, char** argv) {
   const int seeds = argc > 2 ? std::atoi(argv[2]) : 10;
   const double factor = argc > 3 ? std::atof(argv[3]) : 1;
   const int first_seed = argc > 4 ? std::atoi(argv[4]) : 1;
+  const bool known_distance = argc > 5 && std::atoi(argv[5]) != 0;
   std::printf("# scenario seed exact_percent exact_deg calibrated_percent calibrated_deg "
               "refined_percent refined_deg sigmas_calibrated sigmas_refined nees_refined\n");
   for (const char* scenario : {"lab", "crane", "rover"}) {
@@ -78,9 +88,9 @@ int main(int argc, char** argv) {
       prior.covariance *= factor * factor;
       const camera::CatadioptricCamera calibrated =
           eval::calibrated_with_error(d.camera, prior, 1000 + seed);
-      const auto exact = errors(solved(d.camera, d, {}), d);
-      const auto held = errors(solved(calibrated, d, {}), d);
-      const sfm::SfmResult refinement = solved(calibrated, d, prior);
+      const auto exact = errors(solved(d.camera, d, {}, known_distance), d);
+      const auto held = errors(solved(calibrated, d, {}, known_distance), d);
+      const sfm::SfmResult refinement = solved(calibrated, d, prior, known_distance);
       const auto refined = errors(refinement, d);
       // Where the batch held the scale, and the camera with it: NaN, and the calibrated camera.
       const bool was_refined = refinement.batch.camera_refined;
