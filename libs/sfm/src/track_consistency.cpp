@@ -108,8 +108,7 @@ double largest_ramp_statistic(const TrackResidualSum& sum, double noise_px) {
                                   (noise_px * noise_px);
 }
 
-InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& sums,
-                                       double false_alarm, double stated_noise_px) {
+double measured_track_noise_px(const std::map<int, TrackResidualSum>& sums) {
   // Each track's variance per coordinate, over the median a chi-square of its degrees of freedom
   // takes (Wilson-Hilferty: dof (1 - 2 / (9 dof))^3), so that short tracks do not pull the noise
   // below what the long ones show.
@@ -120,16 +119,20 @@ InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& su
     const double median_fraction = std::pow(1 - 2 / (9 * dof), 3);
     variances.push_back(s.squared_px2 / dof / median_fraction);
   }
+  if (static_cast<int>(variances.size()) < kMinTracksForNoise) return NAN;
+  // The lower median, index (n - 1) / 2: with an even count, the better of the two middle tracks.
+  return std::sqrt(core::percentile(variances, 0.5 - 0.5 / variances.size()));
+}
+
+InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& sums,
+                                       double false_alarm, double stated_noise_px) {
   InconsistentTracks result;
+  result.measured_noise_px = measured_track_noise_px(sums);
   double variance = stated_noise_px * stated_noise_px;
-  if (static_cast<int>(variances.size()) >= kMinTracksForNoise) {
-    // The lower median, index (n - 1) / 2: with an even count, the better of the two middle tracks.
-    const double measured = core::percentile(variances, 0.5 - 0.5 / variances.size());
-    result.measured_noise_px = std::sqrt(measured);
-    variance = std::max(variance, measured);
-  }
-  // The same from each whole-length ramp, a chi-square of 2 for a good track, at the 90th
-  // percentile (2 ln 10): a camera a little off makes the residuals smooth where its error is
+  if (std::isfinite(result.measured_noise_px))
+    variance = std::max(variance, result.measured_noise_px * result.measured_noise_px);
+  // The ramp's noise from each track's whole-length ramp, a chi-square of 2 for a good track, at
+  // the 90th percentile (2 ln 10): a camera a little off makes the residuals smooth where its error is
   // largest, which the ramp gathers more of than the sum. With fewer tracks the percentile would
   // be the worst track's own, and hide it. (Leaving out the tracks that fail the sum leaves out
   // those a camera far off bends most: 3 more good tracks rejected in 20 courtyards.)

@@ -49,6 +49,11 @@ struct InconsistentTracks {
   std::map<int, int> tracks;  // rejected track -> the frame of its largest residual
 };
 
+// The tracks' own noise per coordinate, from the median track (its squared residuals over the
+// median of a chi-square of its degrees of freedom); NaN when fewer than 5 tracks of 3 or more
+// sightings tell it.
+double measured_track_noise_px(const std::map<int, TrackResidualSum>& sums);
+
 // The tracks whose residuals a good track would exceed with probability `false_alarm` (0 < it <
 // 1), at `stated_noise_px` per coordinate (> 0) or the tracks' own noise where larger.
 InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& sums,
