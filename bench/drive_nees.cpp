@@ -14,7 +14,7 @@
 // gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting of the filter
 // (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
 // predicted_settle_sigmas, outlier_chi2, smoothed_start_frames, wheel_scale_from_images,
-// origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations).
+// origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations, measure_noise).
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
 //              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=2] [TAKE_BACK=1] [CAMERA.ini]
 //              [NAME=VALUE...]
@@ -91,6 +91,7 @@ bool apply(const std::string& assignment, Study* study) {
              static_cast<omnisfm::sfm::OriginTurnsWithCamera>(std::clamp(static_cast<int>(v), 0, 2));
        }},
       {"wheel_scale_from_images", [&](double v) { settings.wheel_scale_from_images = v != 0; }},
+      {"measure_noise", [&](double v) { settings.measure_noise = v != 0; }},
       {"update_iterations", [&](double v) { settings.update_iterations = static_cast<int>(v); }},
   };
   return omnisfm::bench::apply_assignment(assignment, settable);

@@ -257,7 +257,7 @@ std::string batch_run_report(const RunVerbOptions& o, const RunSettings& setting
   report << "rawlog " << o.rawlog << ": " << in.read.objects << " objects; vision from "
          << in.vision << "\n"
          << "frames " << result.num_frames << ", observations " << in.tracks.size() << ", "
-         << sfm::outliers_phrase(result) << "\n"
+         << sfm::outliers_phrase(result, settings.sfm.filter.pixel_sigma) << "\n"
          << sensors_line(in) << sfm::considered_camera_line(*in.camera, settings.sfm.filter)
          << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.sfm.batch)
          << sfm::camera_line(*in.camera, result.batch, settings.sfm.batch)

@@ -103,7 +103,8 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
   if (next < 2) throw io::InputError(tracks_path, 0, "the tracks span fewer than 2 frames");
   std::ostringstream report;
   report << "frames " << next << ", observations " << observations << ", outlier tracks "
-         << out.outliers() << "\n"
+         << out.outliers()
+         << sfm::measured_noise_phrase(filter.pixel_sigma(), settings.filter.pixel_sigma) << "\n"
          << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
          << sfm::considered_camera_line(camera, settings.filter)
          << "online only ([sfm] batch = false): tracks read and results written frame by frame\n";
@@ -169,7 +170,7 @@ void add_sfm_verb(CLI::App& app) {
     for (int f = 0; f < result.num_frames; ++f) times.push_back(clock.time(f));
     std::ostringstream report;
     report << "frames " << result.num_frames << ", observations " << tracks.size()
-           << ", " << sfm::outliers_phrase(result) << "\n"
+           << ", " << sfm::outliers_phrase(result, settings.filter.pixel_sigma) << "\n"
            << "filter: " << result.online_seconds << " s ("
            << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n"
            << sfm::considered_camera_line(camera, settings.filter);

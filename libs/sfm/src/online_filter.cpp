@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "filter_linear_algebra.h"
+#include "omnisfm/core/percentile.h"
 #include "so3.h"
 
 namespace omnisfm::sfm {
@@ -24,6 +25,10 @@ constexpr double kPredictionPatchMargin = 0.05;
 
 // Updates after which a point's depth counts as established (see update()).
 constexpr int kEstablishedUpdates = 2;
+// The outlier scores the noise is measured over (FilterSettings::measure_noise), and how many it
+// needs first.
+constexpr std::size_t kNoiseWindow = 400;
+constexpr std::size_t kMinScoresForNoise = 30;
 
 }  // namespace
 
@@ -178,7 +183,7 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   }
   const Eigen::Matrix<double, FilterState::kPointSize, 6> G =
       ray_pose_jacobian(anchor, R_at, t_at, origin, direction);
-  const double across = radians_per_pixel * settings_.pixel_sigma;
+  const double across = radians_per_pixel * pixel_sigma();
   PointParams own_sigma = PointParams::Zero();
   own_sigma.head<3>() << across, across, settings_.inverse_depth_sigma;
   Eigen::MatrixXd G_camera;  // none without considered parameters
@@ -244,7 +249,7 @@ OnlineFilter::Iterate OnlineFilter::first_iterate(const std::vector<Measurement>
                                                   bool* warm_step) const {
   const int m = static_cast<int>(meas.size());
   const int n = static_cast<int>(state_.P.rows());
-  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  const double variance = pixel_sigma() * pixel_sigma();
   Iterate at;
   at.allocate(m, state_.num_camera_params());
   at.offset = Eigen::VectorXd::Zero(n);
@@ -286,7 +291,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   const int m = static_cast<int>(meas.size());
   const Eigen::MatrixXd& P = state_.P;
   const int n = static_cast<int>(P.rows());
-  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  const double variance = pixel_sigma() * pixel_sigma();
   // Where each measured point's parameters start in the state.
   std::vector<int> point_columns(m);
   for (int k = 0; k < m; ++k) point_columns[k] = state_.point_column(meas[k].slot);
@@ -307,7 +312,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   S.resize(2 * m, 2 * m);
   Eigen::MatrixXd HPHt;
   const double settled_px =
-      (predicted ? settings_.predicted_settle_sigmas : 0.03) * settings_.pixel_sigma;
+      (predicted ? settings_.predicted_settle_sigmas : 0.03) * pixel_sigma();
   // Levenberg's damping in the prior's metric, mu |x - x_i|^2_P^-1 added to the posterior cost:
   // the step is the iterated EKF's with P / (1 + mu) and the offset x_i - x_prior shrunk by
   // 1 / (1 + mu). mu starts at 0 (the plain iterated EKF) and follows Marquardt's rule on the
@@ -417,7 +422,7 @@ double OnlineFilter::take_step(const Iterate& at, const std::vector<int>& point_
   next->g *= shrink;
   // The cost's prior part is |x - x_prior|^2_P^-1 = g^T P g with x - x_prior = P g; the linear
   // model's residual r - H d is variance times the weighted innovation.
-  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  const double variance = pixel_sigma() * pixel_sigma();
   return variance * weighted.squaredNorm() + next->g.dot(next->offset);
 }
 
@@ -426,7 +431,7 @@ OnlineFilter::IterateCheck OnlineFilter::project_iterate(
     const FilterMean& moved, bool jacobians, bool warm_step, double settled_px, const Iterate& at,
     Iterate* next_iterate) const {
   Iterate& next = *next_iterate;
-  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  const double variance = pixel_sigma() * pixel_sigma();
   const int m = static_cast<int>(meas.size());
   const Eigen::Matrix3d chart = so3::left_jacobian(next.offset.head<3>());
   IterateCheck check;
@@ -513,7 +518,7 @@ double OnlineFilter::prior_chi2(const Measurement& m) const {
     const Eigen::Matrix2d cross = H_camera * P_camera_local * H.transpose();
     S += cross + cross.transpose() + H_camera * P.block(kCamera, kCamera, k, k) * H_camera.transpose();
   }
-  S.diagonal().array() += settings_.pixel_sigma * settings_.pixel_sigma;
+  S.diagonal().array() += pixel_sigma() * pixel_sigma();
   const Eigen::Vector2d y = m.pixel - m.at_prior.pixel;
   return y.dot(S.ldlt().solve(y));
 }
@@ -567,6 +572,30 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::measurements_of(
   return measurements;
 }
 
+double OnlineFilter::residual_limit_px() const {
+  return settings_.outlier_test == OutlierTest::kPixels ? settings_.outlier_threshold_px
+                                                        : std::sqrt(settings_.outlier_chi2) *
+                                                              pixel_sigma();
+}
+
+void OnlineFilter::measure_noise(const std::vector<double>& established_scores) {
+  // Kept at pixel_sigma's scale, whatever noise they were scored at (an established point's
+  // score goes as one over the noise's variance).
+  for (const double score : established_scores) {
+    const double at_stated = score * noise_scale_ * noise_scale_;
+    if (recent_scores_.size() < kNoiseWindow) {
+      recent_scores_.push_back(at_stated);
+    } else {
+      recent_scores_[recent_next_] = at_stated;
+      recent_next_ = (recent_next_ + 1) % kNoiseWindow;
+    }
+  }
+  if (recent_scores_.size() < kMinScoresForNoise) return;
+  // A good measurement's score is chi-square(2) at the noise, median 2 ln 2.
+  const double implied_scale2 = core::percentile(recent_scores_, 0.5) / (2 * std::log(2.0));
+  noise_scale_ = implied_scale2 > 2 ? std::sqrt(implied_scale2) : 1.0;
+}
+
 bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measurements,
                                              bool predicted, std::set<int>* rejected_slots) {
   if (settings_.innovation_gate_chi2 > 0) {
@@ -580,6 +609,7 @@ bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measuremen
     measurements.swap(kept);
   }
   Candidate candidate;
+  bool first_pass = true;  // the frame's scores before any is rejected measure the noise
   while (!measurements.empty()) {
     update(measurements, predicted, &candidate);
     linearisations_ += candidate.linearisations;
@@ -592,13 +622,27 @@ bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measuremen
       // track's second sighting, 1.6 px off, scored 1,700). Judged by its innovation instead, as
       // the prediction, with its wide depth, had it.
       scores = posterior_chi2(candidate.S_factor, candidate.residual,
-                              settings_.pixel_sigma * settings_.pixel_sigma,
+                              pixel_sigma() * pixel_sigma(),
                               candidate.unestimated.size() > 0 ? &candidate.unestimated : nullptr);
-      for (size_t k = 0; k < measurements.size(); ++k)
+      std::vector<double> established;
+      for (size_t k = 0; k < measurements.size(); ++k) {
         if (state_.anchor(measurements[k].slot).updates < kEstablishedUpdates)
           scores[k] = prior_chi2(measurements[k]);
+        else if (first_pass)
+          established.push_back(scores[k]);
+      }
+      if (first_pass && settings_.measure_noise) {
+        const double taken = noise_scale_;
+        measure_noise(established);
+        // Judged again at the noise now taken, before any is rejected.
+        if (std::abs(noise_scale_ / taken - 1) > 0.1) {
+          first_pass = false;
+          continue;
+        }
+      }
     }
-    const double limit = chi2 ? settings_.outlier_chi2 : settings_.residual_limit_px();
+    first_pass = false;
+    const double limit = chi2 ? settings_.outlier_chi2 : residual_limit_px();
     const auto worst = std::max_element(scores.begin(), scores.end());
     if (!(*worst <= limit)) {
       // Drop the worst track, redo the update from the prediction.

@@ -44,13 +44,13 @@ bool OnlineFilter::start_on_pose_subspace(const std::vector<Measurement>& meas,
   const Eigen::MatrixXd along = pose_prior.solve(P.topRows<6>()).transpose();  // n x 6
   const Eigen::Matrix<double, 6, 6> pose_information =
       pose_prior.solve(Eigen::Matrix<double, 6, 6>::Identity());
-  const double variance = settings_.pixel_sigma * settings_.pixel_sigma;
+  const double variance = pixel_sigma() * pixel_sigma();
 
   std::vector<double> residual_norms(m);
   for (int k = 0; k < m; ++k) residual_norms[k] = prior->residual.segment<2>(2 * k).norm();
   std::nth_element(residual_norms.begin(), residual_norms.begin() + m / 2, residual_norms.end());
   const double huber =
-      std::max(settings_.residual_limit_px(), kRobustMedians * residual_norms[m / 2]);
+      std::max(residual_limit_px(), kRobustMedians * residual_norms[m / 2]);
 
   // One Gauss-Newton step from delta = 0, where the prior's part of the gradient vanishes.
   Eigen::Matrix<double, 6, 6> A = pose_information;

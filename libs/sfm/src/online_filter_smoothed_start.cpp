@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "omnisfm/core/percentile.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "start_window_costs.h"
 
@@ -82,6 +83,7 @@ struct OnlineFilter::StartWindow {
   struct Worst {
     double pixels = 0;
     int track = -1, frame = 0;
+    double median_squared_pixels = 0;  // over the window's residuals
   };
   // The window's terms at x into `problem`: the poses of frames 1.. as `poses` (zero rotation
   // about x's, x's translations), the sensors' offset and the points as x's own storage.
@@ -136,7 +138,7 @@ OnlineFilter::StartWindow OnlineFilter::start_window(StartEstimate* x) {
     covariance.diagonal() = covariance.diagonal().cwiseMax(kMinVariance);
     w.motion_weight[i] = covariance.inverse();
   }
-  w.pixel_weight = 1 / (settings_.pixel_sigma * settings_.pixel_sigma);
+  w.pixel_weight = 1 / (pixel_sigma() * pixel_sigma());
   w.depth_weight = 1 / (settings_.inverse_depth_sigma * settings_.inverse_depth_sigma);
   w.prior_depth = 1 / settings_.initial_depth;
   // Vision alone fixes the scale only weakly (through the mirror's size), and the posterior's
@@ -263,6 +265,7 @@ Eigen::MatrixXd OnlineFilter::StartWindow::normal_equations(ceres::Problem* prob
 OnlineFilter::StartWindow::Worst OnlineFilter::StartWindow::worst_pixel(
     const OnlineFilter& filter, const StartEstimate& x) const {
   Worst worst;
+  std::vector<double> squared;
   for (int i = 0; i < num_frames(); ++i)
     for (const auto& o : frames[i].observations) {
       if (!index.count(o.track)) continue;
@@ -271,8 +274,10 @@ OnlineFilter::StartWindow::Worst OnlineFilter::StartWindow::worst_pixel(
                             at_placed_origin(x.points.at(o.track)), false, &lin))
         continue;
       const double pixels = (lin.pixel - o.pixel).norm();
+      squared.push_back(pixels * pixels);
       if (pixels > worst.pixels) worst = {pixels, o.track, frames[i].frame};
     }
+  worst.median_squared_pixels = core::percentile(squared, 0.5);
   return worst;
 }
 Eigen::MatrixXd OnlineFilter::StartWindow::camera_coupling(const OnlineFilter& filter,
@@ -316,7 +321,14 @@ bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::M
       poses[i].head<3>().setZero();
     }
     const StartWindow::Worst worst = w->worst_pixel(*this, *x);
-    if (!(worst.pixels > settings_.residual_limit_px())) {
+    if (settings_.measure_noise) {
+      // The residuals' median norm, squared, is chi-square(2)'s median (2 ln 2) of the noise's
+      // variance (a little less, for what the window fits).
+      const double implied_scale2 = worst.median_squared_pixels / (2 * std::log(2.0)) /
+                                    (settings_.pixel_sigma * settings_.pixel_sigma);
+      noise_scale_ = implied_scale2 > 2 ? std::sqrt(implied_scale2) : 1.0;
+    }
+    if (!(worst.pixels > residual_limit_px())) {
       *A = w->normal_equations(&problem, x, &poses);
       return A->size() > 0;
     }

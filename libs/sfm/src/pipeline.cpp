@@ -75,6 +75,7 @@ std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& came
   const Eigen::Vector3d bias_variance = filter.gyro_bias_covariance().diagonal();
   if ((bias_variance.array() > 0).all()) result->online_gyro_bias_sigma = bias_variance.cwiseSqrt();
   result->online_wheel_scale = filter.wheel_scale();
+  result->online_noise_px = filter.pixel_sigma();
   if (filter.wheel_scale_variance() > 0)
     result->online_wheel_scale_sigma = std::sqrt(filter.wheel_scale_variance());
   return cam_from_world;
@@ -249,7 +250,15 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   batch.pixel_sigma = settings.filter.pixel_sigma;
   result->batch = batch_adjust_with_terms(camera, observations_of(kept), online_cam_from_world,
                                           result->online_points, batch, extra);
-  const double threshold = settings.batch_residual_limit_px();
+  // Under the chi-square rule the limit is in sigmas of the noise, at the filter's where it
+  // measured more than stated (FilterSettings::measure_noise).
+  const bool chi2 = settings.filter.outlier_test == OutlierTest::kChiSquare;
+  const bool follows_noise = chi2 && settings.filter.measure_noise;
+  const double stated_noise_px =
+      follows_noise ? std::max(settings.filter.pixel_sigma, result->online_noise_px)
+                    : settings.filter.pixel_sigma;
+  const double threshold =
+      settings.batch_residual_limit_px() * stated_noise_px / settings.filter.pixel_sigma;
   if (threshold <= 0) return;
   result->retest_skipped =
       retest_problem(result->batch, online_cam_from_world.size(), threshold);
@@ -260,9 +269,8 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (result->batch.camera_refined && !optimised.set_params(result->batch.camera_params))
     throw std::runtime_error("the batch's refined camera is not a valid camera");
   const TrackRetest retest =
-      retest_tracks(optimised, tracks, kept, rejected, result->batch, threshold,
-                    settings.filter.outlier_test == OutlierTest::kChiSquare,
-                    settings.batch_track_false_alarm, settings.filter.pixel_sigma);
+      retest_tracks(optimised, tracks, kept, rejected, result->batch, threshold, follows_noise,
+                    settings.batch_track_false_alarm, stated_noise_px);
   if (retest.failing.empty() && retest.explained.empty()) return;
   std::vector<RejectedTrack> outliers;
   for (const auto& r : result->outliers)

@@ -30,6 +30,7 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   f.outlier_chi2 = s.get_positive("outlier_chi2", f.outlier_chi2);
   f.outlier_threshold_px = s.get_positive("outlier_threshold_px", f.outlier_threshold_px);
   f.innovation_gate_chi2 = s.get_positive("innovation_gate_chi2", f.innovation_gate_chi2, true);
+  f.measure_noise = s.get_flag("measure_noise", f.measure_noise);
   f.update_iterations = s.get_positive_int("update_iterations", f.update_iterations);
   f.smoothed_start_frames =
       s.get_positive_int("smoothed_start_frames", f.smoothed_start_frames, true);

@@ -27,14 +27,24 @@ std::string images_fix_it(const BatchResult& batch, const char* how) {
 
 }  // namespace
 
-std::string outliers_phrase(const SfmResult& result) {
+std::string measured_noise_phrase(double taken_px, double stated_px) {
+  if (!(taken_px > stated_px)) return "";
+  char phrase[160];
+  std::snprintf(phrase, sizeof phrase,
+                " (judged at the tracks' measured noise, %.3g px per coordinate, where "
+                "pixel_sigma says %.3g)",
+                taken_px, stated_px);
+  return phrase;
+}
+
+std::string outliers_phrase(const SfmResult& result, double stated_noise_px) {
   std::string phrase = "outlier tracks " + std::to_string(result.outliers.size());
   if (result.taken_back > 0)
     phrase += " (the batch took back " + std::to_string(result.taken_back) +
               " that the filter had rejected)";
   if (!result.retest_skipped.empty())
     phrase += " (the filter's; not re-tested by the batch: " + result.retest_skipped + ")";
-  return phrase;
+  return phrase + measured_noise_phrase(result.online_noise_px, stated_noise_px);
 }
 
 std::string scale_line(const SfmResult& result, const BatchSettings& settings) {

@@ -98,6 +98,50 @@ TEST(OnlineFilter, VisionAloneTheDirectionOfTravelHoldsOnTheDrive) {
   EXPECT_GT(left, 10.0) << "the drive no longer shows the defect";
 }
 
+// Tracks noisier than pixel_sigma says: the simulated rover (seed 1) at 0.6 px with the default
+// 0.3. The filter takes the noise it measures (0.589 px), and rejects the mistracked tracks and 2
+// good ones; judged at the stated noise it rejected 107 good tracks.
+TEST(OnlineFilter, TracksNoisierThanStatedAreJudgedAtTheirOwnNoise) {
+  sim::SimulationOptions options;
+  options.scenario = "rover";
+  options.tracking_noise_px = 0.6;
+  const sim::Dataset d = sim::simulate(options);
+  const auto frames = observations_by_frame(d.observations);
+  std::set<int> mistracked;
+  for (const sim::OutlierTruth& o : d.outliers) mistracked.insert(o.track);
+  // Good tracks rejected, and the noise taken at the end.
+  const auto run = [&](bool measure_noise) {
+    FilterSettings settings;
+    settings.measure_noise = measure_noise;
+    OnlineFilter filter(d.camera, settings);
+    for (size_t f = 0; f < frames.size(); ++f)
+      EXPECT_TRUE(filter.process_frame(static_cast<int>(f), frames[f]));
+    int good = 0;
+    for (const RejectedTrack& r : filter.rejected()) good += !mistracked.count(r.track);
+    return std::make_pair(good, filter.pixel_sigma());
+  };
+  const auto [good_rejected, noise_px] = run(true);
+  std::printf("measured %.3f px, %d good tracks rejected\n", noise_px, good_rejected);
+  EXPECT_NEAR(noise_px, 0.6, 0.12);
+  EXPECT_LE(good_rejected, 2);
+  const auto [good_rejected_at_stated, stated_px] = run(false);
+  std::printf("at the stated noise: %d good tracks rejected\n", good_rejected_at_stated);
+  EXPECT_EQ(stated_px, 0.3);
+  EXPECT_GE(good_rejected_at_stated, 10);
+}
+
+// Tracks quieter than stated leave the noise as stated (the covariance published is the user's).
+TEST(OnlineFilter, TracksQuieterThanStatedKeepTheStatedNoise) {
+  sim::SimulationOptions options;
+  options.scenario = "crane";
+  const sim::Dataset d = sim::simulate(options);  // 0.2 px
+  const auto frames = observations_by_frame(d.observations);
+  OnlineFilter filter(d.camera, FilterSettings{});
+  for (size_t f = 0; f < frames.size(); ++f)
+    ASSERT_TRUE(filter.process_frame(static_cast<int>(f), frames[f]));
+  EXPECT_EQ(filter.pixel_sigma(), 0.3);
+}
+
 // On a drive, what leaves the filter is handed over as it goes, and the filter keeps only the
 // latest kept_history of it: its memory does not grow with the drive.
 TEST(OnlineFilter, HandsOverWhatLeavesAndKeepsABoundedHistory) {

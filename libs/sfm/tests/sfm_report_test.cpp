@@ -54,10 +54,17 @@ TEST(SfmReport, ScaleLineSaysHeldWhereverTheBatchHeldIt) {
 TEST(SfmReport, OutliersPhraseCountsWhatTheBatchTookBack) {
   SfmResult result;
   result.outliers.resize(3);
-  EXPECT_EQ(outliers_phrase(result), "outlier tracks 3");
+  EXPECT_EQ(outliers_phrase(result, 0.3), "outlier tracks 3");
   result.taken_back = 2;
-  EXPECT_EQ(outliers_phrase(result),
+  EXPECT_EQ(outliers_phrase(result, 0.3),
             "outlier tracks 3 (the batch took back 2 that the filter had rejected)");
+  result.online_noise_px = 0.3;
+  EXPECT_EQ(outliers_phrase(result, 0.3),
+            "outlier tracks 3 (the batch took back 2 that the filter had rejected)");
+  result.online_noise_px = 0.52;
+  EXPECT_EQ(outliers_phrase(result, 0.3),
+            "outlier tracks 3 (the batch took back 2 that the filter had rejected) (judged at the "
+            "tracks' measured noise, 0.52 px per coordinate, where pixel_sigma says 0.3)");
 }
 
 TEST(SfmReport, BatchLineGivesTheSolveAndItsResiduals) {

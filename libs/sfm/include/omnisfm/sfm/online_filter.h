@@ -79,6 +79,12 @@ struct FilterSettings {
   // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
   // sensors the fused batch's too (fused_pipeline.h).
   double pixel_sigma = 0.3;
+  // Whether the filter measures the tracks' noise, and takes it where it is well beyond
+  // pixel_sigma: a noise understated by half makes the chi-square test reject good tracks by the
+  // dozen. From the median of the established points' outlier scores over the last
+  // kNoiseWindow measurements, against chi-square(2)'s median (2 ln 2); taken where the variance
+  // it implies is more than twice pixel_sigma's, never below pixel_sigma.
+  bool measure_noise = true;
   double rotation_walk_sigma = 0.05;     // radians per frame
   double translation_walk_sigma = 0.05;  // metres per frame
   double initial_depth = 2.0;            // radius of the initialisation sphere, metres
@@ -283,6 +289,9 @@ class OnlineFilter {
   // a distance (MotionPrediction::measures_distance), the wheels' scale estimated or not; the
   // map made before then keeps its scale and the term leaves at once.
   double vision_scale_log_sigma() const;
+  // The tracks' noise the filter takes, pixels per coordinate: pixel_sigma, or what it measured
+  // where that is well beyond (FilterSettings::measure_noise).
+  double pixel_sigma() const { return settings_.pixel_sigma * noise_scale_; }
   // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
   // covariance.
   const Eigen::Vector3d& gyro_bias() const { return state_.mean.sensors.gyro_bias; }
@@ -475,6 +484,14 @@ class OnlineFilter {
   // smoothed start's solve (CatadioptricCamera::with_wider_patch).
   camera::CatadioptricCamera prediction_camera_;
   FilterSettings settings_;
+  // The established points' recent outlier scores (a ring), and the factor on pixel_sigma they
+  // call for (FilterSettings::measure_noise).
+  std::vector<double> recent_scores_;
+  std::size_t recent_next_ = 0;
+  double noise_scale_ = 1;
+  void measure_noise(const std::vector<double>& established_scores);
+  // How far a pixel may be from a solution that explains it, at the noise the filter takes.
+  double residual_limit_px() const;
   LinearisationPoints linearisation_points_;
   int frame_ = 0;           // the frame being processed
   int previous_frame_ = 0;  // and the one before

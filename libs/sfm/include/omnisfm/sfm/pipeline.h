@@ -53,6 +53,9 @@ struct SfmResult {
   // batch_outliers is off): a solution that does not fit the tracks would reject good ones.
   std::string retest_skipped;
   double online_seconds = 0;
+  // The tracks' noise the filter took at the last frame, pixels per coordinate: pixel_sigma, or
+  // what it measured where well beyond (FilterSettings::measure_noise).
+  double online_noise_px = NAN;
   BatchResult batch;
   // With the vehicle's motion sensors (run_fused_sfm, fused_pipeline.h):
   bool world_is_enu = false;           // the world is the GPS's local ENU frame, else the first camera's

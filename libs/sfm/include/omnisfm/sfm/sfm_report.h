@@ -9,8 +9,12 @@
 
 namespace omnisfm::sfm {
 
-// "outlier tracks N", and how many of the filter's rejections the batch took back.
-std::string outliers_phrase(const SfmResult& result);
+// "outlier tracks N", how many of the filter's rejections the batch took back, and the noise
+// they were judged at where the filter measured more than `stated_noise_px` (pixel_sigma).
+std::string outliers_phrase(const SfmResult& result, double stated_noise_px);
+
+// " (judged at the tracks' measured noise, ...)" where `taken_px` is beyond `stated_px`, else "".
+std::string measured_noise_phrase(double taken_px, double stated_px);
 
 // The batch's solve, ending in a newline: "batch: converged in N iterations, S s; RMS a -> b px
 // per coordinate (the solver's message)".
