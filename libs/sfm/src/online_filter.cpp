@@ -29,6 +29,11 @@ constexpr int kEstablishedUpdates = 2;
 // needs first.
 constexpr std::size_t kNoiseWindow = 400;
 constexpr std::size_t kMinScoresForNoise = 30;
+// The variance over the stated one beyond which the measured noise is taken, below which it is
+// let go, and the largest factor on the stated noise taken.
+constexpr double kTakeNoiseRatio = 2;
+constexpr double kLetGoNoiseRatio = 1.5;
+constexpr double kMaxNoiseScale = 10;
 
 }  // namespace
 
@@ -579,9 +584,12 @@ double OnlineFilter::residual_limit_px() const {
 }
 
 void OnlineFilter::measure_noise(const std::vector<double>& established_scores) {
-  // Kept at pixel_sigma's scale, whatever noise they were scored at (an established point's
-  // score goes as one over the noise's variance).
+  // Kept at pixel_sigma's scale, whatever noise they were scored at: an established point's
+  // score goes about as one over the noise's variance (exactly where the prediction's own
+  // variance is small beside it; otherwise the first measure is pulled toward the stated noise,
+  // and later ones settle on the true one).
   for (const double score : established_scores) {
+    if (!std::isfinite(score)) continue;  // off the mirror: no measure of the noise
     const double at_stated = score * noise_scale_ * noise_scale_;
     if (recent_scores_.size() < kNoiseWindow) {
       recent_scores_.push_back(at_stated);
@@ -592,8 +600,19 @@ void OnlineFilter::measure_noise(const std::vector<double>& established_scores) 
   }
   if (recent_scores_.size() < kMinScoresForNoise) return;
   // A good measurement's score is chi-square(2) at the noise, median 2 ln 2.
-  const double implied_scale2 = core::percentile(recent_scores_, 0.5) / (2 * std::log(2.0));
-  noise_scale_ = implied_scale2 > 2 ? std::sqrt(implied_scale2) : 1.0;
+  take_noise(core::percentile(recent_scores_, 0.5) / (2 * std::log(2.0)));
+}
+
+void OnlineFilter::take_noise(double implied_scale2) {
+  // Taken beyond twice the stated variance, let go below 1.5 times (a median of 400 scores
+  // wobbles by about 7 %, and without the gap the noise taken flipped near the threshold), and
+  // at most kMaxNoiseScale times the stated noise: a filter that has lost its way sees every
+  // track off, and taking that as noise would accept them all.
+  const bool taken = noise_scale_ > 1;
+  if (!(implied_scale2 > (taken ? kLetGoNoiseRatio : kTakeNoiseRatio)))
+    noise_scale_ = 1;
+  else
+    noise_scale_ = std::min(std::sqrt(implied_scale2), kMaxNoiseScale);
 }
 
 bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measurements,
@@ -631,7 +650,7 @@ bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measuremen
         else if (first_pass)
           established.push_back(scores[k]);
       }
-      if (first_pass && settings_.measure_noise) {
+      if (first_pass && settings_.measure_noise) {  // under the chi-square test only
         const double taken = noise_scale_;
         measure_noise(established);
         // Judged again at the noise now taken, before any is rejected.

@@ -321,12 +321,12 @@ bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::M
       poses[i].head<3>().setZero();
     }
     const StartWindow::Worst worst = w->worst_pixel(*this, *x);
-    if (settings_.measure_noise) {
+    if (settings_.measure_noise && settings_.outlier_test == OutlierTest::kChiSquare) {
       // The residuals' median norm, squared, is chi-square(2)'s median (2 ln 2) of the noise's
-      // variance (a little less, for what the window fits).
-      const double implied_scale2 = worst.median_squared_pixels / (2 * std::log(2.0)) /
-                                    (settings_.pixel_sigma * settings_.pixel_sigma);
-      noise_scale_ = implied_scale2 > 2 ? std::sqrt(implied_scale2) : 1.0;
+      // variance (a little less, for what the window fits); the window's pixels weighed at it.
+      take_noise(worst.median_squared_pixels / (2 * std::log(2.0)) /
+                 (settings_.pixel_sigma * settings_.pixel_sigma));
+      w->pixel_weight = 1 / (pixel_sigma() * pixel_sigma());
     }
     if (!(worst.pixels > residual_limit_px())) {
       *A = w->normal_equations(&problem, x, &poses);

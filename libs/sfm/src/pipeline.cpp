@@ -244,10 +244,12 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (kept.empty())
     throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
                              std::to_string(rejected.size()) + " as outliers");
-  // The pixels' noise weighs them against the sensors' terms (alone it is not read: the
-  // camera's prior is weighed at the noise the batch measures).
+  // The pixels' noise (the filter's, where it measured more) weighs them against the sensors'
+  // terms (alone it is not read: the camera's prior is weighed at the noise the batch measures).
   BatchSettings batch = settings.batch;
-  batch.pixel_sigma = settings.filter.pixel_sigma;
+  batch.pixel_sigma = settings.filter.measure_noise
+                          ? std::max(settings.filter.pixel_sigma, result->online_noise_px)
+                          : settings.filter.pixel_sigma;
   result->batch = batch_adjust_with_terms(camera, observations_of(kept), online_cam_from_world,
                                           result->online_points, batch, extra);
   // Under the chi-square rule the limit is in sigmas of the noise, at the filter's where it

@@ -77,13 +77,16 @@ enum class OriginTurnsWithCamera {
 
 struct FilterSettings {
   // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
-  // sensors the fused batch's too (fused_pipeline.h).
+  // sensors the fused batch's too (fused_pipeline.h); with measure_noise, where the tracks are
+  // well noisier, the noise measured instead (OnlineFilter::pixel_sigma()).
   double pixel_sigma = 0.3;
-  // Whether the filter measures the tracks' noise, and takes it where it is well beyond
-  // pixel_sigma: a noise understated by half makes the chi-square test reject good tracks by the
-  // dozen. From the median of the established points' outlier scores over the last
-  // kNoiseWindow measurements, against chi-square(2)'s median (2 ln 2); taken where the variance
-  // it implies is more than twice pixel_sigma's, never below pixel_sigma.
+  // Under the chi-square outlier test, whether the filter measures the tracks' noise and takes it
+  // where it is well beyond pixel_sigma, for its measurement noise (and so the covariance it
+  // publishes) and its outlier test: a noise understated by half rejected good tracks by the
+  // dozen. From the median of the established points' outlier scores over the last 400
+  // measurements, against chi-square(2)'s median (2 ln 2): taken where the variance it implies
+  // is more than twice pixel_sigma's, let go below 1.5 times, never below pixel_sigma and at
+  // most 10 times it. The smoothed start measures it from its window's residuals.
   bool measure_noise = true;
   double rotation_walk_sigma = 0.05;     // radians per frame
   double translation_walk_sigma = 0.05;  // metres per frame
@@ -490,6 +493,8 @@ class OnlineFilter {
   std::size_t recent_next_ = 0;
   double noise_scale_ = 1;
   void measure_noise(const std::vector<double>& established_scores);
+  // Takes the noise whose variance is `implied_scale2` times the stated one, or lets it go.
+  void take_noise(double implied_scale2);
   // How far a pixel may be from a solution that explains it, at the noise the filter takes.
   double residual_limit_px() const;
   LinearisationPoints linearisation_points_;
