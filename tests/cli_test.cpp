@@ -1450,6 +1450,34 @@ TEST_F(CliTest, RunStreamsTheOnlineEstimatorOnADriveRawlog) {
 }
 #endif
 
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+// Tracks noisier than pixel_sigma says (the simulator's 0.2 px against 0.05) are judged at the
+// noise the filter measures, and every report says so; at the default 0.3 none does.
+TEST_F(CliTest, ReportsSayWhenTheTracksAreJudgedAtTheirMeasuredNoise) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);
+  write("understated.ini", "[sfm]\npixel_sigma = 0.05\n");
+  write("understated_online.ini", "[sfm]\npixel_sigma = 0.05\nbatch = false\n");
+  const std::string phrase = "judged at the tracks' measured noise, 0.";
+  for (const char* command :
+       {"sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config understated.ini --out a",
+        "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config understated_online.ini "
+        "--out b",
+        "run lab/dataset.rawlog --config understated_online.ini --out c"}) {
+    const Outcome run = omnisfm(command);
+    ASSERT_EQ(run.status, 0) << command << "\n" << run.err;
+    const size_t at = run.out.find(phrase);
+    ASSERT_NE(at, std::string::npos) << command << "\n" << run.out;
+    // 0.2 px measured (0.15-0.25), where pixel_sigma says 0.05.
+    const double measured = std::stod(run.out.substr(at + phrase.size() - 2, 6));
+    EXPECT_NEAR(measured, 0.2, 0.05) << command;
+    EXPECT_NE(run.out.find("where pixel_sigma says 0.05"), std::string::npos) << run.out;
+  }
+  const Outcome stated = omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out d");
+  ASSERT_EQ(stated.status, 0) << stated.err;
+  EXPECT_EQ(stated.out.find("measured noise"), std::string::npos) << stated.out;
+}
+#endif
+
 // --slam-rawlog writes the batch's estimate for stock SLAM apps (kf-slam runs on it in the plugin's
 // tests), and is refused, writing nothing, where it cannot be written whole.
 TEST_F(CliTest, RunWritesASlamRawlogOrRefusesIt) {

@@ -145,7 +145,8 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   if (!summary.read.complete()) report << "rawlog damaged: " << summary.read.problem << "\n";
   report << "rawlog " << rawlog << ": " << summary.read.objects << " objects; vision from "
          << summary.vision << "\n"
-         << "frames " << summary.frames << ", outlier tracks " << out.outliers() << "\n"
+         << "frames " << summary.frames << ", outlier tracks " << out.outliers()
+         << sfm::measured_noise_phrase(summary.noise_px, settings.sfm.filter.pixel_sigma) << "\n"
          << "motion sensors: " << summary.odometry << " odometry, " << summary.gyro << " gyro, "
          << summary.gps << " GPS readings (GPS needs the batch: the filter takes odometry and "
                            "gyro)\n"

@@ -8,6 +8,7 @@
 // (a single pass cannot look ahead for tracked features). Damage: the replay stops at the first
 // damaged object, everything before it used, and `read` names it.
 
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -31,6 +32,8 @@ struct OnlineReplaySummary {
   int frames = 0;
   std::size_t odometry = 0, gyro = 0, gps = 0;  // readings met
   RawlogReadResult read;
+  // The tracks' noise the filter took at the end (OnlineFilter::pixel_sigma()); NaN with no filter.
+  double noise_px = NAN;
 };
 
 struct OnlineReplayOutputs {
