@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "filter_linear_algebra.h"
-#include "omnisfm/core/percentile.h"
 #include "so3.h"
 
 namespace omnisfm::sfm {
@@ -578,9 +577,9 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::measurements_of(
 }
 
 double OnlineFilter::residual_limit_px() const {
-  return settings_.outlier_test == OutlierTest::kPixels ? settings_.outlier_threshold_px
-                                                        : std::sqrt(settings_.outlier_chi2) *
-                                                              pixel_sigma();
+  // In pixel_sigmas under the chi-square rule: at the noise taken.
+  return settings_.residual_limit_px() *
+         (settings_.outlier_test == OutlierTest::kPixels ? 1.0 : noise_scale_);
 }
 
 void OnlineFilter::measure_noise(const std::vector<double>& established_scores) {
@@ -600,7 +599,11 @@ void OnlineFilter::measure_noise(const std::vector<double>& established_scores) 
   }
   if (recent_scores_.size() < kMinScoresForNoise) return;
   // A good measurement's score is chi-square(2) at the noise, median 2 ln 2.
-  take_noise(core::percentile(recent_scores_, 0.5) / (2 * std::log(2.0)));
+  // The median in a scratch copy reused frame to frame (no allocation once full).
+  scores_scratch_ = recent_scores_;
+  const auto middle = scores_scratch_.begin() + scores_scratch_.size() / 2;
+  std::nth_element(scores_scratch_.begin(), middle, scores_scratch_.end());
+  take_noise(*middle / (2 * std::log(2.0)));
 }
 
 void OnlineFilter::take_noise(double implied_scale2) {
@@ -647,7 +650,7 @@ bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measuremen
       for (size_t k = 0; k < measurements.size(); ++k) {
         if (state_.anchor(measurements[k].slot).updates < kEstablishedUpdates)
           scores[k] = prior_chi2(measurements[k]);
-        else if (first_pass)
+        else if (first_pass && settings_.measure_noise)
           established.push_back(scores[k]);
       }
       if (first_pass && settings_.measure_noise) {  // under the chi-square test only

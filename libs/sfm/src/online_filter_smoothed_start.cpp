@@ -95,7 +95,8 @@ struct OnlineFilter::StartWindow {
   Eigen::MatrixXd normal_equations(ceres::Problem* problem, StartEstimate* x,
                                    std::vector<PoseBlock>* poses) const;
   // The measurement farthest from its prediction at x.
-  Worst worst_pixel(const OnlineFilter& filter, const StartEstimate& x) const;
+  // With `with_median`, also the residuals' median (Worst::median_squared_pixels).
+  Worst worst_pixel(const OnlineFilter& filter, const StartEstimate& x, bool with_median) const;
   // J_x^T W J_c at x over the measurements, J_c their Jacobians in the considered camera
   // parameters (size() x FilterState::num_camera_params()).
   Eigen::MatrixXd camera_coupling(const OnlineFilter& filter, const StartEstimate& x) const;
@@ -263,7 +264,7 @@ Eigen::MatrixXd OnlineFilter::StartWindow::normal_equations(ceres::Problem* prob
 }
 
 OnlineFilter::StartWindow::Worst OnlineFilter::StartWindow::worst_pixel(
-    const OnlineFilter& filter, const StartEstimate& x) const {
+    const OnlineFilter& filter, const StartEstimate& x, bool with_median) const {
   Worst worst;
   std::vector<double> squared;
   for (int i = 0; i < num_frames(); ++i)
@@ -274,10 +275,10 @@ OnlineFilter::StartWindow::Worst OnlineFilter::StartWindow::worst_pixel(
                             at_placed_origin(x.points.at(o.track)), false, &lin))
         continue;
       const double pixels = (lin.pixel - o.pixel).norm();
-      squared.push_back(pixels * pixels);
+      if (with_median) squared.push_back(pixels * pixels);
       if (pixels > worst.pixels) worst = {pixels, o.track, frames[i].frame};
     }
-  worst.median_squared_pixels = core::percentile(squared, 0.5);
+  if (with_median) worst.median_squared_pixels = core::percentile(squared, 0.5);
   return worst;
 }
 Eigen::MatrixXd OnlineFilter::StartWindow::camera_coupling(const OnlineFilter& filter,
@@ -320,8 +321,10 @@ bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::M
       x->t[i] = poses[i].tail<3>();
       poses[i].head<3>().setZero();
     }
-    const StartWindow::Worst worst = w->worst_pixel(*this, *x);
-    if (settings_.measure_noise && settings_.outlier_test == OutlierTest::kChiSquare) {
+    const bool measure =
+        settings_.measure_noise && settings_.outlier_test == OutlierTest::kChiSquare;
+    const StartWindow::Worst worst = w->worst_pixel(*this, *x, measure);
+    if (measure) {
       // The residuals' median norm, squared, is chi-square(2)'s median (2 ln 2) of the noise's
       // variance (a little less, for what the window fits); the window's pixels weighed at it.
       take_noise(worst.median_squared_pixels / (2 * std::log(2.0)) /

@@ -145,10 +145,6 @@ std::string retest_problem(const BatchResult& batch, std::size_t num_frames, dou
   return "";
 }
 
-}  // namespace
-
-namespace {
-
 // The batch's re-test: with its solution, the tracks it kept that the whole sequence cannot
 // explain, and the tracks the filter rejected that it does.
 struct TrackRetest {
@@ -173,6 +169,11 @@ TrackRetest retest_tracks(const camera::CatadioptricCamera& optimised,
     return true;
   };
   TrackRetest retest;
+  // A kept track fails from the first frame it is found to.
+  const auto fail_at = [&retest](int track, int frame) {
+    const auto [at, first] = retest.failing.emplace(track, frame);
+    if (!first) at->second = std::min(at->second, frame);
+  };
   std::map<int, TrackResidualSum> residual_sums;
   for (const auto& o : tracks) {
     if (!kept.count(o.track)) continue;
@@ -181,31 +182,31 @@ TrackRetest retest_tracks(const camera::CatadioptricCamera& optimised,
     Eigen::Matrix<double, 2, 3> by_point;
     if (point != batch.points.end() && residual_at(o, point->second, &residual, &by_point))
       residual_sums[o.track].add(o.frame, residual, by_point);
-    else if (!retest.failing.count(o.track) || o.frame < retest.failing[o.track])
-      retest.failing[o.track] = o.frame;  // not projected there
+    else
+      fail_at(o.track, o.frame);  // not projected there
   }
-  // The kept tracks beyond the residual limit at a frame, from the first frame they are. Under
-  // the chi-square rule the limit is that many sigmas of the tracks' own noise where it is
-  // larger than stated: tracks noisier than pixel_sigma says would otherwise fail wholesale
-  // (0.5 px noise at the default 0.3 px rejected 515 good tracks of 1,480 in 20 courtyards).
-  const double measured = measured_track_noise_px(residual_sums);
+  // Those that fit at every frame but not over their length (slow drifts).
+  const bool whole_track_test = false_alarm > 0;
+  InconsistentTracks drifting;
+  if (whole_track_test) drifting = inconsistent_tracks(residual_sums, false_alarm, stated_noise_px);
+  // Those beyond the residual limit at a frame. Under the chi-square rule the limit is that many
+  // sigmas of the tracks' own noise where it is larger than stated: tracks noisier than
+  // pixel_sigma says would otherwise fail wholesale (0.5 px noise at the default 0.3 px rejected
+  // 515 good tracks of 1,480 in 20 courtyards).
+  const double measured = whole_track_test ? drifting.measured_noise_px
+                                           : measured_track_noise_px(residual_sums);
   const double limit = threshold_follows_noise && measured > stated_noise_px
                            ? threshold * measured / stated_noise_px
                            : threshold;
-  for (const auto& [track, sum] : residual_sums)
+  for (const auto& [track, sum] : residual_sums) {
+    if (!(sum.worst_px > limit)) continue;
     for (size_t j = 0; j < sum.frames.size(); ++j)
       if (sum.residuals_px[j].norm() > limit) {
-        if (!retest.failing.count(track) || sum.frames[j] < retest.failing[track])
-          retest.failing[track] = sum.frames[j];
+        fail_at(track, sum.frames[j]);
         break;
       }
-  // And those that fit at every frame but not over their length (slow drifts).
-  const bool whole_track_test = false_alarm > 0;
-  InconsistentTracks drifting;
-  if (whole_track_test) {
-    drifting = inconsistent_tracks(residual_sums, false_alarm, stated_noise_px);
-    for (const auto& [track, frame] : drifting.tracks) retest.failing.emplace(track, frame);
   }
+  for (const auto& [track, frame] : drifting.tracks) retest.failing.emplace(track, frame);
   // The left-out tracks it explains, unless they drift too.
   retest.explained = explained_rejections(optimised, tracks, left_out, cam_from_world, limit);
   if (whole_track_test) {
@@ -246,21 +247,21 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
                              std::to_string(rejected.size()) + " as outliers");
   // The pixels' noise (the filter's, where it measured more) weighs them against the sensors'
   // terms (alone it is not read: the camera's prior is weighed at the noise the batch measures).
+  // The tracks' noise: the stated one, or the filter's where it measured more.
+  const double noise_px = settings.filter.measure_noise
+                              ? std::max(settings.filter.pixel_sigma, result->online_noise_px)
+                              : settings.filter.pixel_sigma;
   BatchSettings batch = settings.batch;
-  batch.pixel_sigma = settings.filter.measure_noise
-                          ? std::max(settings.filter.pixel_sigma, result->online_noise_px)
-                          : settings.filter.pixel_sigma;
+  batch.pixel_sigma = noise_px;
   result->batch = batch_adjust_with_terms(camera, observations_of(kept), online_cam_from_world,
                                           result->online_points, batch, extra);
   // Under the chi-square rule the limit is in sigmas of the noise, at the filter's where it
   // measured more than stated (FilterSettings::measure_noise).
-  const bool chi2 = settings.filter.outlier_test == OutlierTest::kChiSquare;
-  const bool follows_noise = chi2 && settings.filter.measure_noise;
-  const double stated_noise_px =
-      follows_noise ? std::max(settings.filter.pixel_sigma, result->online_noise_px)
-                    : settings.filter.pixel_sigma;
+  const bool follows_noise = settings.filter.outlier_test == OutlierTest::kChiSquare &&
+                             settings.filter.measure_noise;
+  const double judged_noise_px = follows_noise ? noise_px : settings.filter.pixel_sigma;
   const double threshold =
-      settings.batch_residual_limit_px() * stated_noise_px / settings.filter.pixel_sigma;
+      settings.batch_residual_limit_px() * judged_noise_px / settings.filter.pixel_sigma;
   if (threshold <= 0) return;
   result->retest_skipped =
       retest_problem(result->batch, online_cam_from_world.size(), threshold);
@@ -272,7 +273,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
     throw std::runtime_error("the batch's refined camera is not a valid camera");
   const TrackRetest retest =
       retest_tracks(optimised, tracks, kept, rejected, result->batch, threshold, follows_noise,
-                    settings.batch_track_false_alarm, stated_noise_px);
+                    settings.batch_track_false_alarm, judged_noise_px);
   if (retest.failing.empty() && retest.explained.empty()) return;
   std::vector<RejectedTrack> outliers;
   for (const auto& r : result->outliers)

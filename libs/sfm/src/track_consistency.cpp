@@ -19,6 +19,15 @@ double track_degrees_of_freedom(const TrackResidualSum& s) { return 2.0 * s.sigh
 }  // namespace
 
 void TrackResidualSum::add(int frame, const Eigen::Vector2d& residual_px) {
+  insert(frame, residual_px);
+}
+
+void TrackResidualSum::add(int frame, const Eigen::Vector2d& residual_px,
+                           const Eigen::Matrix<double, 2, 3>& point_jacobian) {
+  point_jacobians.insert(point_jacobians.begin() + insert(frame, residual_px), point_jacobian);
+}
+
+std::ptrdiff_t TrackResidualSum::insert(int frame, const Eigen::Vector2d& residual_px) {
   ++sightings;
   const double norm = residual_px.norm();
   squared_px2 += norm * norm;
@@ -30,13 +39,7 @@ void TrackResidualSum::add(int frame, const Eigen::Vector2d& residual_px) {
   const auto at = std::upper_bound(frames.begin(), frames.end(), frame) - frames.begin();
   frames.insert(frames.begin() + at, frame);
   residuals_px.insert(residuals_px.begin() + at, residual_px);
-}
-
-void TrackResidualSum::add(int frame, const Eigen::Vector2d& residual_px,
-                           const Eigen::Matrix<double, 2, 3>& point_jacobian) {
-  const auto at = std::upper_bound(frames.begin(), frames.end(), frame) - frames.begin();
-  add(frame, residual_px);
-  point_jacobians.insert(point_jacobians.begin() + at, point_jacobian);
+  return at;
 }
 
 std::vector<double> ramp_statistics(const TrackResidualSum& sum) {
@@ -132,23 +135,35 @@ InconsistentTracks inconsistent_tracks(const std::map<int, TrackResidualSum>& su
   if (std::isfinite(result.measured_noise_px))
     variance = std::max(variance, result.measured_noise_px * result.measured_noise_px);
   // The ramp's noise from each track's whole-length ramp, a chi-square of 2 for a good track, at
-  // the 90th percentile (2 ln 10): a camera a little off makes the residuals smooth where its error is
-  // largest, which the ramp gathers more of than the sum. With fewer tracks the percentile would
-  // be the worst track's own, and hide it. (Leaving out the tracks that fail the sum leaves out
-  // those a camera far off bends most: 3 more good tracks rejected in 20 courtyards.)
-  double ramp_variance = variance;
+  // the 90th percentile (2 ln 10): a camera a little off makes the residuals smooth where its
+  // error is largest, which the ramp gathers more of than the sum. With fewer than 20 tracks the
+  // percentile would be the worst track's own, and hide it. (Leaving out the tracks that fail the
+  // sum leaves out those a camera far off bends most: 3 more good tracks rejected in 20
+  // courtyards.) Each track's ramps are computed once: the whole-length one for the noise, the
+  // largest for the test.
+  std::map<int, std::pair<double, double>> ramps;  // track -> (whole length, largest)
   std::vector<double> ramp_variances;
-  for (const auto& [track, s] : sums)
+  for (const auto& [track, s] : sums) {
+    const std::vector<double> statistics = ramp_statistics(s);
+    if (statistics.empty()) continue;
+    ramps[track] = {statistics.front(), *std::max_element(statistics.begin(), statistics.end())};
     if (track_degrees_of_freedom(s) >= 3)
-      ramp_variances.push_back(ramp_statistics(s).front() / (2 * std::log(10.0)));
+      ramp_variances.push_back(statistics.front() / (2 * std::log(10.0)));
+  }
+  double ramp_variance = variance;
   if (static_cast<int>(ramp_variances.size()) >= kMinTracksForRampNoise)
     ramp_variance = std::max(variance, core::percentile(ramp_variances, 0.9));
   if (!(variance > 0)) return result;
   result.noise_px = std::sqrt(variance);
   result.ramp_noise_px = std::sqrt(ramp_variance);
-  for (const auto& [track, s] : sums)
-    if (exceeds_its_noise(s, result.noise_px, result.ramp_noise_px, false_alarm))
+  for (const auto& [track, s] : sums) {
+    const auto ramp = ramps.find(track);
+    // The false alarm halved between the two statistics, as in exceeds_its_noise.
+    if (sum_exceeds_its_noise(s, result.noise_px, false_alarm / 2) ||
+        (ramp != ramps.end() && track_degrees_of_freedom(s) >= 1 &&
+         ramp->second.second / ramp_variance > ramp_limit(s, false_alarm / 2)))
       result.tracks[track] = s.worst_frame;
+  }
   return result;
 }
 
@@ -167,11 +182,15 @@ bool sum_exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double 
 
 bool ramp_exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double false_alarm) {
   if (track_degrees_of_freedom(sum) < 1) return false;
+  return largest_ramp_statistic(sum, noise_px) > ramp_limit(sum, false_alarm);
+}
+
+double ramp_limit(const TrackResidualSum& sum, double false_alarm) {
   // Shared among the starts (Bonferroni: the starts' statistics are correlated, so a good track
   // fails less often than this); chi-square with 2 degrees of freedom exceeds -2 ln p with
   // probability p.
   const int starts = std::max(1, sum.sightings - 1);
-  return largest_ramp_statistic(sum, noise_px) > -2 * std::log(false_alarm / starts);
+  return -2 * std::log(false_alarm / starts);
 }
 
 }  // namespace omnisfm::sfm

@@ -122,7 +122,7 @@ TEST(OnlineFilter, TracksNoisierThanStatedAreJudgedAtTheirOwnNoise) {
   };
   const auto [good_rejected, noise_px] = run(true);
   std::printf("measured %.3f px, %d good tracks rejected\n", noise_px, good_rejected);
-  EXPECT_NEAR(noise_px, 0.6, 0.12);
+  EXPECT_NEAR(noise_px, 0.6, 0.05);
   EXPECT_LE(good_rejected, 2);
   const auto [good_rejected_at_stated, stated_px] = run(false);
   std::printf("at the stated noise: %d good tracks rejected\n", good_rejected_at_stated);

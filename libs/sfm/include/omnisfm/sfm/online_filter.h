@@ -489,7 +489,7 @@ class OnlineFilter {
   FilterSettings settings_;
   // The established points' recent outlier scores (a ring), and the factor on pixel_sigma they
   // call for (FilterSettings::measure_noise).
-  std::vector<double> recent_scores_;
+  std::vector<double> recent_scores_, scores_scratch_;
   std::size_t recent_next_ = 0;
   double noise_scale_ = 1;
   void measure_noise(const std::vector<double>& established_scores);

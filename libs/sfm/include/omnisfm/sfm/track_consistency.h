@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <cstddef>
 #include <map>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct TrackResidualSum {
   void add(int frame, const Eigen::Vector2d& residual_px);
   void add(int frame, const Eigen::Vector2d& residual_px,
            const Eigen::Matrix<double, 2, 3>& point_jacobian);
+
+ private:
+  std::ptrdiff_t insert(int frame, const Eigen::Vector2d& residual_px);  // where it went
 };
 
 struct InconsistentTracks {
@@ -71,6 +75,10 @@ bool sum_exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double 
 
 // The ramp's test alone: exceeded by a good track with probability at most `false_alarm`.
 bool ramp_exceeds_its_noise(const TrackResidualSum& sum, double noise_px, double false_alarm);
+
+// The largest ramp statistic (in units of its variance) a good track exceeds with probability at
+// most `false_alarm`.
+double ramp_limit(const TrackResidualSum& sum, double false_alarm);
 
 // The ramp's statistic from each sighting on, at a noise of 1 (0 where it tells nothing).
 std::vector<double> ramp_statistics(const TrackResidualSum& sum);
