@@ -5,6 +5,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "omnisfm/calib/checkerboard_grid.h"
+
 namespace omnisfm::calib {
 
 namespace {
@@ -24,13 +26,7 @@ std::vector<ViewDirection> view_directions(const BoardSearch& search) {
 // Half the refinement window: big enough to hold the corner's saddle, small enough to stay inside
 // its own squares (a 40 % of the closest neighbour's distance).
 int refinement_half_window(const std::vector<cv::Point2f>& corners, int width_n) {
-  double closest = INFINITY;
-  for (std::size_t k = 0; k < corners.size(); ++k) {
-    if ((k + 1) % width_n != 0) closest = std::min<double>(closest, cv::norm(corners[k + 1] - corners[k]));
-    if (k + width_n < corners.size())
-      closest = std::min<double>(closest, cv::norm(corners[k + width_n] - corners[k]));
-  }
-  return std::clamp(static_cast<int>(0.4 * closest), 2, 10);
+  return std::clamp(static_cast<int>(0.4 * closest_corner_spacing(corners, width_n)), 2, 10);
 }
 
 }  // namespace
@@ -77,15 +73,34 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey) {
   }
   likely.insert(likely.end(), others.begin(), others.end());
   for (std::size_t index : likely) {
-    std::vector<cv::Point2f> corners;
-    if (!cv::findChessboardCornersSB(rendered[index], grid_, corners,
-                                     cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY))
+    std::vector<cv::Point2f> found;
+    cv::Mat meta;  // the board found, a cell per corner: its size
+    if (!cv::findChessboardCornersSB(
+            rendered[index], grid_, found,
+            cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY | cv::CALIB_CB_LARGER, meta))
       continue;
+    const cv::Size found_size = meta.empty() ? grid_ : cv::Size(meta.cols, meta.rows);
+    if (static_cast<std::size_t>(found_size.area()) != found.size()) continue;
     const PerspectiveView& v = view(index);
-    for (cv::Point2f& c : corners) c = v.raw_pixel(c);
-    if (!std::all_of(corners.begin(), corners.end(),
-                     [&](const cv::Point2f& c) { return usable(c, raw_grey.size()); }))
-      continue;
+    for (cv::Point2f& c : found) c = v.raw_pixel(c);
+    // Of a board larger than the grid, the block whose squares the mirror squeezes least: next to
+    // the camera's reflection they shrink to a few pixels, where a corner is easily a square off
+    // (on the Kaidan set, blocks taken where found fitted at 2.6 px, the least squeezed at 0.35).
+    std::vector<cv::Point2f> corners;
+    double widest = 0;
+    for (std::vector<cv::Point2f>& block : grid_blocks(found, found_size, grid_)) {
+      if (!std::all_of(block.begin(), block.end(),
+                       [&](const cv::Point2f& c) { return usable(c, raw_grey.size()); }) ||
+          // Every board found in the vmr, paracatadioptric and Kaidan sets alternates throughout;
+          // one that skipped a row of a Kaidan board, 58 % of its squares.
+          !squares_alternate(raw_grey, block, grid_.width))
+        continue;
+      if (const double spacing = closest_corner_spacing(block, grid_.width); spacing > widest) {
+        widest = spacing;
+        corners = std::move(block);
+      }
+    }
+    if (corners.empty()) continue;
     const int half = refinement_half_window(corners, grid_.width);
     cv::cornerSubPix(raw_grey, corners, cv::Size(half, half), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));

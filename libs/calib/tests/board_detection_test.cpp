@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "omnisfm/calib/board_detection.h"
+#include "omnisfm/calib/checkerboard_grid.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/checkerboard_files.h"
 
@@ -127,7 +128,8 @@ std::vector<double> distances(const std::vector<Eigen::Vector2d>& truth,
 // equiangular camera, facing back at it and tilted 25 degrees; its true corners in *truth.
 constexpr int kWidth = 7, kHeight = 5;
 cv::Mat rendered_board(const camera::CatadioptricCamera& camera, bool mirror_bounds,
-                       std::vector<Eigen::Vector2d>* truth) {
+                       std::vector<Eigen::Vector2d>* truth, int width_n = kWidth,
+                       int height_n = kHeight) {
   constexpr double kSquare = 0.04;
   Eigen::Vector3d origin, direction;
   EXPECT_TRUE(camera.unproject(Eigen::Vector2d(511.5 + 220, 383.5 + 60), &origin, &direction));
@@ -140,9 +142,9 @@ cv::Mat rendered_board(const camera::CatadioptricCamera& camera, bool mirror_bou
   R.col(1) = R.col(2).cross(R.col(0));
   Eigen::Isometry3d cam_from_board = Eigen::Isometry3d::Identity();
   cam_from_board.linear() = R;
-  cam_from_board.translation() = centre - R * Eigen::Vector3d((kWidth - 1) * kSquare / 2,
-                                                               (kHeight - 1) * kSquare / 2, 0);
-  return render_board(camera, cam_from_board, kWidth, kHeight, kSquare, truth, mirror_bounds);
+  cam_from_board.translation() = centre - R * Eigen::Vector3d((width_n - 1) * kSquare / 2,
+                                                               (height_n - 1) * kSquare / 2, 0);
+  return render_board(camera, cam_from_board, width_n, height_n, kSquare, truth, mirror_bounds);
 }
 
 TEST(BoardDetection, ThroughTheModelTheCornersAreWhereTheBoardIs) {
@@ -187,6 +189,53 @@ TEST(BoardDetection, WithoutTheModelTheMirrorIsFoundAndTheCornersToo) {
   const std::vector<double> d = distances(truth, board->corners);
   EXPECT_LT(d[d.size() / 2], 0.07);
   EXPECT_LT(d.back(), 0.15);
+}
+
+std::vector<cv::Point2f> points(const std::vector<Eigen::Vector2d>& pixels) {
+  std::vector<cv::Point2f> p;
+  for (const Eigen::Vector2d& x : pixels)
+    p.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()));
+  return p;
+}
+
+// A board of 11 x 9 corners where 7 x 5 are asked for: of its blocks, the one whose squares the
+// mirror squeezes least, in a grid's order (never mirrored), its corners where the board's are.
+TEST(BoardDetection, OfABoardLargerThanTheGridTheLeastSqueezedBlockIsTaken) {
+  const camera::CatadioptricCamera camera =
+      io::read_camera_file(source_file("share/omnisfm/cameras/equiangular.ini"));
+  std::vector<Eigen::Vector2d> truth;
+  const cv::Mat image = rendered_board(camera, false, &truth, 11, 9);
+  ASSERT_EQ(truth.size(), 99u);
+  BoardDetector detector(camera, cv::Size(kWidth, kHeight));
+  const std::optional<DetectedBoard> board = detector.detect(image);
+  ASSERT_TRUE(board.has_value());
+  ASSERT_EQ(board->corners.size(), static_cast<std::size_t>(kWidth * kHeight));
+  // Each corner found is one of the board's, and in a grid's order: the board's corner (i, j) of
+  // the block's (column c, row r) is (i0, j0) + c a + r b, a and b steps across and down the board.
+  std::vector<Eigen::Vector2i> index;
+  for (const Eigen::Vector2d& c : board->corners) {
+    int nearest = 0;
+    for (int k = 1; k < static_cast<int>(truth.size()); ++k)
+      if ((truth[k] - c).norm() < (truth[nearest] - c).norm()) nearest = k;
+    EXPECT_LT((truth[nearest] - c).norm(), 0.15);
+    index.emplace_back(nearest % 11, nearest / 11);
+  }
+  const Eigen::Vector2i a = index[1] - index[0], b = index[kWidth] - index[0];
+  EXPECT_EQ(a.cwiseAbs().sum(), 1);
+  EXPECT_EQ(b.cwiseAbs().sum(), 1);
+  EXPECT_EQ(a.dot(b), 0);
+  for (int r = 0; r < kHeight; ++r)
+    for (int c = 0; c < kWidth; ++c)
+      EXPECT_EQ(index[r * kWidth + c], index[0] + c * a + r * b) << r << " " << c;
+  // The widest of the board's blocks: measured, 9.75 px between its closest corners (the
+  // narrowest block's 8.09), and the block found 9.77.
+  double widest = 0, narrowest = INFINITY;
+  for (const auto& block : grid_blocks(points(truth), {11, 9}, {kWidth, kHeight})) {
+    widest = std::max(widest, closest_corner_spacing(block, kWidth));
+    narrowest = std::min(narrowest, closest_corner_spacing(block, kWidth));
+  }
+  EXPECT_NEAR(closest_corner_spacing(points(board->corners), kWidth), widest, 0.2)
+      << "narrowest " << narrowest;
 }
 
 class RealImages : public ::testing::Test {
