@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "omnisfm/camera/camera_kinds.h"
 #include "omnisfm/calib/board_detection.h"
 #include "omnisfm/calib/calibration_views.h"
@@ -39,8 +41,7 @@
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/checkerboard_files.h"
 #include "omnisfm/sim/scenario.h"
-
-#include <opencv2/imgcodecs.hpp>
+#include "omnisfm/track/image_sequence.h"
 
 namespace {
 
@@ -336,20 +337,17 @@ void print_row(const std::string& set, const std::string& method, const Fit& fit
               fit.note.c_str());
 }
 
-// The boards in a folder of images, found as `omnisfm detect-corners` finds them (the mirror on
-// their mean), written to `path` as corners.vnl; returns `path`.
+// The boards in a folder of images, found as `omnisfm detect-corners` finds them (read as it
+// reads them, the mirror on their mean), written to `path` as corners.vnl; returns `path`.
 std::string detected_corners(const std::string& folder, cv::Size grid, const std::string& path) {
-  std::vector<fs::path> images;
-  for (const auto& entry : fs::directory_iterator(folder))
-    if (entry.path().extension() == ".jpg") images.push_back(entry.path());
-  std::sort(images.begin(), images.end());
   omnisfm::calib::MeanImage mean;
-  for (const fs::path& image : images) mean.add(cv::imread(image.string(), cv::IMREAD_GRAYSCALE));
+  omnisfm::track::SequenceFrame frame;
+  for (omnisfm::track::ImageSequence images(folder); images.next(&frame);) mean.add(frame.image);
   omnisfm::calib::BoardDetector detector(omnisfm::calib::find_mirror_image(mean.mean()), grid);
   std::vector<omnisfm::io::ImageCorners> found;
-  for (const fs::path& image : images) {
-    const auto board = detector.detect(cv::imread(image.string(), cv::IMREAD_GRAYSCALE));
-    omnisfm::io::ImageCorners corners{image.filename().string(), {}, {}, 0};
+  for (omnisfm::track::ImageSequence images(folder); images.next(&frame);) {
+    const auto board = detector.detect(frame.image);
+    omnisfm::io::ImageCorners corners{fs::path(frame.file).filename().string(), {}, {}, 0};
     if (board) {
       corners.pixels = board->corners;
       corners.detected.assign(corners.pixels.size(), true);
@@ -368,7 +366,9 @@ void real_data(const std::string& root) {
   const std::vector<std::string> groups = {"mirror-pose", "intrinsics", "mirror-shape"};
   const std::string kaidan_corners =
       detected_corners(root + "/kaidan", cv::Size(7, 5),
-                       (fs::temp_directory_path() / "omnisfm-kaidan-corners.vnl").string());
+                       (fs::temp_directory_path() /
+                        ("omnisfm-kaidan-corners-" + std::to_string(getpid()) + ".vnl"))
+                           .string());
   // The Kaidan board's square is not published; 30 mm is assumed, which scales its poses only.
   // mrcal's seeding fails on every fold from the rule's focal length (76 px for its picture's
   // edge at 218 px) and takes 120.
@@ -413,6 +413,7 @@ void real_data(const std::string& root) {
     std::fprintf(stderr, "%s: %.1f s\n", set.name.c_str(),
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
+  fs::remove(kaidan_corners);
   std::printf(
       "\nomnisfm starts from share/omnisfm/cameras/<set>-initial.ini and estimates the groups "
       "named\n(less what parameter_gauge.h holds); 'rejection': residuals beyond 4 sigma "

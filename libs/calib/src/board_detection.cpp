@@ -12,6 +12,10 @@ namespace omnisfm::calib {
 namespace {
 
 constexpr double kRadiansPerDegree = M_PI / 180;
+// A block is taken only where this share of its pairs of neighbouring squares alternate as a
+// checkerboard's (checkerboard_grid.h): every block of the boards found in the vmr,
+// paracatadioptric and Kaidan sets scores 1, a grid that skipped rows of a Kaidan board 0.42.
+constexpr double kMinAlternatingShare = 0.8;
 
 std::vector<ViewDirection> view_directions(const BoardSearch& search) {
   std::vector<ViewDirection> directions;
@@ -81,19 +85,19 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey) {
       continue;
     const cv::Size found_size = meta.empty() ? grid_ : cv::Size(meta.cols, meta.rows);
     if (static_cast<std::size_t>(found_size.area()) != found.size()) continue;
+    order_clockwise(&found, found_size);
     const PerspectiveView& v = view(index);
     for (cv::Point2f& c : found) c = v.raw_pixel(c);
-    // Of a board larger than the grid, the block whose squares the mirror squeezes least: next to
-    // the camera's reflection they shrink to a few pixels, where a corner is easily a square off
-    // (on the Kaidan set, blocks taken where found fitted at 2.6 px, the least squeezed at 0.35).
+    // Of a board larger than the grid (OpenCV returns one only where it holds the grid turned a
+    // quarter too), the block whose squares the mirror squeezes least: next to the camera's
+    // reflection they shrink to a few pixels, where a corner is easily a square off (on the
+    // Kaidan set, blocks taken as found fitted at 2.6 px, the least squeezed at 0.33).
     std::vector<cv::Point2f> corners;
     double widest = 0;
     for (std::vector<cv::Point2f>& block : grid_blocks(found, found_size, grid_)) {
       if (!std::all_of(block.begin(), block.end(),
                        [&](const cv::Point2f& c) { return usable(c, raw_grey.size()); }) ||
-          // Every board found in the vmr, paracatadioptric and Kaidan sets alternates throughout;
-          // one that skipped a row of a Kaidan board, 58 % of its squares.
-          !squares_alternate(raw_grey, block, grid_.width))
+          alternating_share(raw_grey, block, grid_.width) < kMinAlternatingShare)
         continue;
       if (const double spacing = closest_corner_spacing(block, grid_.width); spacing > widest) {
         widest = spacing;

@@ -30,6 +30,17 @@ std::vector<std::vector<cv::Point2f>> grid_blocks(const std::vector<cv::Point2f>
   return blocks;
 }
 
+void order_clockwise(std::vector<cv::Point2f>* found, cv::Size found_size) {
+  CV_Assert(static_cast<std::size_t>(found_size.area()) == found->size());
+  const int cols = found_size.width;
+  if (cols < 2 || found_size.height < 2) return;
+  const std::vector<cv::Point2f>& c = *found;
+  const cv::Point2f across = c[1] - c[0], down = c[static_cast<std::size_t>(cols)] - c[0];
+  if (across.x * down.y - across.y * down.x >= 0) return;
+  for (int r = 0; r < found_size.height; ++r)
+    std::reverse(found->begin() + r * cols, found->begin() + (r + 1) * cols);
+}
+
 double closest_corner_spacing(const std::vector<cv::Point2f>& corners, int width_n) {
   double closest = INFINITY;
   for (std::size_t k = 0; k < corners.size(); ++k) {
@@ -41,36 +52,45 @@ double closest_corner_spacing(const std::vector<cv::Point2f>& corners, int width
   return closest;
 }
 
-bool squares_alternate(const cv::Mat& grey, const std::vector<cv::Point2f>& corners, int width_n,
-                       double min_share) {
+double alternating_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
+                         int width_n) {
   CV_Assert(grey.type() == CV_8UC1 && width_n >= 2 && corners.size() % width_n == 0);
   const int height_n = static_cast<int>(corners.size()) / width_n;
-  if (height_n < 2) return false;
+  if (height_n < 2) return 0;
   const auto at = [&](int r, int c) { return corners[static_cast<std::size_t>(r * width_n + c)]; };
-  cv::Mat centres(height_n - 1, width_n - 1, CV_64F);
+  // Per square, its darkest and its lightest sample.
+  cv::Mat darkest(height_n - 1, width_n - 1, CV_64F), lightest(height_n - 1, width_n - 1, CV_64F);
   for (int r = 0; r + 1 < height_n; ++r)
     for (int c = 0; c + 1 < width_n; ++c) {
-      const cv::Point2f centre =
-          0.25f * (at(r, c) + at(r, c + 1) + at(r + 1, c) + at(r + 1, c + 1));
-      cv::Mat patch;
-      cv::getRectSubPix(grey, cv::Size(3, 3), centre, patch, CV_32F);
-      centres.at<double>(r, c) = cv::mean(patch)[0];
+      const cv::Point2f corner[4] = {at(r, c), at(r, c + 1), at(r + 1, c), at(r + 1, c + 1)};
+      const cv::Point2f centre = 0.25f * (corner[0] + corner[1] + corner[2] + corner[3]);
+      double low = INFINITY, high = -INFINITY;
+      for (const cv::Point2f& k : corner) {
+        cv::Mat patch;
+        cv::getRectSubPix(grey, cv::Size(1, 1), 0.6f * centre + 0.4f * k, patch, CV_32F);
+        low = std::min<double>(low, patch.at<float>(0, 0));
+        high = std::max<double>(high, patch.at<float>(0, 0));
+      }
+      darkest.at<double>(r, c) = low;
+      lightest.at<double>(r, c) = high;
     }
-  // Counted with the first square taken as the darker, then as the lighter; a pair alike (a glare
-  // over both) counts for neither.
-  int pairs = 0, first_darker = 0, first_lighter = 0;
-  const auto count = [&](double step, double parity) {
+  // Counted with the first square taken as dark, then as light.
+  int pairs = 0, first_dark = 0, first_light = 0;
+  const auto count = [&](int r, int c, int r2, int c2) {
     ++pairs;
-    first_darker += parity * step > 0;
-    first_lighter += parity * step < 0;
+    const bool dark_here = (r + c) % 2 == 0;  // under the first count
+    const auto apart = [&](int dr, int dc, int lr, int lc) {
+      return lightest.at<double>(dr, dc) < darkest.at<double>(lr, lc);
+    };
+    first_dark += dark_here ? apart(r, c, r2, c2) : apart(r2, c2, r, c);
+    first_light += dark_here ? apart(r2, c2, r, c) : apart(r, c, r2, c2);
   };
-  for (int r = 0; r < centres.rows; ++r)
-    for (int c = 0; c < centres.cols; ++c) {
-      const double parity = (r + c) % 2 == 0 ? 1 : -1;
-      if (c + 1 < centres.cols) count(centres.at<double>(r, c + 1) - centres.at<double>(r, c), parity);
-      if (r + 1 < centres.rows) count(centres.at<double>(r + 1, c) - centres.at<double>(r, c), parity);
+  for (int r = 0; r + 1 < height_n; ++r)
+    for (int c = 0; c + 1 < width_n; ++c) {
+      if (c + 2 < width_n) count(r, c, r, c + 1);
+      if (r + 2 < height_n) count(r, c, r + 1, c);
     }
-  return pairs > 0 && std::max(first_darker, first_lighter) >= min_share * pairs;
+  return pairs > 0 ? static_cast<double>(std::max(first_dark, first_light)) / pairs : 0;
 }
 
 }  // namespace omnisfm::calib

@@ -3,8 +3,9 @@
 // detector (mrgingham's and OpenCV's fail on them). Each image is looked at through virtual
 // perspective views (perspective_view.h) at several azimuths, elevations and fields of view; in
 // one of them the board is nearly straight and OpenCV's sector-based detector finds it. Of a board
-// larger than the grid asked for, the block the mirror squeezes least is taken, among those whose
-// squares alternate as a checkerboard's (checkerboard_grid.h). Its corners are mapped back
+// it finds larger than the grid asked for, the block the mirror squeezes least is taken, among
+// those whose squares alternate as a checkerboard's (checkerboard_grid.h), ordered as a board of
+// the grid's size comes. Its corners are mapped back
 // through the view's table and refined on the raw image, so that no approximation of the views
 // is left in them.
 

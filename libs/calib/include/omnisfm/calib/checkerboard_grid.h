@@ -16,14 +16,25 @@ namespace omnisfm::calib {
 std::vector<std::vector<cv::Point2f>> grid_blocks(const std::vector<cv::Point2f>& found,
                                                   cv::Size found_size, cv::Size grid);
 
+// Orders a board found in an image (x right, y down; `found` row by row over found_size) so that
+// its first step down is a quarter turn clockwise from its first step across, as OpenCV orders a
+// board of exactly the pattern's size: one it finds larger comes mirrored, each row reversed.
+// (For a planar board a mirrored order is the board turned over, which fits as well; the same
+// order for every board keeps their poses alike.)
+void order_clockwise(std::vector<cv::Point2f>* found, cv::Size found_size);
+
 // The smallest distance between neighbouring corners (across or down) of a grid width_n wide.
 double closest_corner_spacing(const std::vector<cv::Point2f>& corners, int width_n);
 
-// Whether the squares between the corners alternate dark and light in `grey` (8 bits): each
-// square's centre against its neighbours' across and down, at least `min_share` of the pairs
-// (a glare or a shadow may take a few). A grid that skips a row of the board (its corners real
-// saddles, two squares apart in one place and one in another) fails it.
-bool squares_alternate(const cv::Mat& grey, const std::vector<cv::Point2f>& corners, int width_n,
-                       double min_share = 0.9);
+// How well the squares between the corners are uniform and alternate dark and light in `grey`
+// (8 bits), as a checkerboard's: each square sampled at four points 40 % of the way from its
+// centre to its corners, and the share of the pairs of neighbouring squares (across and down)
+// whose lighter square's darkest sample is lighter than the darker one's lightest, under the
+// better of the two colourings. 1 for a board seen plainly; a glare or a shadow spoils the pairs
+// of a square or two. A grid that skips a row of the board (its corners real saddles, two
+// squares apart in one place and one in another) scores low: a "square" two squares tall holds
+// both greys. 0 for a grid under 2 x 2.
+double alternating_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
+                         int width_n);
 
 }  // namespace omnisfm::calib
