@@ -16,6 +16,11 @@ constexpr double kRadiansPerDegree = M_PI / 180;
 // checkerboard's (checkerboard_grid.h): every block of the boards found in the vmr,
 // paracatadioptric and Kaidan sets scores 1, a grid that skipped rows of a Kaidan board 0.42.
 constexpr double kMinAlternatingShare = 0.8;
+// And only where, along each of its edges, this share of the squares just beyond it alternate
+// with each other and with the block's own (checkerboard_grid.h): every edge of the real sets'
+// blocks scores 1; a grid whose edge ran along a board's border, which a rendered board showed
+// through the parabolic rig 10 px off, about a quarter.
+constexpr double kMinEdgeShare = 0.5;
 
 std::vector<ViewDirection> view_directions(const BoardSearch& search) {
   std::vector<ViewDirection> directions;
@@ -97,7 +102,8 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey) {
     for (std::vector<cv::Point2f>& block : grid_blocks(found, found_size, grid_)) {
       if (!std::all_of(block.begin(), block.end(),
                        [&](const cv::Point2f& c) { return usable(c, raw_grey.size()); }) ||
-          alternating_share(raw_grey, block, grid_.width) < kMinAlternatingShare)
+          alternating_share(raw_grey, block, grid_.width) < kMinAlternatingShare ||
+          weakest_edge_share(raw_grey, block, grid_.width) < kMinEdgeShare)
         continue;
       if (const double spacing = closest_corner_spacing(block, grid_.width); spacing > widest) {
         widest = spacing;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <opencv2/imgproc.hpp>
 
 namespace omnisfm::calib {
@@ -52,6 +53,75 @@ double closest_corner_spacing(const std::vector<cv::Point2f>& corners, int width
   return closest;
 }
 
+namespace {
+
+// A quadrilateral's darkest and lightest grey at four points 40 % of the way from its centre to
+// its corners.
+std::pair<double, double> grey_range(const cv::Mat& grey, const cv::Point2f (&corner)[4]) {
+  const cv::Point2f centre = 0.25f * (corner[0] + corner[1] + corner[2] + corner[3]);
+  double low = INFINITY, high = -INFINITY;
+  for (const cv::Point2f& k : corner) {
+    cv::Mat patch;
+    cv::getRectSubPix(grey, cv::Size(1, 1), 0.6f * centre + 0.4f * k, patch, CV_32F);
+    low = std::min<double>(low, patch.at<float>(0, 0));
+    high = std::max<double>(high, patch.at<float>(0, 0));
+  }
+  return {low, high};
+}
+
+bool apart(const std::pair<double, double>& a, const std::pair<double, double>& b) {
+  return a.second < b.first || b.second < a.first;
+}
+
+}  // namespace
+
+double weakest_edge_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
+                          int width_n) {
+  CV_Assert(grey.type() == CV_8UC1 && width_n >= 2 && corners.size() % width_n == 0);
+  const int height_n = static_cast<int>(corners.size()) / width_n;
+  if (height_n < 2) return 0;
+  const auto at = [&](int r, int c) { return corners[static_cast<std::size_t>(r * width_n + c)]; };
+  // Each edge as its corners in order and, per corner, the next corner inwards.
+  struct Edge {
+    std::vector<cv::Point2f> on, in;
+  };
+  std::vector<Edge> edges(4);
+  for (int c = 0; c < width_n; ++c) {
+    edges[0].on.push_back(at(0, c));
+    edges[0].in.push_back(at(1, c));
+    edges[1].on.push_back(at(height_n - 1, c));
+    edges[1].in.push_back(at(height_n - 2, c));
+  }
+  for (int r = 0; r < height_n; ++r) {
+    edges[2].on.push_back(at(r, 0));
+    edges[2].in.push_back(at(r, 1));
+    edges[3].on.push_back(at(r, width_n - 1));
+    edges[3].in.push_back(at(r, width_n - 2));
+  }
+  double weakest = 1;
+  for (const Edge& e : edges) {
+    std::vector<std::pair<double, double>> outside, inside;
+    for (std::size_t k = 0; k + 1 < e.on.size(); ++k) {
+      const cv::Point2f out_k = 2 * e.on[k] - e.in[k], out_next = 2 * e.on[k + 1] - e.in[k + 1];
+      const cv::Point2f beyond[4] = {e.on[k], e.on[k + 1], out_k, out_next};
+      const cv::Point2f within[4] = {e.on[k], e.on[k + 1], e.in[k], e.in[k + 1]};
+      outside.push_back(grey_range(grey, beyond));
+      inside.push_back(grey_range(grey, within));
+    }
+    int pairs = 0, passed = 0;
+    for (std::size_t k = 0; k < outside.size(); ++k) {
+      ++pairs;
+      passed += apart(outside[k], inside[k]);
+      if (k + 1 < outside.size()) {
+        ++pairs;
+        passed += apart(outside[k], outside[k + 1]);
+      }
+    }
+    weakest = std::min(weakest, static_cast<double>(passed) / pairs);
+  }
+  return weakest;
+}
+
 double alternating_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
                          int width_n) {
   CV_Assert(grey.type() == CV_8UC1 && width_n >= 2 && corners.size() % width_n == 0);
@@ -63,14 +133,7 @@ double alternating_share(const cv::Mat& grey, const std::vector<cv::Point2f>& co
   for (int r = 0; r + 1 < height_n; ++r)
     for (int c = 0; c + 1 < width_n; ++c) {
       const cv::Point2f corner[4] = {at(r, c), at(r, c + 1), at(r + 1, c), at(r + 1, c + 1)};
-      const cv::Point2f centre = 0.25f * (corner[0] + corner[1] + corner[2] + corner[3]);
-      double low = INFINITY, high = -INFINITY;
-      for (const cv::Point2f& k : corner) {
-        cv::Mat patch;
-        cv::getRectSubPix(grey, cv::Size(1, 1), 0.6f * centre + 0.4f * k, patch, CV_32F);
-        low = std::min<double>(low, patch.at<float>(0, 0));
-        high = std::max<double>(high, patch.at<float>(0, 0));
-      }
+      const auto [low, high] = grey_range(grey, corner);
       darkest.at<double>(r, c) = low;
       lightest.at<double>(r, c) = high;
     }

@@ -131,5 +131,22 @@ TEST(CheckerboardGrid, ARealGridsSquaresAlternateAndOneThatSkipsARowDoesNot) {
   EXPECT_EQ(alternating_share(image, picked({0}, seven), 7), 0);
 }
 
+TEST(CheckerboardGrid, AGridWhoseEdgeRunsAlongTheBoardsBorderIsTold) {
+  // A board of 9 x 8 inner corners and its outermost squares, on a white margin.
+  const cv::Mat image = drawn_board(9, 8, 16);
+  EXPECT_DOUBLE_EQ(weakest_edge_share(image, regular_grid(9, 8, 16), 9), 1);
+  // A block inside the board, and one at its corner.
+  EXPECT_DOUBLE_EQ(weakest_edge_share(image, regular_grid(7, 5, 16, 40 + 16, 30 + 16), 7), 1);
+  EXPECT_DOUBLE_EQ(weakest_edge_share(image, regular_grid(7, 5, 16), 7), 1);
+  // The same grid one row up, its top row where the outermost squares meet the margin: its
+  // squares are the board's and alternate, but beyond its top edge is the margin (measured 0.273;
+  // a grid shifted so detected the parabolic rig's boards 10 px off).
+  const std::vector<cv::Point2f> on_border = regular_grid(7, 5, 16, 40, 30 - 16);
+  EXPECT_DOUBLE_EQ(alternating_share(image, on_border, 7), 1);
+  EXPECT_LT(weakest_edge_share(image, on_border, 7), 0.5);
+  // One column left, likewise (0.286).
+  EXPECT_LT(weakest_edge_share(image, regular_grid(7, 5, 16, 40 - 16, 30), 7), 0.5);
+}
+
 }  // namespace
 }  // namespace omnisfm::calib

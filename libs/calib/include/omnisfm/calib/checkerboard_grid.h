@@ -37,4 +37,12 @@ double closest_corner_spacing(const std::vector<cv::Point2f>& corners, int width
 double alternating_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
                          int width_n);
 
+// Of the squares just beyond each edge of the grid: the share of the pairs, along that edge, of
+// such a square and its neighbour beyond, and of it and the grid's own square within, that are
+// apart in grey (the darkest sample of one lighter than the other's lightest), at the weakest
+// of the four edges. A grid whose edge runs along the board's border (corners where the squares
+// meet the white margin, not saddles) scores low there.
+double weakest_edge_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
+                          int width_n);
+
 }  // namespace omnisfm::calib
