@@ -346,16 +346,8 @@ std::string detected_corners(const std::string& folder, cv::Size grid, const std
   omnisfm::calib::BoardDetector detector(omnisfm::calib::find_mirror_image(mean.mean()), grid);
   std::vector<omnisfm::io::ImageCorners> found;
   for (omnisfm::track::ImageSequence images(folder); images.next(&frame);) {
-    const auto board = detector.detect(frame.image);
-    omnisfm::io::ImageCorners corners{fs::path(frame.file).filename().string(), {}, {}, 0};
-    if (board) {
-      corners.pixels = board->corners;
-      corners.detected.assign(corners.pixels.size(), true);
-    } else {
-      corners.pixels.assign(1, Eigen::Vector2d::Constant(NAN));
-      corners.detected.assign(1, false);
-    }
-    found.push_back(std::move(corners));
+    found.push_back(omnisfm::calib::image_corners(fs::path(frame.file).filename().string(),
+                                                  detector.detect(frame.image)));
   }
   omnisfm::io::write_corners(path, found);
   return path;

@@ -58,15 +58,7 @@ std::vector<io::ImageCorners> detect_boards(const std::string& images,
       throw io::InputError(frame.file, 0,
                            "has whitespace in its name, which corners.vnl cannot hold");
     image.board = detector->detect(frame.image);
-    io::ImageCorners corners{image.name, {}, {}, 0};
-    if (image.board) {
-      corners.pixels = image.board->corners;
-      corners.detected.assign(corners.pixels.size(), true);
-    } else {
-      corners.pixels.assign(1, Eigen::Vector2d::Constant(NAN));
-      corners.detected.assign(1, false);
-    }
-    found.push_back(std::move(corners));
+    found.push_back(calib::image_corners(image.name, image.board));
     if (each) each(image);
     progress(static_cast<int>(found.size()), sequence.expected_frames());
   }

@@ -40,6 +40,18 @@ int refinement_half_window(const std::vector<cv::Point2f>& corners, int width_n)
 
 }  // namespace
 
+io::ImageCorners image_corners(const std::string& name, const std::optional<DetectedBoard>& board) {
+  io::ImageCorners corners{name, {}, {}, 0};
+  if (board) {
+    corners.pixels = board->corners;
+    corners.detected.assign(corners.pixels.size(), true);
+  } else {
+    corners.pixels.assign(1, Eigen::Vector2d::Constant(NAN));
+    corners.detected.assign(1, false);
+  }
+  return corners;
+}
+
 BoardDetector::BoardDetector(const MirrorImage& mirror, cv::Size grid, const BoardSearch& search)
     : mirror_(mirror), grid_(grid), search_(search), directions_(view_directions(search)),
       views_(directions_.size()) {}
@@ -101,9 +113,10 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey) {
     double widest = 0;
     for (std::vector<cv::Point2f>& block : grid_blocks(found, found_size, grid_)) {
       if (!std::all_of(block.begin(), block.end(),
-                       [&](const cv::Point2f& c) { return usable(c, raw_grey.size()); }) ||
-          alternating_share(raw_grey, block, grid_.width) < kMinAlternatingShare ||
-          weakest_edge_share(raw_grey, block, grid_.width) < kMinEdgeShare)
+                       [&](const cv::Point2f& c) { return usable(c, raw_grey.size()); }))
+        continue;
+      const SquareChecks squares = check_squares(raw_grey, block, grid_.width);
+      if (squares.alternating < kMinAlternatingShare || squares.weakest_edge < kMinEdgeShare)
         continue;
       if (const double spacing = closest_corner_spacing(block, grid_.width); spacing > widest) {
         widest = spacing;

@@ -55,9 +55,11 @@ double closest_corner_spacing(const std::vector<cv::Point2f>& corners, int width
 
 namespace {
 
+using GreyRange = std::pair<double, double>;  // darkest, lightest
+
 // A quadrilateral's darkest and lightest grey at four points 40 % of the way from its centre to
 // its corners.
-std::pair<double, double> grey_range(const cv::Mat& grey, const cv::Point2f (&corner)[4]) {
+GreyRange grey_range(const cv::Mat& grey, const cv::Point2f (&corner)[4]) {
   const cv::Point2f centre = 0.25f * (corner[0] + corner[1] + corner[2] + corner[3]);
   double low = INFINITY, high = -INFINITY;
   for (const cv::Point2f& k : corner) {
@@ -69,91 +71,86 @@ std::pair<double, double> grey_range(const cv::Mat& grey, const cv::Point2f (&co
   return {low, high};
 }
 
-bool apart(const std::pair<double, double>& a, const std::pair<double, double>& b) {
-  return a.second < b.first || b.second < a.first;
-}
+// Whether `dark`'s lightest sample is darker than `light`'s darkest.
+bool darker(const GreyRange& dark, const GreyRange& light) { return dark.second < light.first; }
+
+bool apart(const GreyRange& a, const GreyRange& b) { return darker(a, b) || darker(b, a); }
 
 }  // namespace
 
-double weakest_edge_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
-                          int width_n) {
+SquareChecks check_squares(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
+                           int width_n) {
   CV_Assert(grey.type() == CV_8UC1 && width_n >= 2 && corners.size() % width_n == 0);
-  const int height_n = static_cast<int>(corners.size()) / width_n;
-  if (height_n < 2) return 0;
-  const auto at = [&](int r, int c) { return corners[static_cast<std::size_t>(r * width_n + c)]; };
-  // Each edge as its corners in order and, per corner, the next corner inwards.
-  struct Edge {
-    std::vector<cv::Point2f> on, in;
+  const int rows = static_cast<int>(corners.size()) / width_n, cols = width_n;
+  SquareChecks checks;
+  if (rows < 2) return checks;
+  // The grid grown by a ring of corners a step beyond each edge, so that its squares are the
+  // grid's own (1 .. rows - 1, 1 .. cols - 1) and around them the ones just beyond its edges.
+  const int grown_cols = cols + 2;
+  std::vector<cv::Point2f> grown(static_cast<std::size_t>((rows + 2) * grown_cols));
+  const auto at = [&](int r, int c) -> cv::Point2f& {
+    return grown[static_cast<std::size_t>(r * grown_cols + c)];
   };
-  std::vector<Edge> edges(4);
-  for (int c = 0; c < width_n; ++c) {
-    edges[0].on.push_back(at(0, c));
-    edges[0].in.push_back(at(1, c));
-    edges[1].on.push_back(at(height_n - 1, c));
-    edges[1].in.push_back(at(height_n - 2, c));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) at(r + 1, c + 1) = corners[static_cast<std::size_t>(r * cols + c)];
+  for (int c = 1; c <= cols; ++c) {
+    at(0, c) = 2 * at(1, c) - at(2, c);
+    at(rows + 1, c) = 2 * at(rows, c) - at(rows - 1, c);
   }
-  for (int r = 0; r < height_n; ++r) {
-    edges[2].on.push_back(at(r, 0));
-    edges[2].in.push_back(at(r, 1));
-    edges[3].on.push_back(at(r, width_n - 1));
-    edges[3].in.push_back(at(r, width_n - 2));
+  for (int r = 0; r <= rows + 1; ++r) {
+    at(r, 0) = 2 * at(r, 1) - at(r, 2);
+    at(r, cols + 1) = 2 * at(r, cols) - at(r, cols - 1);
   }
-  double weakest = 1;
-  for (const Edge& e : edges) {
-    std::vector<std::pair<double, double>> outside, inside;
-    for (std::size_t k = 0; k + 1 < e.on.size(); ++k) {
-      const cv::Point2f out_k = 2 * e.on[k] - e.in[k], out_next = 2 * e.on[k + 1] - e.in[k + 1];
-      const cv::Point2f beyond[4] = {e.on[k], e.on[k + 1], out_k, out_next};
-      const cv::Point2f within[4] = {e.on[k], e.on[k + 1], e.in[k], e.in[k + 1]};
-      outside.push_back(grey_range(grey, beyond));
-      inside.push_back(grey_range(grey, within));
+  std::vector<GreyRange> ranges(static_cast<std::size_t>((rows + 1) * (cols + 1)));
+  const auto square = [&](int i, int j) -> GreyRange& {
+    return ranges[static_cast<std::size_t>(i * (cols + 1) + j)];
+  };
+  for (int i = 0; i <= rows; ++i)
+    for (int j = 0; j <= cols; ++j) {
+      const cv::Point2f corner[4] = {at(i, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1)};
+      square(i, j) = grey_range(grey, corner);
     }
-    int pairs = 0, passed = 0;
-    for (std::size_t k = 0; k < outside.size(); ++k) {
-      ++pairs;
-      passed += apart(outside[k], inside[k]);
-      if (k + 1 < outside.size()) {
-        ++pairs;
-        passed += apart(outside[k], outside[k + 1]);
+
+  // The grid's own squares, counted with its first square taken as dark, then as light.
+  int pairs = 0, first_dark = 0, first_light = 0;
+  const auto count = [&](int i, int j, int i2, int j2) {
+    ++pairs;
+    const bool dark_here = (i + j) % 2 == 0;  // under the first count
+    const GreyRange &here = square(i, j), &next = square(i2, j2);
+    first_dark += dark_here ? darker(here, next) : darker(next, here);
+    first_light += dark_here ? darker(next, here) : darker(here, next);
+  };
+  for (int i = 1; i < rows; ++i)
+    for (int j = 1; j < cols; ++j) {
+      if (j + 1 < cols) count(i, j, i, j + 1);
+      if (i + 1 < rows) count(i, j, i + 1, j);
+    }
+  checks.alternating = pairs > 0 ? static_cast<double>(std::max(first_dark, first_light)) / pairs : 0;
+
+  // Along each edge, the squares beyond it against each other and against the grid's own: from
+  // the square beyond the edge's first stretch, a step along and a step inwards to the grid's.
+  struct Edge {
+    int i, j, di, dj, in_i, in_j, length;
+  };
+  const Edge edges[4] = {{0, 1, 0, 1, 1, 0, cols - 1},
+                         {rows, 1, 0, 1, -1, 0, cols - 1},
+                         {1, 0, 1, 0, 0, 1, rows - 1},
+                         {1, cols, 1, 0, 0, -1, rows - 1}};
+  checks.weakest_edge = 1;
+  for (const Edge& e : edges) {
+    int edge_pairs = 0, passed = 0;
+    for (int k = 0; k < e.length; ++k) {
+      const int i = e.i + k * e.di, j = e.j + k * e.dj;
+      ++edge_pairs;
+      passed += apart(square(i, j), square(i + e.in_i, j + e.in_j));
+      if (k + 1 < e.length) {
+        ++edge_pairs;
+        passed += apart(square(i, j), square(i + e.di, j + e.dj));
       }
     }
-    weakest = std::min(weakest, static_cast<double>(passed) / pairs);
+    checks.weakest_edge = std::min(checks.weakest_edge, static_cast<double>(passed) / edge_pairs);
   }
-  return weakest;
-}
-
-double alternating_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
-                         int width_n) {
-  CV_Assert(grey.type() == CV_8UC1 && width_n >= 2 && corners.size() % width_n == 0);
-  const int height_n = static_cast<int>(corners.size()) / width_n;
-  if (height_n < 2) return 0;
-  const auto at = [&](int r, int c) { return corners[static_cast<std::size_t>(r * width_n + c)]; };
-  // Per square, its darkest and its lightest sample.
-  cv::Mat darkest(height_n - 1, width_n - 1, CV_64F), lightest(height_n - 1, width_n - 1, CV_64F);
-  for (int r = 0; r + 1 < height_n; ++r)
-    for (int c = 0; c + 1 < width_n; ++c) {
-      const cv::Point2f corner[4] = {at(r, c), at(r, c + 1), at(r + 1, c), at(r + 1, c + 1)};
-      const auto [low, high] = grey_range(grey, corner);
-      darkest.at<double>(r, c) = low;
-      lightest.at<double>(r, c) = high;
-    }
-  // Counted with the first square taken as dark, then as light.
-  int pairs = 0, first_dark = 0, first_light = 0;
-  const auto count = [&](int r, int c, int r2, int c2) {
-    ++pairs;
-    const bool dark_here = (r + c) % 2 == 0;  // under the first count
-    const auto apart = [&](int dr, int dc, int lr, int lc) {
-      return lightest.at<double>(dr, dc) < darkest.at<double>(lr, lc);
-    };
-    first_dark += dark_here ? apart(r, c, r2, c2) : apart(r2, c2, r, c);
-    first_light += dark_here ? apart(r2, c2, r, c) : apart(r, c, r2, c2);
-  };
-  for (int r = 0; r + 1 < height_n; ++r)
-    for (int c = 0; c + 1 < width_n; ++c) {
-      if (c + 2 < width_n) count(r, c, r, c + 1);
-      if (r + 2 < height_n) count(r, c, r + 1, c);
-    }
-  return pairs > 0 ? static_cast<double>(std::max(first_dark, first_light)) / pairs : 0;
+  return checks;
 }
 
 }  // namespace omnisfm::calib

@@ -96,7 +96,7 @@ cv::Mat drawn_board(int cols, int rows, int step) {
 TEST(CheckerboardGrid, ARealGridsSquaresAlternateAndOneThatSkipsARowDoesNot) {
   const cv::Mat image = drawn_board(9, 8, 16);
   const std::vector<cv::Point2f> all = regular_grid(9, 8, 16);
-  EXPECT_DOUBLE_EQ(alternating_share(image, all, 9), 1);
+  EXPECT_DOUBLE_EQ(check_squares(image, all, 9).alternating, 1);
   // Corners of chosen rows and columns of the board: real saddles, but two squares apart in
   // places, as the sector-based detector returned them from a bent Kaidan board (its grid scored
   // 0.42 there, every other board of the real sets 1).
@@ -109,43 +109,46 @@ TEST(CheckerboardGrid, ARealGridsSquaresAlternateAndOneThatSkipsARowDoesNot) {
   const std::vector<int> seven = {0, 1, 2, 3, 4, 5, 6};
   // Measured: 0.263 for a row skipped inside, 0.711 for one at the block's edge, 0.235 for a row
   // and a column.
-  EXPECT_LT(alternating_share(image, picked({0, 1, 3, 5, 6}, seven), 7), 0.4);
-  EXPECT_LT(alternating_share(image, picked({0, 2, 3, 4, 5}, seven), 7), 0.8);
-  EXPECT_LT(alternating_share(image, picked({0, 1, 2, 4}, {0, 1, 3, 4, 5}), 5), 0.4);
+  EXPECT_NEAR(check_squares(image, picked({0, 1, 3, 5, 6}, seven), 7).alternating, 0.263, 0.01);
+  EXPECT_NEAR(check_squares(image, picked({0, 2, 3, 4, 5}, seven), 7).alternating, 0.711, 0.01);
+  EXPECT_NEAR(check_squares(image, picked({0, 1, 2, 4}, {0, 1, 3, 4, 5}), 5).alternating, 0.235,
+              0.01);
   // Which colour comes first does not matter: the grid from its second column on.
   std::vector<cv::Point2f> shifted;
   for (int r = 0; r < 8; ++r)
     for (int c = 1; c < 9; ++c) shifted.push_back(all[r * 9 + c]);
-  EXPECT_DOUBLE_EQ(alternating_share(image, shifted, 8), 1);
+  EXPECT_DOUBLE_EQ(check_squares(image, shifted, 8).alternating, 1);
   // A glare over one square of a 7 x 5 block is allowed (measured 0.895); over nine, not
   // (0.605).
   const std::vector<cv::Point2f> block = picked({1, 2, 3, 4, 5}, seven);
   cv::Mat glare = image.clone();
   cv::rectangle(glare, cv::Rect(40 + 3 * 16 + 2, 30 + 2 * 16 + 2, 12, 12), cv::Scalar(250),
                 cv::FILLED);  // a dark square
-  EXPECT_GE(alternating_share(glare, block, 7), 0.8);
+  EXPECT_NEAR(check_squares(glare, block, 7).alternating, 0.895, 0.01);
   cv::rectangle(glare, cv::Rect(40 + 2 * 16 + 2, 30 + 2 * 16 + 2, 3 * 16, 3 * 16), cv::Scalar(250),
                 cv::FILLED);
-  EXPECT_LT(alternating_share(glare, block, 7), 0.8);
+  EXPECT_NEAR(check_squares(glare, block, 7).alternating, 0.605, 0.01);
   // Under two rows there are no squares.
-  EXPECT_EQ(alternating_share(image, picked({0}, seven), 7), 0);
+  EXPECT_EQ(check_squares(image, picked({0}, seven), 7).alternating, 0);
 }
 
 TEST(CheckerboardGrid, AGridWhoseEdgeRunsAlongTheBoardsBorderIsTold) {
   // A board of 9 x 8 inner corners and its outermost squares, on a white margin.
   const cv::Mat image = drawn_board(9, 8, 16);
-  EXPECT_DOUBLE_EQ(weakest_edge_share(image, regular_grid(9, 8, 16), 9), 1);
+  EXPECT_DOUBLE_EQ(check_squares(image, regular_grid(9, 8, 16), 9).weakest_edge, 1);
   // A block inside the board, and one at its corner.
-  EXPECT_DOUBLE_EQ(weakest_edge_share(image, regular_grid(7, 5, 16, 40 + 16, 30 + 16), 7), 1);
-  EXPECT_DOUBLE_EQ(weakest_edge_share(image, regular_grid(7, 5, 16), 7), 1);
+  EXPECT_DOUBLE_EQ(
+      check_squares(image, regular_grid(7, 5, 16, 40 + 16, 30 + 16), 7).weakest_edge, 1);
+  EXPECT_DOUBLE_EQ(check_squares(image, regular_grid(7, 5, 16), 7).weakest_edge, 1);
   // The same grid one row up, its top row where the outermost squares meet the margin: its
   // squares are the board's and alternate, but beyond its top edge is the margin (measured 0.273;
   // a grid shifted so detected the parabolic rig's boards 10 px off).
   const std::vector<cv::Point2f> on_border = regular_grid(7, 5, 16, 40, 30 - 16);
-  EXPECT_DOUBLE_EQ(alternating_share(image, on_border, 7), 1);
-  EXPECT_LT(weakest_edge_share(image, on_border, 7), 0.5);
+  EXPECT_DOUBLE_EQ(check_squares(image, on_border, 7).alternating, 1);
+  EXPECT_NEAR(check_squares(image, on_border, 7).weakest_edge, 0.273, 0.01);
   // One column left, likewise (0.286).
-  EXPECT_LT(weakest_edge_share(image, regular_grid(7, 5, 16, 40 - 16, 30), 7), 0.5);
+  EXPECT_NEAR(check_squares(image, regular_grid(7, 5, 16, 40 - 16, 30), 7).weakest_edge, 0.286,
+              0.01);
 }
 
 }  // namespace

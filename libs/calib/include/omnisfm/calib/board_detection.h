@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "omnisfm/calib/perspective_view.h"
+#include "omnisfm/io/checkerboard_files.h"
 
 namespace omnisfm::calib {
 
@@ -36,6 +37,9 @@ struct DetectedBoard {
   std::vector<Eigen::Vector2d> corners;
   ViewDirection view;  // where it was found
 };
+
+// An image's row block of corners.vnl: the board's corners, or none (`FILE - - -`).
+io::ImageCorners image_corners(const std::string& name, const std::optional<DetectedBoard>& board);
 
 class BoardDetector {
  public:

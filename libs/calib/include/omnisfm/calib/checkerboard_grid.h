@@ -26,23 +26,24 @@ void order_clockwise(std::vector<cv::Point2f>* found, cv::Size found_size);
 // The smallest distance between neighbouring corners (across or down) of a grid width_n wide.
 double closest_corner_spacing(const std::vector<cv::Point2f>& corners, int width_n);
 
-// How well the squares between the corners are uniform and alternate dark and light in `grey`
-// (8 bits), as a checkerboard's: each square sampled at four points 40 % of the way from its
-// centre to its corners, and the share of the pairs of neighbouring squares (across and down)
-// whose lighter square's darkest sample is lighter than the darker one's lightest, under the
-// better of the two colourings. 1 for a board seen plainly; a glare or a shadow spoils the pairs
-// of a square or two. A grid that skips a row of the board (its corners real saddles, two
-// squares apart in one place and one in another) scores low: a "square" two squares tall holds
-// both greys. 0 for a grid under 2 x 2.
-double alternating_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
-                         int width_n);
-
-// Of the squares just beyond each edge of the grid: the share of the pairs, along that edge, of
-// such a square and its neighbour beyond, and of it and the grid's own square within, that are
-// apart in grey (the darkest sample of one lighter than the other's lightest), at the weakest
-// of the four edges. A grid whose edge runs along the board's border (corners where the squares
-// meet the white margin, not saddles) scores low there.
-double weakest_edge_share(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
-                          int width_n);
+// How much the squares in and around a grid look like a checkerboard's in `grey` (8 bits). Each
+// square is sampled at four points 40 % of the way from its centre to its corners; two squares
+// are apart when the darkest sample of one is lighter than the other's lightest.
+struct SquareChecks {
+  // Of the pairs of the grid's own neighbouring squares (across and down), the share apart as a
+  // checkerboard colours them, under the better of its two colourings. 1 for a board seen
+  // plainly; a glare or a shadow spoils the pairs of a square or two. A grid that skips a row of
+  // the board (its corners real saddles, two squares apart in one place and one in another)
+  // scores low: a "square" two squares tall holds both greys.
+  double alternating = 0;
+  // Of the squares just beyond each edge (their outer corners a step on), the share of pairs
+  // apart along that edge, each with its neighbour beyond and with the grid's square within, at
+  // the weakest edge. A grid whose edge runs along the board's border (corners where the squares
+  // meet the white margin, not saddles) scores low there.
+  double weakest_edge = 0;
+};
+// Both 0 for a grid under 2 x 2.
+SquareChecks check_squares(const cv::Mat& grey, const std::vector<cv::Point2f>& corners,
+                           int width_n);
 
 }  // namespace omnisfm::calib
