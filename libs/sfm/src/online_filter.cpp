@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "filter_linear_algebra.h"
+#include "omnisfm/core/percentile.h"
 #include "so3.h"
 
 namespace omnisfm::sfm {
@@ -598,12 +599,8 @@ void OnlineFilter::measure_noise(const std::vector<double>& established_scores) 
     }
   }
   if (recent_scores_.size() < kMinScoresForNoise) return;
-  // A good measurement's score is chi-square(2) at the noise, median 2 ln 2.
-  // The median in a scratch copy reused frame to frame (no allocation once full).
-  scores_scratch_ = recent_scores_;
-  const auto middle = scores_scratch_.begin() + scores_scratch_.size() / 2;
-  std::nth_element(scores_scratch_.begin(), middle, scores_scratch_.end());
-  take_noise(*middle / (2 * std::log(2.0)));
+  // A good measurement's score is chi-square(2) at the noise.
+  take_noise(core::percentile(recent_scores_, 0.5) / kChiSquare2Median);
 }
 
 void OnlineFilter::take_noise(double implied_scale2) {

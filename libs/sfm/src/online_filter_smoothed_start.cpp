@@ -302,6 +302,11 @@ Eigen::MatrixXd OnlineFilter::StartWindow::camera_coupling(const OnlineFilter& f
 bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::MatrixXd* A) {
   // Levenberg-Marquardt, then the paper's rejection on the window: while the worst residual
   // exceeds the threshold, that track goes and the rest is solved again.
+  // Solved again when the noise measured on the solution reweighs the window's pixels, so that
+  // the covariance is the solution's at the weight it was solved at; the noise taken has a gap
+  // between taking and letting go, and a few rounds settle it.
+  constexpr int kMaxReweighings = 3;
+  int reweighings = 0;
   for (;;) {
     w->index.clear();
     for (const auto& [track, p] : x->points)
@@ -327,9 +332,11 @@ bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::M
     if (measure) {
       // The residuals' median norm, squared, is chi-square(2)'s median (2 ln 2) of the noise's
       // variance (a little less, for what the window fits); the window's pixels weighed at it.
-      take_noise(worst.median_squared_pixels / (2 * std::log(2.0)) /
+      const double solved_weight = w->pixel_weight;
+      take_noise(worst.median_squared_pixels / kChiSquare2Median /
                  (settings_.pixel_sigma * settings_.pixel_sigma));
       w->pixel_weight = 1 / (pixel_sigma() * pixel_sigma());
+      if (w->pixel_weight != solved_weight && ++reweighings <= kMaxReweighings) continue;
     }
     if (!(worst.pixels > residual_limit_px())) {
       *A = w->normal_equations(&problem, x, &poses);

@@ -245,23 +245,20 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (kept.empty())
     throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
                              std::to_string(rejected.size()) + " as outliers");
-  // The pixels' noise (the filter's, where it measured more) weighs them against the sensors'
-  // terms (alone it is not read: the camera's prior is weighed at the noise the batch measures).
-  // The tracks' noise: the stated one, or the filter's where it measured more.
-  const double noise_px = settings.filter.measure_noise
-                              ? std::max(settings.filter.pixel_sigma, result->online_noise_px)
-                              : settings.filter.pixel_sigma;
+  // The tracks' noise, the filter's: the stated one, or what it measured where that is more
+  // (FilterSettings::measure_noise). It weighs the pixels against the sensors' terms (alone it is
+  // not read: the camera's prior is weighed at the noise the batch measures).
+  const double noise_px = result->online_noise_px;
   BatchSettings batch = settings.batch;
   batch.pixel_sigma = noise_px;
   result->batch = batch_adjust_with_terms(camera, observations_of(kept), online_cam_from_world,
                                           result->online_points, batch, extra);
-  // Under the chi-square rule the limit is in sigmas of the noise, at the filter's where it
-  // measured more than stated (FilterSettings::measure_noise).
+  // Under the chi-square rule the limit is in sigmas of that noise (the filter measures only
+  // there; under the pixels rule it is the stated one and the limit stays as set).
   const bool follows_noise = settings.filter.outlier_test == OutlierTest::kChiSquare &&
                              settings.filter.measure_noise;
-  const double judged_noise_px = follows_noise ? noise_px : settings.filter.pixel_sigma;
   const double threshold =
-      settings.batch_residual_limit_px() * judged_noise_px / settings.filter.pixel_sigma;
+      settings.batch_residual_limit_px() * noise_px / settings.filter.pixel_sigma;
   if (threshold <= 0) return;
   result->retest_skipped =
       retest_problem(result->batch, online_cam_from_world.size(), threshold);
@@ -273,7 +270,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
     throw std::runtime_error("the batch's refined camera is not a valid camera");
   const TrackRetest retest =
       retest_tracks(optimised, tracks, kept, rejected, result->batch, threshold, follows_noise,
-                    settings.batch_track_false_alarm, judged_noise_px);
+                    settings.batch_track_false_alarm, noise_px);
   if (retest.failing.empty() && retest.explained.empty()) return;
   std::vector<RejectedTrack> outliers;
   for (const auto& r : result->outliers)

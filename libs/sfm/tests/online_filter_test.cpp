@@ -124,9 +124,8 @@ TEST(OnlineFilter, TracksNoisierThanStatedAreJudgedAtTheirOwnNoise) {
   std::printf("measured %.3f px, %d good tracks rejected\n", noise_px, good_rejected);
   EXPECT_NEAR(noise_px, 0.6, 0.05);
   EXPECT_LE(good_rejected, 2);
-  const auto [good_rejected_at_stated, stated_px] = run(false);
+  const int good_rejected_at_stated = run(false).first;
   std::printf("at the stated noise: %d good tracks rejected\n", good_rejected_at_stated);
-  EXPECT_EQ(stated_px, 0.3);
   EXPECT_GE(good_rejected_at_stated, 10);
 }
 
@@ -149,6 +148,8 @@ TEST(OnlineFilter, TheNoiseTakenNearTheThresholdHolds) {
     last = filter.pixel_sigma();
   }
   std::printf("taken in %d of %zu frames, %d switches\n", taken, frames.size(), switches);
+  // Taken, and then held: never taking it would switch nothing.
+  EXPECT_GT(taken, static_cast<int>(frames.size()) / 2);
   EXPECT_LE(switches, 3);
 }
 

@@ -439,6 +439,7 @@ class OnlineFilter {
   Eigen::MatrixXd ray_camera_jacobian(const PointAnchor& anchor, const camera::RayJacobian& ray,
                                       const Eigen::Matrix3d& R) const;
 
+  static constexpr double kChiSquare2Median = 1.3862943611198906;  // 2 ln 2
   // One kilometre: far enough to stand for infinity in any scene the rig maps.
   static constexpr double kMinInverseDepth = 1e-3;
 
@@ -489,7 +490,7 @@ class OnlineFilter {
   FilterSettings settings_;
   // The established points' recent outlier scores (a ring), and the factor on pixel_sigma they
   // call for (FilterSettings::measure_noise).
-  std::vector<double> recent_scores_, scores_scratch_;
+  std::vector<double> recent_scores_;
   std::size_t recent_next_ = 0;
   double noise_scale_ = 1;
   void measure_noise(const std::vector<double>& established_scores);
