@@ -187,6 +187,9 @@ def main():
     parser.add_argument("--filter-only", action="store_true")
     parser.add_argument("--verbose", action="store_true")
     args = parser.parse_args()
+    if not 0 <= args.noise_correlation < 1:
+        parser.error("--noise-correlation must be at least 0 and below 1 (an AR(1) coefficient; "
+                     "1 or more never forgets or grows without bound)")
 
     first, _, last = args.seeds.partition("-")
     seeds = range(int(first), int(last or first) + 1)
