@@ -85,6 +85,8 @@ bool apply(const std::string& assignment, Study* study) {
       {"outlier_chi2", [&](double v) { settings.outlier_chi2 = v; }},
       {"smoothed_start_frames",
        [&](double v) { settings.smoothed_start_frames = static_cast<int>(v); }},
+      {"smoothing_window_frames",
+       [&](double v) { settings.smoothing_window_frames = static_cast<int>(v); }},
       {"origin_turns",
        [&](double v) {
          settings.origin_turns_with_camera =
@@ -195,4 +197,7 @@ int main(int argc_given, char** argv_given) {
               static_cast<int>(seed), rigid.distance_travelled_m,
               rigid.translation_error_percent, rigid.mean_rotation_error_deg,
               similar.translation_error_percent, similar.mean_rotation_error_deg);
+  if (settings.smoothing_window_frames > 0)
+    std::printf("# sliding window: %ld solves taken, %ld refused\n", filter.window_solves(),
+                filter.window_refusals());
 }

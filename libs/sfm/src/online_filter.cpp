@@ -153,6 +153,7 @@ void OnlineFilter::reject(int track, int frame) {
   }
   if (const int slot = state_.slot_of(track); slot >= 0) state_.remove(slot);
   held_points_.erase(track);
+  forget_window_track(track);
   for (EndedPoint& e : history_)
     if (e.track == track) e.rejected = true;
 }
@@ -175,6 +176,10 @@ void OnlineFilter::add_point(int track, const Eigen::Vector2d& pixel) {
   anchor.basis.col(1) = d_W.unitOrthogonal();
   anchor.basis.col(2) = d_W.cross(anchor.basis.col(1));
   if (smoothing_start_) start_anchors_[track] = anchor;
+  if (window_open_) {
+    retire_window_track(track);  // seen before a gap: its earlier sightings are another point's
+    window_starts_[track] = {anchor, static_cast<int>(window_frames_.size()) + 1};
+  }
   PointParams params = PointParams::Zero();
   params[2] = 1 / settings_.initial_depth;
 
@@ -697,8 +702,13 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   const OriginFollowsCamera follows = settings_.origin_follows_camera;
   if ((follows == OriginFollowsCamera::kAlways ||
        (follows == OriginFollowsCamera::kVisionAlone && !motion)) &&
-      !smoothing_start_ && !at_given_points() && camera_far_from_origin())
+      !smoothing_start_ && !at_given_points() && camera_far_from_origin()) {
+    // The window lives in one state frame: it closes before the frame moves, and opens after.
+    const bool window = window_open_ && !motion && window_on();
+    if (window) close_window();
     state_.move_origin_to_camera(!turns_with_camera(settings_, motion != nullptr));
+    if (window) open_window();
+  }
   const SensorStates predicted_at = state_.mean.sensors;
   if (motion)
     propagate(*motion);
@@ -706,16 +716,25 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     propagate();
 
   std::set<int> rejected_slots;
+  std::vector<Measurement> measurements = measurements_of(seen);
+  // The window's pixels: those measured (the rejected leave it) and the new points' first.
+  std::set<int> window_tracks;
+  for (const Measurement& m : measurements) window_tracks.insert(state_.track_of(m.slot));
+  if (motion) predicted_ = true;
   const bool updated =
-      update_rejecting_outliers(measurements_of(seen), motion != nullptr, &rejected_slots);
+      update_rejecting_outliers(std::move(measurements), motion != nullptr, &rejected_slots);
   // Named by track: removing a slot moves another into its place.
   std::vector<int> rejected_tracks;
   for (int slot : rejected_slots) rejected_tracks.push_back(state_.track_of(slot));
   for (int track : rejected_tracks) reject(track, frame);
 
   for (const auto& [track, pixel] : seen)
-    if (state_.slot_of(track) < 0 && !excluded_.count(track)) add_point(track, pixel);
+    if (state_.slot_of(track) < 0 && !excluded_.count(track)) {
+      add_point(track, pixel);
+      window_tracks.insert(track);
+    }
   record_start_frame(frame, observations, motion, predicted_at);
+  record_window_frame(seen, window_tracks);
   return updated;
 }
 

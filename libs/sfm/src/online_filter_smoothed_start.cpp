@@ -3,7 +3,6 @@
 
 #include <ceres/normal_prior.h>
 #include <ceres/problem.h>
-#include <ceres/solver.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCore>
@@ -16,24 +15,6 @@
 
 namespace omnisfm::sfm {
 namespace {
-
-// A window of twenty frames and a hundred points: one thread (a filter runs frame by frame),
-// the points eliminated. Levenberg-Marquardt starting nearly as Gauss-Newton, from the filter's
-// own estimate; stopping once a step lowers the cost by a small fraction of what is left.
-ceres::Solver::Options start_solver_options() {
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_SCHUR;
-  options.num_threads = 1;
-  options.max_num_iterations = 50;
-  options.initial_trust_region_radius = 1e6;
-  options.function_tolerance = 1e-8;
-  options.logging_type = ceres::SILENT;
-  return options;
-}
-
-// Variances below this (a walk sigma of 0: the pose cannot move) are held at it, so that the
-// normal equations stay factorable.
-constexpr double kMinVariance = 1e-12;
 
 // The start solves each point about its anchor with the origin where it was placed: the window's
 // poses carry the origin's uncertainty, and six parameters for three unknowns would leave the
@@ -318,7 +299,7 @@ bool OnlineFilter::solve_start_window(StartWindow* w, StartEstimate* x, Eigen::M
     // The filter's own estimate not projecting there, it is kept.
     if (!problem.Evaluate({}, &cost, nullptr, nullptr, nullptr)) return false;
     ceres::Solver::Summary summary;
-    ceres::Solve(start_solver_options(), &problem, &summary);
+    ceres::Solve(window_solver_options(), &problem, &summary);
     // The solution taken, and the problem re-centred on it (its costs hold x's rotations as
     // their references), so that its Jacobians are the filter's left perturbations there.
     for (int i = 1; i < w->num_frames(); ++i) {

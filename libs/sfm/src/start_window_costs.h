@@ -5,6 +5,7 @@
 // filter's (a left perturbation) times J_left(w).
 
 #include <ceres/cost_function.h>
+#include <ceres/solver.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -16,6 +17,26 @@
 namespace omnisfm::sfm {
 
 using PoseBlock = Eigen::Matrix<double, 6, 1>;
+
+// A window of a few tens of frames and a hundred points: one thread (a filter runs frame by
+// frame), the points eliminated where nothing but measurements ties them (the sliding window's
+// prior ties the points it holds to its first pose, and those stay in the reduced system).
+// Levenberg-Marquardt starting nearly as Gauss-Newton, from the filter's own estimate; stopping
+// once a step lowers the cost by a small fraction of what is left.
+inline ceres::Solver::Options window_solver_options() {
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  options.num_threads = 1;
+  options.max_num_iterations = 50;
+  options.initial_trust_region_radius = 1e6;
+  options.function_tolerance = 1e-8;
+  options.logging_type = ceres::SILENT;
+  return options;
+}
+
+// Variances below this (a walk sigma of 0: the pose cannot move; a translation the state origin's
+// move made exact) are held at it, so that the normal equations stay factorable.
+constexpr double kMinVariance = 1e-12;
 
 inline Eigen::Matrix3d rotation_of(const double* pose, const Eigen::Matrix3d& reference) {
   return so3::exp(Eigen::Map<const Eigen::Vector3d>(pose)) * reference;

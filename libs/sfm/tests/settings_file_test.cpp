@@ -133,7 +133,8 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   for (const char* key :
        {"pixel_sigma", "rotation_walk_sigma", "translation_walk_sigma", "initial_depth",
         "inverse_depth_sigma", "outlier_test", "outlier_chi2", "outlier_threshold_px",
-        "innovation_gate_chi2", "update_iterations", "smoothed_start_frames", "batch",
+        "innovation_gate_chi2", "update_iterations", "smoothed_start_frames",
+        "smoothing_window_frames", "batch",
         "batch_outliers", "batch_outlier_threshold_px", "batch_track_false_alarm", "huber_px",
         "covariances", "max_iterations", "batch_scale_start", "known_distance_m",
         "refine_camera", "consider_camera"})
@@ -152,6 +153,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(f.innovation_gate_chi2, defaults.filter.innovation_gate_chi2);
   EXPECT_EQ(f.update_iterations, defaults.filter.update_iterations);
   EXPECT_EQ(f.smoothed_start_frames, defaults.filter.smoothed_start_frames);
+  EXPECT_EQ(f.smoothing_window_frames, defaults.filter.smoothing_window_frames);
   EXPECT_EQ(read.run_batch, defaults.run_batch);
   EXPECT_EQ(read.batch_outliers, defaults.batch_outliers);
   EXPECT_EQ(read.batch_outlier_threshold_px, defaults.batch_outlier_threshold_px);

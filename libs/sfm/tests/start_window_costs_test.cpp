@@ -1,10 +1,14 @@
-// The smoothed start's Ceres terms: their analytic Jacobians in the (w, t) pose blocks against
-// numeric differentiation, away from w = 0 where J_left(w) matters.
+// The Ceres terms of the smoothed start and of the sliding window: their analytic Jacobians in the
+// (w, t) pose blocks and the points' parameters against numeric differentiation, away from w = 0
+// where J_left(w) matters.
 
 #include "../src/start_window_costs.h"
+#include "../src/window_costs.h"
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <memory>
 #include <random>
 
 #include "jacobian_check.h"
@@ -96,6 +100,104 @@ TEST(StartWindowCosts, ScaleHoldJacobian) {
   std::mt19937_64 rng(5);
   const StartScaleCost cost(2.5, 1e-4);
   expect_jacobians_match(cost, {random_values(rng, 6, 1)}, 1e-7);
+}
+
+// A pixel smooth in the pose and the point's six parameters with exact Jacobians:
+// M (R (A q) + t), whose left-perturbation rotation Jacobian is -M [R A q]x.
+PointPixel random_point_model(std::mt19937_64& rng) {
+  const Eigen::Matrix<double, 2, 3> M =
+      Eigen::Matrix<double, 2, 3>::Map(random_values(rng, 6, 100).data());
+  const Eigen::Matrix<double, 3, 6> A =
+      Eigen::Matrix<double, 3, 6>::Map(random_values(rng, 18, 1).data());
+  return [M, A](const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const PointParams& q,
+                bool jacobians, Eigen::Vector2d* pixel, Eigen::Matrix<double, 2, 6>* J_pose,
+                Eigen::Matrix<double, 2, 6>* J_point) {
+    const Eigen::Vector3d RX = R * (A * q);
+    *pixel = M * (RX + t);
+    if (jacobians) {
+      *J_pose << -M * so3::skew(RX), M;
+      *J_point = M * R * A;
+    }
+    return true;
+  };
+}
+
+TEST(WindowCosts, PixelJacobiansOfAPointThePriorHolds) {
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::Matrix3d R_ref = random_rotation(rng);
+    const std::unique_ptr<WindowPixelCost> cost(
+        WindowPixelCost::of_prior_point(random_point_model(rng), &R_ref, {500, 400}, 0.3));
+    expect_jacobians_match(*cost, {random_values(rng, 6, 0.3), random_values(rng, 6, 1)}, 1e-7);
+  }
+}
+
+// A point started in the window: its origin's offset moves with the pose it was started from,
+// which is another pose of the window or the one it is seen from.
+TEST(WindowCosts, PixelJacobiansOfAPointStartedInTheWindow) {
+  std::mt19937_64 rng(12);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::Matrix3d R_ref = random_rotation(rng), R_start = random_rotation(rng);
+    MovingOrigin origin;
+    origin.in_camera = Eigen::Vector3d::Map(random_values(rng, 3, 0.05).data());
+    origin.placed = Eigen::Vector3d::Map(random_values(rng, 3, 1).data());
+    const std::unique_ptr<WindowPixelCost> from_another(WindowPixelCost::of_started_point(
+        random_point_model(rng), &R_ref, &R_start, origin, {500, 400}, 0.3));
+    expect_jacobians_match(*from_another,
+                           {random_values(rng, 6, 0.3), random_values(rng, 6, 0.3),
+                            random_values(rng, 3, 1)},
+                           1e-7);
+    const std::unique_ptr<WindowPixelCost> from_itself(WindowPixelCost::of_started_point(
+        random_point_model(rng), &R_ref, nullptr, origin, {500, 400}, 0.3));
+    expect_jacobians_match(*from_itself, {random_values(rng, 6, 0.3), random_values(rng, 3, 1)},
+                           1e-7);
+  }
+}
+
+TEST(WindowCosts, TheJointPriorsJacobiansAreItsWhiteningsColumns) {
+  std::mt19937_64 rng(13);
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Map(random_values(rng, 15 * 15, 1).data(), 15, 15);
+  const Eigen::MatrixXd covariance = B * B.transpose() + Eigen::MatrixXd::Identity(15, 15);
+  const Eigen::MatrixXd whitening = Eigen::LLT<Eigen::MatrixXd>(covariance).matrixL().solve(
+      Eigen::MatrixXd::Identity(15, 15));
+  const Eigen::VectorXd mean = Eigen::VectorXd::Map(random_values(rng, 15, 1).data(), 15);
+  const JointPriorCost cost(whitening, mean, {6, 3, 6});
+  const std::vector<double> pose = random_values(rng, 6, 1), point3 = random_values(rng, 3, 1),
+                            point6 = random_values(rng, 6, 1);
+  expect_jacobians_match(cost, {pose, point3, point6}, 1e-7);
+  // Its squared norm is the Mahalanobis distance from the mean.
+  Eigen::VectorXd x(15);
+  x << Eigen::VectorXd::Map(pose.data(), 6), Eigen::VectorXd::Map(point3.data(), 3),
+      Eigen::VectorXd::Map(point6.data(), 6);
+  const double* blocks[] = {pose.data(), point3.data(), point6.data()};
+  Eigen::VectorXd r(15);
+  ASSERT_TRUE(cost.Evaluate(blocks, r.data(), nullptr));
+  EXPECT_NEAR(r.squaredNorm(), (x - mean).dot(covariance.ldlt().solve(x - mean)),
+              1e-9 * r.squaredNorm());
+}
+
+// A started point's ray start follows its pose as the filter's new point does: the offset is zero
+// at the pose it was placed from, and moves as ray_pose_jacobian's offset rows say.
+TEST(WindowCosts, TheMovingOriginIsTheFiltersAnchorOffset) {
+  std::mt19937_64 rng(14);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::Matrix3d R = random_rotation(rng);
+    const Eigen::Vector3d t = Eigen::Vector3d::Map(random_values(rng, 3, 1).data());
+    const Eigen::Vector3d origin = Eigen::Vector3d::Map(random_values(rng, 3, 0.05).data());
+    const Eigen::Vector3d direction =
+        Eigen::Vector3d::Map(random_values(rng, 3, 1).data()).normalized();
+    PointAnchor anchor;
+    anchor.origin = R.transpose() * (origin - t);
+    anchor.basis.col(0) = R.transpose() * direction;
+    anchor.basis.col(1) = anchor.basis.col(0).unitOrthogonal();
+    anchor.basis.col(2) = anchor.basis.col(0).cross(anchor.basis.col(1));
+    MovingOrigin moving;
+    moving.in_camera = origin;
+    moving.placed = anchor.origin;
+    EXPECT_LT(moving.offset(R, t).norm(), 1e-12);
+    const Eigen::Matrix<double, 6, 6> G = ray_pose_jacobian(anchor, R, t, origin, direction);
+    EXPECT_LT((moving.jacobian(R, t) - G.bottomRows<3>()).norm(), 1e-12 * G.norm());
+  }
 }
 
 }  // namespace

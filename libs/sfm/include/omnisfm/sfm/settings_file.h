@@ -3,6 +3,7 @@
 //   pixel_sigma  rotation_walk_sigma  translation_walk_sigma  initial_depth  inverse_depth_sigma
 //   outlier_test (chi2 or pixels)  outlier_chi2  outlier_threshold_px  innovation_gate_chi2
 //   measure_noise (0 or 1)  update_iterations  smoothed_start_frames (0 or >= 2)
+//   smoothing_window_frames (0: off)
 //   batch  (0 or 1)  batch_outliers (0 or 1)  batch_outlier_threshold_px
 //   batch_track_false_alarm (0 <= it < 1)  huber_px
 //   covariances (0 or 1)  max_iterations
