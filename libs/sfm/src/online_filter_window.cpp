@@ -27,6 +27,11 @@ namespace omnisfm::sfm {
 namespace {
 
 
+// A window's solve grows with the cube of the points it holds (the prior ties them all to its
+// first pose): about 30 ms at 30 points, 0.3 s at 110. Beyond this many live points it is not
+// solved; on the simulated rover, with 110, the windows had changed no figure.
+constexpr int kMaxWindowPoints = 60;
+
 }  // namespace
 
 // The window's solution as the filter's restart needs it: the last pose, and per live slot its
@@ -125,7 +130,7 @@ void OnlineFilter::record_window_frame(const std::map<int, Eigen::Vector2d>& see
 }
 
 void OnlineFilter::close_window() {
-  if (!window_open_ || window_frames_.empty()) return;
+  if (!window_open_ || window_frames_.empty() || state_.num_slots() > kMaxWindowPoints) return;
   WindowSolution solution;
   const bool solved = solve_window(&solution);
   if (solved) restart_from_window(solution);

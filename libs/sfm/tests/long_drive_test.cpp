@@ -58,36 +58,40 @@ TEST(LongDrive, OdometryAndGyroHoldOnePercentOverSixHundredMetres) {
 // NEES over the last 5,000 frames 23 / 12 / 20 (6 when honest). Without the window 0.18 / 0.38 /
 // 0.27 %, 0.86 / 2.07 / 1.99 deg and NEES 149 / 438 / 567; 8.1-10.1 % and 34 deg while the
 // state's origin stayed at the first frame.
-TEST(LongDrive, VisionAloneHoldsTheShapeOverSixHundredMetres) {
+// A seed per test, so that CTest runs them side by side (about 30 s each).
+class LongDriveVisionAlone : public testing::TestWithParam<std::uint64_t> {};
+
+TEST_P(LongDriveVisionAlone, HoldsTheShapeOverSixHundredMetres) {
   constexpr int kFrames = 20000, kLate = 5000;
-  for (std::uint64_t seed : {1, 2, 3}) {
-    const sim::Dataset drive = sim::long_drive(kFrames, 0.2, seed);
-    const FilterSettings settings;
-    OnlineFilter filter(drive.camera, settings);
-    const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
-    std::vector<Eigen::Isometry3d> estimate;
-    double late_nees = 0;
-    eval::run_filter(drive, nullptr, settings, &filter, [&](int f) {
-      estimate.push_back(drive.world_from_cam[0] * filter.cam_from_world().inverse());
-      if (f >= kFrames - kLate) {
-        const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
-        const Eigen::Matrix<double, 6, 1> e =
-            eval::filter_pose_error(truth, filter.cam_from_world());
-        late_nees += e.dot(filter.pose_covariance().ldlt().solve(e)) / kLate;
-      }
-    });
-    const auto similar = eval::trajectory_errors(estimate, drive.world_from_cam, true);
-    std::printf("vision alone, seed %d: %.0f m, %.2f %% of the distance after a similarity, "
-                "rotation %.2f deg, late NEES %.1f\n",
-                static_cast<int>(seed), similar.distance_travelled_m,
-                similar.translation_error_percent, similar.mean_rotation_error_deg, late_nees);
-    EXPECT_LT(similar.translation_error_percent, 2.0) << "seed " << seed;
-    EXPECT_LT(similar.mean_rotation_error_deg, 2.5) << "seed " << seed;
-    EXPECT_LT(late_nees, 40) << "seed " << seed;
-    EXPECT_TRUE(filter.rejected().empty())
-        << filter.rejected().size() << " good tracks rejected";
-  }
+  const std::uint64_t seed = GetParam();
+  const sim::Dataset drive = sim::long_drive(kFrames, 0.2, seed);
+  const FilterSettings settings;
+  OnlineFilter filter(drive.camera, settings);
+  const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
+  std::vector<Eigen::Isometry3d> estimate;
+  double late_nees = 0;
+  eval::run_filter(drive, nullptr, settings, &filter, [&](int f) {
+    estimate.push_back(drive.world_from_cam[0] * filter.cam_from_world().inverse());
+    if (f >= kFrames - kLate) {
+      const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
+      const Eigen::Matrix<double, 6, 1> e =
+          eval::filter_pose_error(truth, filter.cam_from_world());
+      late_nees += e.dot(filter.pose_covariance().ldlt().solve(e)) / kLate;
+    }
+  });
+  const auto similar = eval::trajectory_errors(estimate, drive.world_from_cam, true);
+  std::printf("vision alone, seed %d: %.0f m, %.2f %% of the distance after a similarity, "
+              "rotation %.2f deg, late NEES %.1f\n",
+              static_cast<int>(seed), similar.distance_travelled_m,
+              similar.translation_error_percent, similar.mean_rotation_error_deg, late_nees);
+  EXPECT_LT(similar.translation_error_percent, 2.0) << "seed " << seed;
+  EXPECT_LT(similar.mean_rotation_error_deg, 2.5) << "seed " << seed;
+  EXPECT_LT(late_nees, 40) << "seed " << seed;
+  EXPECT_TRUE(filter.rejected().empty())
+      << filter.rejected().size() << " good tracks rejected";
 }
+
+INSTANTIATE_TEST_SUITE_P(Seeds, LongDriveVisionAlone, testing::Values(1, 2, 3));
 
 // The mean NEES of the filter's published pose over the last 5,000 frames of the drive with the
 // simulated wheel and gyro (seed 1), and the drive's error after a rigid alignment, fed as
