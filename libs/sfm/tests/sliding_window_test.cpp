@@ -73,11 +73,13 @@ DriveRun drive(FilterSettings settings, int frames, double noise_px, bool gaps =
   return run;
 }
 
-FilterSettings without_window() {
+FilterSettings with_window() {
   FilterSettings settings;
-  settings.smoothing_window_frames = 0;
+  settings.smoothing_window_frames = 60;
   return settings;
 }
+
+FilterSettings without_window() { return FilterSettings(); }
 
 // With exact tracks the window's solution is the filter's, and its covariance must be too. After
 // 1,000 frames (30 m), measured with the window and without: the orientation's sigma 0.897 and
@@ -87,7 +89,7 @@ FilterSettings without_window() {
 // lent the points a certainty about the pose they were started from that they did not have: the
 // orientation's sigma 0.52 deg.
 TEST(SlidingWindow, WithExactTracksTheCovarianceIsTheFiltersOwn) {
-  const DriveRun with = drive(FilterSettings(), 1000, 0.0),
+  const DriveRun with = drive(with_window(), 1000, 0.0),
                  without = drive(without_window(), 1000, 0.0);
   std::printf("orientation sigma %.3f deg with the window (%ld solves, %ld refused), %.3f without; "
               "position across %.4f and %.4f m\n",
@@ -105,7 +107,7 @@ TEST(SlidingWindow, WithExactTracksTheCovarianceIsTheFiltersOwn) {
 // track rejected, mean orientation error 0.04 deg with the window and without (before the window
 // told the two apart, 114 good tracks were rejected and the error was 2.4 deg).
 TEST(SlidingWindow, ATrackSeenAgainAfterAGapIsANewPoint) {
-  const DriveRun with = drive(FilterSettings(), 1000, 0.0, true),
+  const DriveRun with = drive(with_window(), 1000, 0.0, true),
                  without = drive(without_window(), 1000, 0.0, true);
   std::printf("with gaps: %zu and %zu tracks rejected, orientation %.3f and %.3f deg with the "
               "window and without\n",
@@ -121,7 +123,7 @@ TEST(SlidingWindow, ATrackSeenAgainAfterAGapIsANewPoint) {
 // holds it. Measured over 3,000 frames (90 m): over the last 1,000, a map 1.59 times the truth's
 // with the window, 3.52 without; mean orientation error 0.44 and 0.58 deg.
 TEST(SlidingWindow, HoldsTheMapsScaleWhereTheTracksAreNoisy) {
-  const DriveRun with = drive(FilterSettings(), 3000, 0.2),
+  const DriveRun with = drive(with_window(), 3000, 0.2),
                  without = drive(without_window(), 3000, 0.2);
   std::printf("map scale %.2f with the window, %.2f without; orientation %.2f and %.2f deg\n",
               with.scale, without.scale, with.mean_rotation_error_deg,

@@ -217,8 +217,11 @@ struct FilterSettings {
   // drive, 0.3 s at 110 on the rover), hence windows as long as the origin allows, and none solved
   // while the state holds more than 60 points (on the rover, with 110, they changed no figure).
   // Off once a frame was propagated by the vehicle's sensors, and with considered camera
-  // parameters (the window carries neither's covariance). 0: off.
-  int smoothing_window_frames = 60;
+  // parameters (the window carries neither's covariance). Not the default: over the 3 km soak the
+  // orientation's error reached 22 deg where the filter alone kept it within 7.3 (its NEES 1,077
+  // at 2.7 km against 2,365), each frame took 1.4 ms against 0.28, and the resident memory grew
+  // 2.6 MB (0.69). 0: off; 60 is what the figures above were measured with.
+  int smoothing_window_frames = 0;
   // How many of the latest ended points and rejected tracks points() and rejected() keep; the
   // callbacks (OnlineFilter::on_point_ended, on_track_rejected) are handed every one.
   int kept_history = 10000;
