@@ -14,7 +14,9 @@
 // gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting of the filter
 // (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
 // predicted_settle_sigmas, outlier_chi2, smoothed_start_frames, wheel_scale_from_images,
-// origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations, measure_noise).
+// origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations, measure_noise,
+// smoothing_window_frames: the sliding window, 0 off). With the window, the solves it took and
+// refused are printed at the end.
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
 //              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=2] [TAKE_BACK=1] [CAMERA.ini]
 //              [NAME=VALUE...]
