@@ -717,9 +717,11 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
 
   std::set<int> rejected_slots;
   std::vector<Measurement> measurements = measurements_of(seen);
-  // The window's pixels: those measured (the rejected leave it) and the new points' first.
+  // The window's pixels, while one is open: those measured (the rejected leave it) and the new
+  // points' first.
   std::set<int> window_tracks;
-  for (const Measurement& m : measurements) window_tracks.insert(state_.track_of(m.slot));
+  if (window_open_)
+    for (const Measurement& m : measurements) window_tracks.insert(state_.track_of(m.slot));
   if (motion) predicted_ = true;
   const bool updated =
       update_rejecting_outliers(std::move(measurements), motion != nullptr, &rejected_slots);
@@ -731,7 +733,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   for (const auto& [track, pixel] : seen)
     if (state_.slot_of(track) < 0 && !excluded_.count(track)) {
       add_point(track, pixel);
-      window_tracks.insert(track);
+      if (window_open_) window_tracks.insert(track);
     }
   record_start_frame(frame, observations, motion, predicted_at);
   record_window_frame(seen, window_tracks);

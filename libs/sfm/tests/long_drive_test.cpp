@@ -50,38 +50,54 @@ TEST(LongDrive, OdometryAndGyroHoldOnePercentOverSixHundredMetres) {
   }
 }
 
-// The vision-alone drive with `settings`: its error after a similarity alignment, the pose's mean
-// NEES over the last 5,000 frames (6 when honest), and the good tracks rejected.
-struct VisionAloneDrive {
-  eval::TrajectoryErrors similar;
+// The filter alone over the 20,000-frame drive, fed as run_fused_sfm feeds it: with the simulated
+// wheel (reading 1.5 % long) and biased gyro, or vision alone. The mean NEES of its published pose
+// over the last 5,000 frames (6 when honest), the drive's error after a rigid alignment and after
+// a similarity, the tracks it rejected, and the wheels' scale's sigma at the end.
+struct DriveRun {
   double late_nees = 0;
+  double rigid_percent = 0;
+  eval::TrajectoryErrors similar;
   size_t rejected = 0;
+  double wheel_scale_sigma = 0;
 };
 
-VisionAloneDrive vision_alone_drive(std::uint64_t seed, const FilterSettings& settings) {
+DriveRun drive_run(const FilterSettings& settings, std::uint64_t seed = 1,
+                   const camera::CatadioptricCamera& camera = sim::default_rig(1024, 768),
+                   bool with_sensors = true) {
   constexpr int kFrames = 20000, kLate = 5000;
-  const sim::Dataset drive = sim::long_drive(kFrames, 0.2, seed);
+  const sim::Dataset drive = sim::long_drive(kFrames, 0.2, seed, camera);
+  sim::DeadReckoningOptions options;
+  options.seed = seed;
+  const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
+  const MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
   OnlineFilter filter(drive.camera, settings);
   const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
   std::vector<Eigen::Isometry3d> estimate;
-  VisionAloneDrive result;
-  eval::run_filter(drive, nullptr, settings, &filter, [&](int f) {
+  DriveRun result;
+  eval::run_filter(drive, with_sensors ? &sensors : nullptr, settings, &filter, [&](int f) {
     estimate.push_back(drive.world_from_cam[0] * filter.cam_from_world().inverse());
     if (f >= kFrames - kLate) {
       const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
-      const Eigen::Matrix<double, 6, 1> e =
-          eval::filter_pose_error(truth, filter.cam_from_world());
+      const Eigen::Matrix<double, 6, 1> e = eval::filter_pose_error(truth, filter.cam_from_world());
       result.late_nees += e.dot(filter.pose_covariance().ldlt().solve(e)) / kLate;
     }
   });
+  result.rigid_percent =
+      eval::trajectory_errors(estimate, drive.world_from_cam, false).translation_error_percent;
   result.similar = eval::trajectory_errors(estimate, drive.world_from_cam, true);
   result.rejected = filter.rejected().size();
+  result.wheel_scale_sigma = std::sqrt(filter.wheel_scale_variance());
+  return result;
+}
+
+DriveRun vision_alone_drive(std::uint64_t seed, const FilterSettings& settings) {
+  const DriveRun d = drive_run(settings, seed, sim::default_rig(1024, 768), false);
   std::printf("vision alone, seed %d, window %d: %.2f %% of the distance after a similarity, "
               "rotation %.2f deg, late NEES %.1f\n",
               static_cast<int>(seed), settings.smoothing_window_frames,
-              result.similar.translation_error_percent, result.similar.mean_rotation_error_deg,
-              result.late_nees);
-  return result;
+              d.similar.translation_error_percent, d.similar.mean_rotation_error_deg, d.late_nees);
+  return d;
 }
 
 // Vision alone the scale is the images' through a few centimetres of mirror and the filter's own
@@ -92,7 +108,7 @@ VisionAloneDrive vision_alone_drive(std::uint64_t seed, const FilterSettings& se
 class LongDriveVisionAlone : public testing::TestWithParam<std::uint64_t> {};
 
 TEST_P(LongDriveVisionAlone, HoldsTheShapeOverSixHundredMetres) {
-  const VisionAloneDrive d = vision_alone_drive(GetParam(), FilterSettings());
+  const DriveRun d = vision_alone_drive(GetParam(), FilterSettings());
   EXPECT_LT(d.similar.translation_error_percent, 1.0);
   EXPECT_LT(d.similar.mean_rotation_error_deg, 2.5);
   EXPECT_EQ(d.rejected, 0u) << "good tracks rejected";
@@ -107,49 +123,13 @@ INSTANTIATE_TEST_SUITE_P(Seeds, LongDriveVisionAlone, testing::Values(1, 2, 3));
 TEST(LongDrive, VisionAloneTheSlidingWindowKeepsTheCovarianceNearHonest) {
   FilterSettings window;
   window.smoothing_window_frames = 60;
-  const VisionAloneDrive with = vision_alone_drive(3, window);
-  const VisionAloneDrive without = vision_alone_drive(3, FilterSettings());
+  const DriveRun with = vision_alone_drive(3, window);
+  const DriveRun without = vision_alone_drive(3, FilterSettings());
   EXPECT_LT(with.late_nees, 40);
   EXPECT_GT(without.late_nees, 200) << "the drive no longer shows the overconfidence";
   EXPECT_LT(with.similar.translation_error_percent, 2.0);
   EXPECT_LT(with.similar.mean_rotation_error_deg, 2.5);
   EXPECT_EQ(with.rejected, 0u);
-}
-
-// The mean NEES of the filter's published pose over the last 5,000 frames of the drive with the
-// simulated wheel and gyro (seed 1), and the drive's error after a rigid alignment, fed as
-// run_fused_sfm feeds it.
-struct DriveConsistency {
-  double late_nees = 0;
-  double rigid_percent = 0;
-  double wheel_scale_sigma = 0;  // at the end
-};
-
-DriveConsistency drive_consistency(const FilterSettings& settings, std::uint64_t seed = 1,
-                                   const camera::CatadioptricCamera& camera =
-                                       sim::default_rig(1024, 768)) {
-  constexpr int kFrames = 20000, kLate = 5000;
-  const sim::Dataset drive = sim::long_drive(kFrames, 0.2, seed, camera);
-  sim::DeadReckoningOptions options;
-  options.seed = seed;
-  const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
-  const MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
-  OnlineFilter filter(drive.camera, settings);
-  const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
-  std::vector<Eigen::Isometry3d> estimate;
-  DriveConsistency result;
-  eval::run_filter(drive, &sensors, settings, &filter, [&](int f) {
-    estimate.push_back(drive.world_from_cam[0] * filter.cam_from_world().inverse());
-    if (f >= kFrames - kLate) {
-      const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
-      const Eigen::Matrix<double, 6, 1> e = eval::filter_pose_error(truth, filter.cam_from_world());
-      result.late_nees += e.dot(filter.pose_covariance().ldlt().solve(e)) / kLate;
-    }
-  });
-  result.rigid_percent =
-      eval::trajectory_errors(estimate, drive.world_from_cam, false).translation_error_percent;
-  result.wheel_scale_sigma = std::sqrt(filter.wheel_scale_variance());
-  return result;
 }
 
 // With odometry and gyro the published pose covariance stays near honest over the drive, by the
@@ -169,10 +149,10 @@ TEST(LongDrive, WithTheSensorsThePoseCovarianceStaysNearHonest) {
   left.origin_follows_camera = OriginFollowsCamera::kVisionAlone;
   position_only.origin_turns_with_camera = OriginTurnsWithCamera::kNever;
   scale_estimated.wheel_scale_from_images = true;
-  const DriveConsistency d = drive_consistency(defaults);
-  const DriveConsistency l = drive_consistency(left);
-  const DriveConsistency p = drive_consistency(position_only);
-  const DriveConsistency e = drive_consistency(scale_estimated);
+  const DriveRun d = drive_run(defaults);
+  const DriveRun l = drive_run(left);
+  const DriveRun p = drive_run(position_only);
+  const DriveRun e = drive_run(scale_estimated);
   std::printf("frames 15,000-20,000, mean NEES and the drive's rigid error: default %.1f, "
               "%.2f %%; origin left %.1f, %.2f %%; position only %.1f, %.2f %%; wheels' scale "
               "estimated %.1f, %.2f %%\n",
@@ -195,15 +175,15 @@ TEST(LongDrive, WithTheSensorsThePoseCovarianceStaysNearHonest) {
 TEST(LongDrive, WithTheSensorsThePoseCovarianceStaysNearHonestElsewhere) {
   const char* source = std::getenv("OMNISFM_SOURCE_DIR");
   ASSERT_NE(source, nullptr) << "ctest sets OMNISFM_SOURCE_DIR";
-  const DriveConsistency seed_two = drive_consistency(FilterSettings(), 2);
-  const DriveConsistency hyperbolic = drive_consistency(
+  const DriveRun seed_two = drive_run(FilterSettings(), 2);
+  const DriveRun hyperbolic = drive_run(
       FilterSettings(), 2,
       io::read_camera_file(std::string(source) + "/share/omnisfm/cameras/hyperbolic.ini"));
   std::printf("frames 15,000-20,000, seed 2: mean NEES %.1f, %.2f %%; through the hyperbolic rig "
               "%.1f, %.2f %%\n",
               seed_two.late_nees, seed_two.rigid_percent, hyperbolic.late_nees,
               hyperbolic.rigid_percent);
-  for (const DriveConsistency& d : {seed_two, hyperbolic}) {
+  for (const DriveRun& d : {seed_two, hyperbolic}) {
     EXPECT_LT(d.late_nees, 12);
     EXPECT_GT(d.late_nees, 2);
     EXPECT_LT(d.rigid_percent, 1.0);

@@ -13,6 +13,7 @@
 
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/online_filter.h"
+#include "omnisfm/sfm/pipeline.h"
 #include "omnisfm/sim/endless_drive.h"
 
 namespace omnisfm::sfm {
@@ -39,12 +40,13 @@ DriveRun drive(FilterSettings settings, int frames, double noise_px, bool gaps =
     it->second.first = std::min(it->second.first, o.frame);
     it->second.second = std::max(it->second.second, o.frame);
   }
-  std::vector<std::vector<TrackPixel>> by_frame(frames);
+  std::vector<core::TrackObservation> kept;
   for (const auto& o : d.observations) {
     const auto [first, last] = life.at(o.track);
-    if (gaps && o.track % 3 == 0 && last - first >= 6 && o.frame == (first + last) / 2) continue;
-    by_frame[o.frame].push_back({o.track, o.pixel});
+    if (!(gaps && o.track % 3 == 0 && last - first >= 6 && o.frame == (first + last) / 2))
+      kept.push_back(o);
   }
+  const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(kept);
   OnlineFilter filter(d.camera, settings);
   std::vector<Eigen::Isometry3d> world_from_cam;
   for (int f = 0; f < frames; ++f) {
