@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "omnisfm/core/percentile.h"
+#include "step_neighbourhoods.h"
 
 namespace omnisfm::track {
 namespace {
@@ -16,6 +17,8 @@ constexpr int kMaxAlignmentIterations = 20;
 constexpr size_t kRecentPositions = 8;
 // The latest positions left out of the velocity a lost track is looked for with.
 constexpr size_t kSkippedRecent = 3;
+// A track's step is compared with its neighbours' only where it has this many.
+constexpr size_t kMinNeighbours = 3;
 // How many frames a track too young for that velocity is looked for (FeatureTracker::reacquire).
 constexpr int kYoungMaxGap = 3;
 // Around the region's bounding box: room for the coarsest pyramid level's window and for ORB.
@@ -242,28 +245,25 @@ void FeatureTracker::estimate_noise(std::vector<double> residuals) {
   noise_ = noise_ > 0 ? (1 - kNewWeight) * noise_ + kNewWeight * noise : noise;
 }
 
-bool FeatureTracker::neighbours_step(const Eigen::Vector2d& at, size_t skip,
-                                     Eigen::Vector2d* step) const {
-  constexpr size_t kMinNeighbours = 3;
-  const double radius_squared =
-      settings_.neighbourhood_radius_px * settings_.neighbourhood_radius_px;
-  std::vector<double> xs, ys;
-  for (size_t j = 0; j < live_.size(); ++j) {
-    if (j == skip || (live_[j].position - live_[j].velocity - at).squaredNorm() > radius_squared)
-      continue;
-    xs.push_back(live_[j].velocity.x());
-    ys.push_back(live_[j].velocity.y());
+StepNeighbourhoods FeatureTracker::live_steps() const {
+  std::vector<Eigen::Vector2d> starts, steps;
+  starts.reserve(live_.size());
+  steps.reserve(live_.size());
+  for (const Track& t : live_) {
+    starts.push_back(t.position - t.velocity);
+    steps.push_back(t.velocity);
   }
-  if (xs.size() < kMinNeighbours) return false;
-  *step = Eigen::Vector2d(core::percentile(xs, 0.5), core::percentile(ys, 0.5));
-  return true;
+  return StepNeighbourhoods(std::move(starts), std::move(steps),
+                            settings_.neighbourhood_radius_px);
 }
 
 void FeatureTracker::end_jumped_tracks() {
+  const StepNeighbourhoods neighbourhoods = live_steps();
   std::vector<bool> jumped(live_.size(), false);
   for (size_t i = 0; i < live_.size(); ++i) {
     Eigen::Vector2d step;
-    jumped[i] = neighbours_step(live_[i].position - live_[i].velocity, i, &step) &&
+    jumped[i] = neighbourhoods.median_step(live_[i].position - live_[i].velocity, i,
+                                           kMinNeighbours, &step) &&
                 (live_[i].velocity - step).norm() > settings_.max_step_deviation_px;
   }
   std::vector<Track> kept;
@@ -531,6 +531,7 @@ bool FeatureTracker::recognised_at(const Track& t, const Place& place, double ra
 void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
                                std::vector<cv::Point2f>* reacquired) {
   std::vector<bool> corner_used(corners->size(), false), young_ended(live_.size(), false);
+  const StepNeighbourhoods neighbourhoods = live_steps();
   std::deque<Track> still_lost;
   std::vector<Track> back;
   for (Track& t : lost_) {
@@ -544,7 +545,7 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
     if (!t.moved_long_enough()) {
       Eigen::Vector2d step;
       if (frame_ - t.last_frame > kYoungMaxGap ||
-          !neighbours_step(t.position, live_.size(), &step)) {
+          !neighbourhoods.median_step(t.position, live_.size(), kMinNeighbours, &step)) {
         still_lost.push_back(std::move(t));
         continue;
       }

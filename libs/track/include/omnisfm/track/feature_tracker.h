@@ -28,6 +28,8 @@
 
 namespace omnisfm::track {
 
+class StepNeighbourhoods;
+
 using core::TrackPixel;
 
 // Why tracks ended, and how many started, over the whole sequence.
@@ -88,9 +90,8 @@ class FeatureTracker {
   // Starts a track at `at` of the current frame; false when there is no texture to follow.
   bool start_track(const cv::Point2f& at, int id);
   void follow_live_tracks();
-  // The median step this frame of the live tracks that were within neighbourhood_radius_px of
-  // `at`, live_[skip] left out; false with fewer than three.
-  bool neighbours_step(const Eigen::Vector2d& at, size_t skip, Eigen::Vector2d* step) const;
+  // The live tracks' steps this frame, by where they began (neighbourhood_radius_px).
+  StepNeighbourhoods live_steps() const;
   // Ends the tracks whose step this frame left their neighbours' (max_step_deviation_px).
   void end_jumped_tracks();
   void remove_duplicates();

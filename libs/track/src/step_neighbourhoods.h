@@ -1,0 +1,39 @@
+#pragma once
+// The tracks' steps in one frame, looked up by where each step began: the median step of the
+// tracks near a place reads the 3 x 3 cells (as wide as the neighbourhood's radius) about it
+// instead of every track. The jump check asks for every track's neighbourhood, which, read track
+// by track, cost as the tracks' count squared.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+namespace omnisfm::track {
+
+class StepNeighbourhoods {
+ public:
+  // starts[i]: where track i's step began; steps[i]: the step. radius > 0.
+  StepNeighbourhoods(std::vector<Eigen::Vector2d> starts, std::vector<Eigen::Vector2d> steps,
+                     double radius);
+
+  // The median (the lower one, core::percentile) of the steps, per coordinate, of the tracks whose
+  // step began within the radius of `at`, track `skip` left out (pass the count for none); false
+  // with fewer than min_tracks of them.
+  bool median_step(const Eigen::Vector2d& at, std::size_t skip, std::size_t min_tracks,
+                   Eigen::Vector2d* step) const;
+
+ private:
+  // A place's cell along each axis, clamped into the grid: every start lies inside it, and a
+  // clamped place's 3 x 3 cells still hold all starts within the radius of it.
+  int column(double x) const;
+  int row(double y) const;
+
+  std::vector<Eigen::Vector2d> starts_, steps_;
+  double radius_;
+  Eigen::Vector2d origin_{0, 0};
+  int columns_ = 0, rows_ = 0;
+  // Tracks by cell: cell c's tracks are by_cell_[cell_begin_[c] .. cell_begin_[c + 1]).
+  std::vector<std::size_t> cell_begin_, by_cell_;
+};
+
+}  // namespace omnisfm::track

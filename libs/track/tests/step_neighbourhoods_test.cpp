@@ -1,0 +1,82 @@
+#include "../src/step_neighbourhoods.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "omnisfm/core/percentile.h"
+
+namespace omnisfm::track {
+namespace {
+
+// Every track read one by one: what the grid must give.
+bool every_track_median(const std::vector<Eigen::Vector2d>& starts,
+                        const std::vector<Eigen::Vector2d>& steps, double radius,
+                        const Eigen::Vector2d& at, size_t skip, size_t min_tracks,
+                        Eigen::Vector2d* step) {
+  std::vector<double> xs, ys;
+  for (size_t i = 0; i < starts.size(); ++i)
+    if (i != skip && (starts[i] - at).norm() <= radius) {
+      xs.push_back(steps[i].x());
+      ys.push_back(steps[i].y());
+    }
+  if (xs.size() < min_tracks) return false;
+  *step = Eigen::Vector2d(core::percentile(xs, 0.5), core::percentile(ys, 0.5));
+  return true;
+}
+
+TEST(StepNeighbourhoods, GivesWhatReadingEveryTrackGives) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> across(0, 700), step(-6, 6), beyond(-300, 1000);
+  constexpr double kRadius = 100;
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Eigen::Vector2d> starts, steps;
+    const int tracks = 1 + trial * 7;
+    for (int i = 0; i < tracks; ++i) {
+      starts.emplace_back(across(rng), across(rng));
+      steps.emplace_back(step(rng), step(rng));
+    }
+    const StepNeighbourhoods neighbourhoods(starts, steps, kRadius);
+    int found = 0;
+    // At each start with itself left out (the jump check), and anywhere, inside the starts'
+    // extent and far outside it (a lost track's last place).
+    for (int q = 0; q < 200; ++q) {
+      const bool at_start = q < tracks;
+      const Eigen::Vector2d at = at_start ? starts[q] : Eigen::Vector2d(beyond(rng), beyond(rng));
+      const size_t skip = at_start ? static_cast<size_t>(q) : starts.size();
+      Eigen::Vector2d expected(-1, -1), got(-2, -2);
+      const bool expected_found =
+          every_track_median(starts, steps, kRadius, at, skip, 3, &expected);
+      ASSERT_EQ(neighbourhoods.median_step(at, skip, 3, &got), expected_found)
+          << "trial " << trial << " query " << q;
+      if (!expected_found) continue;
+      ++found;
+      EXPECT_EQ(got, expected) << "trial " << trial << " query " << q;
+    }
+    if (tracks > 50) {
+      EXPECT_GT(found, 50) << "trial " << trial;
+    }
+  }
+}
+
+TEST(StepNeighbourhoods, AStepAtTheRadiusCountsAndNoneBeyondIt) {
+  const std::vector<Eigen::Vector2d> starts = {{0, 0}, {10, 0}, {0, 10}, {10.001, 0}};
+  const std::vector<Eigen::Vector2d> steps = {{1, 1}, {2, 2}, {3, 3}, {50, 50}};
+  const StepNeighbourhoods neighbourhoods(starts, steps, 10);
+  Eigen::Vector2d step;
+  ASSERT_TRUE(neighbourhoods.median_step({0, 0}, starts.size(), 3, &step));
+  EXPECT_EQ(step, Eigen::Vector2d(2, 2));
+  EXPECT_FALSE(neighbourhoods.median_step({0, 0}, 0, 3, &step));
+  EXPECT_FALSE(neighbourhoods.median_step({1e9, -1e9}, starts.size(), 1, &step));
+}
+
+TEST(StepNeighbourhoods, NoTracks) {
+  const StepNeighbourhoods neighbourhoods({}, {}, 100);
+  Eigen::Vector2d step;
+  EXPECT_FALSE(neighbourhoods.median_step({0, 0}, 0, 1, &step));
+  EXPECT_THROW(StepNeighbourhoods({{0, 0}}, {}, 100), std::invalid_argument);
+  EXPECT_THROW(StepNeighbourhoods({}, {}, 0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace omnisfm::track
