@@ -42,6 +42,8 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
       {"reacquire", [&](double v) { settings->reacquire = v != 0; }},
       {"image_blur_sigma", [&](double v) { settings->image_blur_sigma = v; }},
       {"max_tracks", [&](double v) { settings->max_tracks = static_cast<int>(v); }},
+      {"detect_at_missing",
+       [&](double v) { settings->detect_at_missing = static_cast<int>(v); }},
       {"max_step_deviation_px", [&](double v) { settings->max_step_deviation_px = v; }},
       {"rim_margin_px", [&](double v) { settings->rim_margin_px = v; }},
   };

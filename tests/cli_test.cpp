@@ -1178,7 +1178,8 @@ TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {
       std::regex(R"(tracks (\d+) \((\d+) started, (\d+) seen in one frame only and left out\), )"
                  R"(lasting (\d+) frames at the median \(longest (\d+)\), )"
                  R"(observations (\d+), reacquired (\d+) \((\d+) after a gap in their track, )"
-                 R"((\d+) in the frame that lost them\))")))
+                 R"((\d+) in the frame that lost them; \d+ lost ones forgotten where their look )"
+                 R"(repeats nearby\))")))
       << run.out;
   const auto n = [&](int i) { return std::stol(m[i].str()); };
   EXPECT_EQ(n(1), static_cast<long>(last_frame.size()));

@@ -257,6 +257,7 @@ TEST(FeatureTracker, KeepsTheAskedNumberOfTracksInsideTheRegionSpreadOut) {
   const WaveTexture texture(2);
   TrackerSettings settings;
   settings.max_tracks = 30;
+  settings.detect_at_missing = 1;
   // A ring, as a mirror's image is.
   cv::Mat region(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
   cv::circle(region, {160, 120}, 105, 255, cv::FILLED);
@@ -274,6 +275,33 @@ TEST(FeatureTracker, KeepsTheAskedNumberOfTracksInsideTheRegionSpreadOut) {
     }
     for (const int count : quadrants) EXPECT_GE(count, 5) << "frame " << f;
   }
+}
+
+// Tracks leave the region as the texture slides across it; new ones start once detect_at_missing
+// are missing, never sooner, and the count never falls further.
+TEST(FeatureTracker, DetectsOnceAFewTracksAreMissing) {
+  const WaveTexture texture(2);
+  TrackerSettings settings;
+  settings.max_tracks = 30;
+  settings.detect_at_missing = 5;
+  FeatureTracker tracker(open_region(), settings);
+  int short_frames = 0, detections = 0, previous_started = 0;
+  for (int f = 0; f < 40; ++f) {
+    Motion m;
+    m.b = Eigen::Vector2d(5.0 * f, 0);
+    const int count = static_cast<int>(tracker.track(frame_image(texture, m)).size());
+    const int started = tracker.statistics().started;
+    if (f > 0) {
+      EXPECT_GT(count, settings.max_tracks - settings.detect_at_missing) << "frame " << f;
+      EXPECT_LE(count, settings.max_tracks) << "frame " << f;
+      short_frames += count < settings.max_tracks;
+      detections += started > previous_started;
+    }
+    previous_started = started;
+  }
+  EXPECT_GE(short_frames, 10);
+  EXPECT_GE(detections, 3);
+  EXPECT_LT(detections, 30);
 }
 
 TEST(FeatureTracker, EndsTracksWhoseFeatureChanges) {
@@ -350,6 +378,8 @@ TEST(FeatureTracker, RepeatedTextureIsNotReacquired) {
   const Outcome with = behind_a_bar(texture, settings);
   EXPECT_EQ(with.reacquired_wrongly, 0);
   EXPECT_GT(with.observations, 500);
+  // Found among twins, a lost track is searched no more.
+  EXPECT_GT(with.statistics.forgotten_among_twins, 0);
 
   settings.twin_ncc = 2;
   const Outcome unguarded = behind_a_bar(texture, settings);

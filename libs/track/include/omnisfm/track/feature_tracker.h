@@ -11,9 +11,9 @@
 // times (TrackerSettings::max_renewals). Tracks leaving the trackable region end; of two tracks
 // on one feature the younger ends. Tracks that end suddenly are remembered and looked for again
 // near where their image motion predicts them (tracker_settings.h, reacquisition); found, they
-// continue under their old id. Whenever fewer than max_tracks are alive, new corners start new
-// tracks, spread over the image, where the images' noise lets their patch be followed
-// (TrackerSettings::min_followable_ncc).
+// continue under their old id. Once a few of max_tracks are missing
+// (TrackerSettings::detect_at_missing), new corners start new tracks, spread over the image,
+// where the images' noise lets their patch be followed (TrackerSettings::min_followable_ncc).
 
 #include <Eigen/Core>
 #include <deque>
@@ -41,6 +41,8 @@ struct TrackerStatistics {
   int reacquired = 0;
   // Of those, found again in the frame that lost them: their tracks show no gap.
   int reacquired_at_once = 0;
+  // Lost tracks forgotten: found again where their look repeats nearby (twin_ncc).
+  int forgotten_among_twins = 0;
   int lost = 0;              // Lucas-Kanade found nothing
   int forward_backward = 0;  // failed the forward-backward check
   int appearance = 0;        // failed the appearance check
@@ -117,8 +119,10 @@ class FeatureTracker {
   // before the loss; more than one is repeated texture.
   std::vector<Place> places_found(const Track& t, const std::vector<Place>& starts,
                                   const Eigen::Vector2d& predicted, double radius) const;
-  // Whether t is the feature at `place`: its descriptor agrees and no twin lies around.
-  bool recognised_at(const Track& t, const Place& place, double radius) const;
+  // Whether t is the feature at `place`: its descriptor agrees (else kNot) and no twin lies
+  // around (else kAmongTwins).
+  enum class Recognition { kRecognised, kNot, kAmongTwins };
+  Recognition recognise(const Track& t, const Place& place, double radius) const;
   // Whether t's reference, found at `found`, also aligns at a twin within `radius` of it:
   // TrackerSettings::twin_ncc.
   bool repeated_nearby(const Track& t, const AffineWarp& found, double radius) const;

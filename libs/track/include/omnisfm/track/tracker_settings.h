@@ -5,8 +5,15 @@
 namespace omnisfm::track {
 
 struct TrackerSettings {
-  // Replenishing: new features are detected whenever fewer tracks than this are alive.
+  // Replenishing: new features are detected once detect_at_missing of max_tracks are missing
+  // (all of them, where max_tracks is smaller). A detection costs about as much as following
+  // every track, and on the realistic rover a frame loses about four: detected only once eight
+  // were missing, the tracker took 1.38 ms per frame where it took 1.78, with 109 tracks alive on
+  // average where it kept 112, the median track as long (28-31 frames, seeds 1-3) and its error
+  // as small, but half the reacquisitions (which start from new corners too: 12, 9, 11 where
+  // there were 24, 17, 16, none wrong). 1: whenever one is missing.
   int max_tracks = 112;
+  int detect_at_missing = 8;
 
   // Detection: Shi-Tomasi corners at least this far apart and from live tracks, at least
   // quality_level times the image's strongest corner, inside the valid region shrunk by
@@ -101,7 +108,11 @@ struct TrackerSettings {
   // Repeated texture (bricks, tiles): a place found is refused when the reference, with the warp
   // found, also aligns at twin_ncc or better at a twin farther than the patch's half size from
   // it, within three search radii of it (the feature may have moved beyond the search while
-  // hidden, and its twin into it) or four patch widths, whichever is more.
+  // hidden, and its twin into it) or four patch widths, whichever is more. The lost track is then
+  // forgotten: its texture stays repeated as the camera moves, and on the realistic lab, where
+  // the same tracks were searched again up to 16 times, searching cost 60 % of the tracker's time
+  // (3.2-3.5 ms per frame where it took 4.6-4.9; 1-2 reacquisitions per sequence where there were
+  // 3-6, none wrong, seeds 1-3).
   double twin_ncc = 0.95;
 };
 
