@@ -13,44 +13,60 @@ StepNeighbourhoods::StepNeighbourhoods(std::vector<Eigen::Vector2d> starts,
     : starts_(std::move(starts)), steps_(std::move(steps)), radius_(radius) {
   if (starts_.size() != steps_.size() || !(radius > 0))
     throw std::invalid_argument("StepNeighbourhoods: a step per start and a positive radius");
-  if (starts_.empty()) return;
-  Eigen::Vector2d lowest = starts_.front(), highest = starts_.front();
+  // Starts that are not finite lie in no cell, and are nobody's neighbours.
+  bool any = false;
+  Eigen::Vector2d lowest(0, 0), highest(0, 0);
   for (const Eigen::Vector2d& p : starts_) {
-    lowest = lowest.cwiseMin(p);
-    highest = highest.cwiseMax(p);
+    if (!p.allFinite()) continue;
+    lowest = any ? lowest.cwiseMin(p) : p;
+    highest = any ? highest.cwiseMax(p) : p;
+    any = true;
   }
+  if (!any) return;
   origin_ = lowest;
-  columns_ = static_cast<int>((highest.x() - lowest.x()) / radius_) + 1;
-  rows_ = static_cast<int>((highest.y() - lowest.y()) / radius_) + 1;
+  // Cells as wide as the radius, or wider where the starts lie so far apart that the grid would
+  // hold more than kMaxCells cells a side: a neighbourhood still lies within 3 x 3 of them.
+  constexpr double kMaxCells = 256;
+  const Eigen::Vector2d extent = highest - lowest;
+  cell_size_ = std::max({radius_, extent.x() / kMaxCells, extent.y() / kMaxCells});
+  if (std::isfinite(cell_size_)) {
+    columns_ = std::min(static_cast<int>(kMaxCells), static_cast<int>(extent.x() / cell_size_) + 1);
+    rows_ = std::min(static_cast<int>(kMaxCells), static_cast<int>(extent.y() / cell_size_) + 1);
+  } else {  // starts beyond double's range apart: one cell
+    columns_ = rows_ = 1;
+  }
   // Counting sort of the tracks by cell.
-  std::vector<std::size_t> cells(starts_.size());
+  constexpr std::size_t kNoCell = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> cells(starts_.size(), kNoCell);
   cell_begin_.assign(static_cast<std::size_t>(columns_) * rows_ + 1, 0);
   for (std::size_t i = 0; i < starts_.size(); ++i) {
+    if (!starts_[i].allFinite()) continue;
     cells[i] = static_cast<std::size_t>(row(starts_[i].y())) * columns_ + column(starts_[i].x());
     ++cell_begin_[cells[i] + 1];
   }
   for (std::size_t c = 1; c < cell_begin_.size(); ++c) cell_begin_[c] += cell_begin_[c - 1];
   std::vector<std::size_t> filled(cell_begin_.begin(), cell_begin_.end() - 1);
-  by_cell_.resize(starts_.size());
-  for (std::size_t i = 0; i < starts_.size(); ++i) by_cell_[filled[cells[i]]++] = i;
+  by_cell_.resize(cell_begin_.back());
+  for (std::size_t i = 0; i < starts_.size(); ++i)
+    if (cells[i] != kNoCell) by_cell_[filled[cells[i]]++] = i;
 }
 
-int StepNeighbourhoods::column(double x) const {
-  return static_cast<int>(std::clamp(std::floor((x - origin_.x()) / radius_), 0.0,
-                                     static_cast<double>(columns_ - 1)));
+int StepNeighbourhoods::clamped_cell(double offset, int cells) const {
+  // Written so that a NaN (an infinite offset over an infinite cell) falls in the first cell.
+  const double cell = std::floor(offset / cell_size_);
+  return cell >= cells - 1 ? cells - 1 : cell > 0 ? static_cast<int>(cell) : 0;
 }
 
-int StepNeighbourhoods::row(double y) const {
-  return static_cast<int>(std::clamp(std::floor((y - origin_.y()) / radius_), 0.0,
-                                     static_cast<double>(rows_ - 1)));
-}
+int StepNeighbourhoods::column(double x) const { return clamped_cell(x - origin_.x(), columns_); }
+
+int StepNeighbourhoods::row(double y) const { return clamped_cell(y - origin_.y(), rows_); }
 
 bool StepNeighbourhoods::median_step(const Eigen::Vector2d& at, std::size_t skip,
                                      std::size_t min_tracks, Eigen::Vector2d* step) const {
   if (!at.allFinite()) return false;
   const double radius_squared = radius_ * radius_;
   std::vector<double> xs, ys;
-  const int c = starts_.empty() ? 0 : column(at.x()), r = starts_.empty() ? 0 : row(at.y());
+  const int c = columns_ == 0 ? 0 : column(at.x()), r = rows_ == 0 ? 0 : row(at.y());
   for (int y = std::max(0, r - 1); y <= std::min(rows_ - 1, r + 1); ++y)
     for (int x = std::max(0, c - 1); x <= std::min(columns_ - 1, c + 1); ++x) {
       const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;

@@ -23,13 +23,15 @@ class StepNeighbourhoods {
                    Eigen::Vector2d* step) const;
 
  private:
-  // A place's cell along each axis, clamped into the grid: every start lies inside it, and a
-  // clamped place's 3 x 3 cells still hold all starts within the radius of it.
+  // A place's cell along each axis, clamped into the grid: every finite start lies inside it, and
+  // a clamped place's 3 x 3 cells still hold all starts within the radius of it.
   int column(double x) const;
   int row(double y) const;
+  int clamped_cell(double offset, int cells) const;
 
   std::vector<Eigen::Vector2d> starts_, steps_;
   double radius_;
+  double cell_size_ = 0;  // at least radius_
   Eigen::Vector2d origin_{0, 0};
   int columns_ = 0, rows_ = 0;
   // Tracks by cell: cell c's tracks are by_cell_[cell_begin_[c] .. cell_begin_[c + 1]).

@@ -70,6 +70,27 @@ TEST(StepNeighbourhoods, AStepAtTheRadiusCountsAndNoneBeyondIt) {
   EXPECT_FALSE(neighbourhoods.median_step({1e9, -1e9}, starts.size(), 1, &step));
 }
 
+// Tracks a billion pixels apart, one not finite: the grid stays small and finds the same.
+TEST(StepNeighbourhoods, FarApartOrNotFiniteStarts) {
+  const std::vector<Eigen::Vector2d> starts = {
+      {0, 0}, {5, 5}, {-5, 5}, {1e9, -1e9}, {1e9 + 5, -1e9}, {1e9, -1e9 + 5}, {NAN, 0}, {1e300, 0}};
+  const std::vector<Eigen::Vector2d> steps = {{1, 1}, {2, 2}, {3, 3}, {4, 4},
+                                              {5, 5}, {6, 6}, {7, 7}, {8, 8}};
+  const StepNeighbourhoods neighbourhoods(starts, steps, 10);
+  Eigen::Vector2d step;
+  ASSERT_TRUE(neighbourhoods.median_step({0, 0}, starts.size(), 3, &step));
+  EXPECT_EQ(step, Eigen::Vector2d(2, 2));
+  ASSERT_TRUE(neighbourhoods.median_step({1e9, -1e9}, starts.size(), 3, &step));
+  EXPECT_EQ(step, Eigen::Vector2d(5, 5));
+  EXPECT_FALSE(neighbourhoods.median_step({NAN, 0}, starts.size(), 1, &step));
+  ASSERT_TRUE(neighbourhoods.median_step({1e300, 0}, starts.size(), 1, &step));
+  EXPECT_EQ(step, Eigen::Vector2d(8, 8));
+  const StepNeighbourhoods beyond_range({{-1e308, 0}, {1e308, 0}, {1e308, 1}},
+                                        {{1, 0}, {2, 0}, {3, 0}}, 10);
+  ASSERT_TRUE(beyond_range.median_step({1e308, 0}, 3, 2, &step));
+  EXPECT_EQ(step, Eigen::Vector2d(3, 0));
+}
+
 TEST(StepNeighbourhoods, NoTracks) {
   const StepNeighbourhoods neighbourhoods({}, {}, 100);
   Eigen::Vector2d step;
