@@ -60,7 +60,7 @@ FeatureTracker::FeatureTracker(const cv::Mat& region, const TrackerSettings& set
             settings.prediction_level >= 0 && settings.prediction_level < settings.pyramid_levels &&
             settings.patch_half_size >= 1 && settings.min_followable_ncc >= 0 &&
             settings.min_followable_ncc < 1 && settings.max_renewals >= 0 &&
-            settings.detect_at_missing >= 1);
+            settings.detect_at_missing >= 1 && settings.neighbourhood_radius_px > 0);
 }
 
 cv::Mat FeatureTracker::alignment_image(const cv::Mat& image) const {
@@ -334,7 +334,8 @@ void FeatureTracker::replenish() {
     lost_.pop_front();
   std::vector<cv::Point2f> corners;
   const int missing = settings_.max_tracks - static_cast<int>(live_.size());
-  if (missing > 0 && missing >= std::min(settings_.detect_at_missing, settings_.max_tracks)) {
+  if (missing > 0 && missing >= std::min(settings_.detect_at_missing,
+                                         std::max(1, settings_.max_tracks / 8))) {
     std::vector<cv::Point2f> live_points;
     for (const Track& t : live_) live_points.push_back(point(t.position));
     // The pyramid holds each level's image then its derivatives, from the finest level
@@ -565,7 +566,8 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
     const Recognition recognition =
         found.size() == 1 ? recognise(t, found[0], radius) : Recognition::kNot;
     // Among twins it is forgotten: repeated texture stays repeated as the camera moves, and each
-    // later look would search it again (on the realistic lab, 214 of 240 searches found a twin,
+    // later look would search it again (where more than one place was found, no twin search ran
+    // and it stays lost) (on the realistic lab, 214 of 240 searches found a twin,
     // for the same tracks up to 16 times: 60 % of the tracker's time).
     if (recognition == Recognition::kAmongTwins) {
       ++statistics_.forgotten_among_twins;

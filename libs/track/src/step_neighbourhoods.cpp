@@ -66,17 +66,22 @@ bool StepNeighbourhoods::median_step(const Eigen::Vector2d& at, std::size_t skip
   if (!at.allFinite()) return false;
   const double radius_squared = radius_ * radius_;
   std::vector<double> xs, ys;
-  const int c = columns_ == 0 ? 0 : column(at.x()), r = rows_ == 0 ? 0 : row(at.y());
-  for (int y = std::max(0, r - 1); y <= std::min(rows_ - 1, r + 1); ++y)
-    for (int x = std::max(0, c - 1); x <= std::min(columns_ - 1, c + 1); ++x) {
-      const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
-      for (std::size_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
-        const std::size_t i = by_cell_[k];
-        if (i == skip || (starts_[i] - at).squaredNorm() > radius_squared) continue;
-        xs.push_back(steps_[i].x());
-        ys.push_back(steps_[i].y());
-      }
+  const auto read_cell = [&](int x, int y) {
+    const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
+    for (std::size_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
+      const std::size_t i = by_cell_[k];
+      if (i == skip || (starts_[i] - at).squaredNorm() > radius_squared) continue;
+      xs.push_back(steps_[i].x());
+      ys.push_back(steps_[i].y());
     }
+  };
+  // The cells from a little before the radius to a little beyond it, along each axis (at most
+  // four: cells are at least as wide as the radius): a start whose rounded distance is within the
+  // radius lies at most a few units in the last place beyond it.
+  const double reach = radius_ * (1 + 1e-9);
+  if (columns_ > 0)
+    for (int y = row(at.y() - reach); y <= row(at.y() + reach); ++y)
+      for (int x = column(at.x() - reach); x <= column(at.x() + reach); ++x) read_cell(x, y);
   if (xs.size() < min_tracks) return false;
   *step = Eigen::Vector2d(core::percentile(xs, 0.5), core::percentile(ys, 0.5));
   return true;

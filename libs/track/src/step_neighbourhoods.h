@@ -1,8 +1,8 @@
 #pragma once
 // The tracks' steps in one frame, looked up by where each step began: the median step of the
-// tracks near a place reads the 3 x 3 cells (as wide as the neighbourhood's radius) about it
-// instead of every track. The jump check asks for every track's neighbourhood, which, read track
-// by track, cost as the tracks' count squared.
+// tracks near a place reads the few cells (at least as wide as the neighbourhood's radius) about
+// it instead of every track. The jump check asks for every track's neighbourhood, which, read
+// track by track, cost as the tracks' count squared.
 
 #include <Eigen/Core>
 #include <cstddef>
@@ -23,8 +23,8 @@ class StepNeighbourhoods {
                    Eigen::Vector2d* step) const;
 
  private:
-  // A place's cell along each axis, clamped into the grid: every finite start lies inside it, and
-  // a clamped place's 3 x 3 cells still hold all starts within the radius of it.
+  // A place's cell along each axis, clamped into the grid (every finite start lies inside it);
+  // never decreasing with the place, so the cells of a range's ends bound those within it.
   int column(double x) const;
   int row(double y) const;
   int clamped_cell(double offset, int cells) const;

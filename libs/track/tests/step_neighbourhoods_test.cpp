@@ -9,14 +9,14 @@
 namespace omnisfm::track {
 namespace {
 
-// Every track read one by one: what the grid must give.
+// Every track read one by one, as the tracker did before the grid: what the grid must give.
 bool every_track_median(const std::vector<Eigen::Vector2d>& starts,
                         const std::vector<Eigen::Vector2d>& steps, double radius,
                         const Eigen::Vector2d& at, size_t skip, size_t min_tracks,
                         Eigen::Vector2d* step) {
   std::vector<double> xs, ys;
   for (size_t i = 0; i < starts.size(); ++i)
-    if (i != skip && (starts[i] - at).norm() <= radius) {
+    if (i != skip && !((starts[i] - at).squaredNorm() > radius * radius)) {
       xs.push_back(steps[i].x());
       ys.push_back(steps[i].y());
     }
@@ -68,6 +68,19 @@ TEST(StepNeighbourhoods, AStepAtTheRadiusCountsAndNoneBeyondIt) {
   EXPECT_EQ(step, Eigen::Vector2d(2, 2));
   EXPECT_FALSE(neighbourhoods.median_step({0, 0}, 0, 3, &step));
   EXPECT_FALSE(neighbourhoods.median_step({1e9, -1e9}, starts.size(), 1, &step));
+}
+
+// A start within the radius by its rounded distance, whose cell, rounded, is two from the place's.
+TEST(StepNeighbourhoods, AStartAtTheRadiusAcrossACellBoundaryCounts) {
+  const double radius = 54.827348046468558;
+  const std::vector<Eigen::Vector2d> starts = {
+      {409.50489679916279, 0}, {1670.5339018679394, 0}, {3000, 0}};
+  const Eigen::Vector2d at(1615.7065538214711, 0);
+  ASSERT_LE((starts[1] - at).squaredNorm(), radius * radius);
+  const StepNeighbourhoods neighbourhoods(starts, {{1, 0}, {2, 0}, {3, 0}}, radius);
+  Eigen::Vector2d step;
+  ASSERT_TRUE(neighbourhoods.median_step(at, starts.size(), 1, &step));
+  EXPECT_EQ(step, Eigen::Vector2d(2, 0));
 }
 
 // Tracks a billion pixels apart, one not finite: the grid stays small and finds the same.

@@ -5,8 +5,8 @@
 namespace omnisfm::track {
 
 struct TrackerSettings {
-  // Replenishing: new features are detected once detect_at_missing of max_tracks are missing
-  // (all of them, where max_tracks is smaller). A detection costs about as much as following
+  // Replenishing: new features are detected once detect_at_missing of max_tracks are missing, or
+  // an eighth of max_tracks where that is fewer (at least one). A detection costs about as much as following
   // every track, and on the realistic rover a frame loses about four: detected only once eight
   // were missing, the tracker took 1.38 ms per frame where it took 1.78, with 109 tracks alive on
   // average where it kept 112, the median track as long (28-31 frames, seeds 1-3) and its error
@@ -111,8 +111,8 @@ struct TrackerSettings {
   // hidden, and its twin into it) or four patch widths, whichever is more. The lost track is then
   // forgotten: its texture stays repeated as the camera moves, and on the realistic lab, where
   // the same tracks were searched again up to 16 times, searching cost 60 % of the tracker's time
-  // (3.2-3.5 ms per frame where it took 4.6-4.9; 1-2 reacquisitions per sequence where there were
-  // 3-6, none wrong, seeds 1-3).
+  // (2.9-3.4 ms per frame where it took 4.3-4.6, build/bench/track_truth; 1-2 reacquisitions per
+  // sequence where there were 3-6, none wrong, seeds 1-3).
   double twin_ncc = 0.95;
 };
 
