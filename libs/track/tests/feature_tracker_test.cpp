@@ -388,7 +388,8 @@ TEST(FeatureTracker, RepeatedTextureIsNotReacquired) {
   const Outcome with = behind_a_bar(texture, settings);
   EXPECT_EQ(with.reacquired_wrongly, 0);
   EXPECT_GT(with.observations, 500);
-  // Found among twins, a lost track is searched no more.
+  // Found among twins, lost tracks are forgotten (that they are then searched no more shows in
+  // time only: bench/README.md).
   EXPECT_GT(with.statistics.forgotten_among_twins, 0);
 
   settings.twin_ncc = 2;
