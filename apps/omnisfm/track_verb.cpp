@@ -112,7 +112,8 @@ void add_track_verb(CLI::App& app) {
                    "A table with image and timestamp columns (such as a simulated dataset's "
                    "frames.vnl) giving each image's time; default: a video's own times, else "
                    "the frame index");
-  verb->add_option("--max-tracks", o->settings.max_tracks, "Tracks kept alive")
+  verb->add_option("--max-tracks", o->settings.max_tracks,
+                   "Tracks kept alive: new ones start once 8 (or an eighth, if fewer) are missing")
       ->capture_default_str()
       ->check(whole_number_between(6, 100000));
   verb->add_option("--min-ncc", o->settings.min_ncc,
