@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <optional>
 #include <type_traits>
 
 #include "omnisfm/core/percentile.h"
@@ -538,7 +539,8 @@ FeatureTracker::Recognition FeatureTracker::recognise(const Track& t, const Plac
 void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
                                std::vector<cv::Point2f>* reacquired) {
   std::vector<bool> corner_used(corners->size(), false), young_ended(live_.size(), false);
-  const StepNeighbourhoods neighbourhoods = live_steps();
+  // Built for the first young lost track that needs it: most frames have none.
+  std::optional<StepNeighbourhoods> neighbourhoods;
   std::deque<Track> still_lost;
   std::vector<Track> back;
   for (Track& t : lost_) {
@@ -551,8 +553,9 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
     Eigen::Vector2d predicted = t.predicted(frame_);
     if (!t.moved_long_enough()) {
       Eigen::Vector2d step;
+      if (frame_ - t.last_frame <= kYoungMaxGap && !neighbourhoods) neighbourhoods = live_steps();
       if (frame_ - t.last_frame > kYoungMaxGap ||
-          !neighbourhoods.median_step(t.position, live_.size(), kMinNeighbours, &step)) {
+          !neighbourhoods->median_step(t.position, live_.size(), kMinNeighbours, &step)) {
         still_lost.push_back(std::move(t));
         continue;
       }
@@ -566,9 +569,9 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
     const Recognition recognition =
         found.size() == 1 ? recognise(t, found[0], radius) : Recognition::kNot;
     // Among twins it is forgotten: repeated texture stays repeated as the camera moves, and each
-    // later look would search it again (where more than one place was found, no twin search ran
-    // and it stays lost) (on the realistic lab, 214 of 240 searches found a twin,
-    // for the same tracks up to 16 times: 60 % of the tracker's time).
+    // later look would search it again (on the realistic lab, 214 of 240 searches found a twin,
+    // for the same tracks up to 16 times: 60 % of the tracker's time). Where more than one place
+    // was found, no twin search ran, and it stays lost.
     if (recognition == Recognition::kAmongTwins) {
       ++statistics_.forgotten_among_twins;
       continue;
