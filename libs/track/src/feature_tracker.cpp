@@ -9,6 +9,8 @@
 #include <type_traits>
 
 #include "omnisfm/core/percentile.h"
+#include "gaussian_blur.h"
+#include "square_correlation.h"
 #include "step_neighbourhoods.h"
 
 namespace omnisfm::track {
@@ -65,17 +67,9 @@ FeatureTracker::FeatureTracker(const cv::Mat& region, const TrackerSettings& set
 }
 
 cv::Mat FeatureTracker::alignment_image(const cv::Mat& image) const {
+  if (settings_.image_blur_sigma > 0) return gaussian_blurred_float(image, settings_.image_blur_sigma);
   cv::Mat converted;
-  if (settings_.image_blur_sigma <= 0) {
-    image.convertTo(converted, CV_32F);
-    return converted;
-  }
-  // Blur and conversion in one pass; the kernel reaches three sigma, rounded down: a 0.5-pixel
-  // blur then has 3 taps (the next would weigh 3e-4).
-  const int half = std::max(1, static_cast<int>(3 * settings_.image_blur_sigma));
-  const cv::Mat kernel = cv::getGaussianKernel(2 * half + 1, settings_.image_blur_sigma, CV_32F);
-  cv::sepFilter2D(image, converted, CV_32F, kernel, kernel, cv::Point(-1, -1), 0,
-                  cv::BORDER_REFLECT_101);
+  image.convertTo(converted, CV_32F);
   return converted;
 }
 
@@ -399,22 +393,18 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
   const Eigen::Vector2d centre = found.b;
   const double apart = t.reference.half_size();
   const int reach = static_cast<int>(std::ceil(radius));
-  // First, at every pixel at once, the plain correlation of the square about the place found
-  // (OpenCV's matchTemplate): where that is below kLooseNcc the reference's weighted correlation,
-  // two thirds of the reacquisition's time, is not computed. A look-alike correlates highly on
-  // both; with this filter the reacquisitions on every rendered set are those without it.
+  // First the plain correlation of the square about the place found (SquareCorrelation): where
+  // that is below kLooseNcc the reference's weighted correlation, two thirds of the
+  // reacquisition's time, is not computed. A look-alike correlates highly on both; with this
+  // filter the reacquisitions on every rendered set are those without it.
   constexpr float kLooseNcc = 0.5f;
   const int half = t.reference.half_size();
   const cv::Point pixel(static_cast<int>(std::lround(centre.x())),
                         static_cast<int>(std::lround(centre.y())));
-  const cv::Rect image_rect(0, 0, aligned_image_.cols, aligned_image_.rows);
-  const cv::Rect patch(pixel.x - half, pixel.y - half, 2 * half + 1, 2 * half + 1);
-  const cv::Rect search(pixel.x - reach - kStep - half, pixel.y - reach - kStep - half,
-                        2 * (reach + kStep + half) + 1, 2 * (reach + kStep + half) + 1);
-  cv::Mat scores;  // scores(y, x): the square centred at search's corner + (half + x, half + y)
-  const bool filtered = (patch & image_rect) == patch && (search & image_rect) == search;
-  if (filtered)
-    cv::matchTemplate(aligned_image_(search), aligned_image_(patch), scores, cv::TM_CCOEFF_NORMED);
+  std::optional<SquareCorrelation> plain;
+  if (pixel.x - half >= 0 && pixel.y - half >= 0 && pixel.x + half < aligned_image_.cols &&
+      pixel.y + half < aligned_image_.rows)
+    plain.emplace(aligned_image_, pixel, half);
   std::vector<Eigen::Vector2d> tried;  // where alignments ended: their peaks need no second try
   AffineWarp warp = found;
   for (int dy = -reach; dy <= reach; dy += kStep)
@@ -422,10 +412,10 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
       const Eigen::Vector2d at = centre + Eigen::Vector2d(dx, dy);
       if ((at - centre).norm() > radius || (at - found.b).norm() <= apart || !in_region(at))
         continue;
-      if (filtered) {
-        const int x = static_cast<int>(std::lround(at.x())) - search.x - half;
-        const int y = static_cast<int>(std::lround(at.y())) - search.y - half;
-        if (scores.at<float>(y, x) < kLooseNcc) continue;
+      if (plain) {
+        const cv::Point square(static_cast<int>(std::lround(at.x())),
+                               static_cast<int>(std::lround(at.y())));
+        if (plain->fits(square) && plain->at(square) < kLooseNcc) continue;
       }
       warp = found;
       warp.b = at;
