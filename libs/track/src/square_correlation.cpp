@@ -1,6 +1,9 @@
 #include "square_correlation.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "float_lanes.h"
 
 namespace omnisfm::track {
 
@@ -8,19 +11,23 @@ SquareCorrelation::SquareCorrelation(const cv::Mat& image, const cv::Point& cent
     : image_(image), half_(half) {
   CV_Assert(image.type() == CV_32FC1 && half >= 0 && fits(centre));
   const int side = 2 * half + 1;
-  zero_mean_.reserve(static_cast<size_t>(side) * side);
+  padded_side_ = (side + kLanes - 1) / kLanes * kLanes;
+  mask_.assign(padded_side_, 0.0f);
+  std::fill(mask_.begin(), mask_.begin() + side, 1.0f);
   double sum = 0;
   for (int y = -half; y <= half; ++y) {
     const float* row = image.ptr<float>(centre.y + y) + centre.x;
-    for (int x = -half; x <= half; ++x) {
-      zero_mean_.push_back(row[x]);
-      sum += row[x];
-    }
+    for (int x = -half; x <= half; ++x) sum += row[x];
   }
-  mean_ = static_cast<float>(sum / zero_mean_.size());
-  for (float& v : zero_mean_) {
-    v -= mean_;
-    norm_squared_ += static_cast<double>(v) * v;
+  mean_ = static_cast<float>(sum / (side * side));
+  zero_mean_.assign(static_cast<size_t>(padded_side_) * side, 0.0f);
+  for (int y = 0; y < side; ++y) {
+    const float* row = image.ptr<float>(centre.y - half + y) + centre.x - half;
+    for (int x = 0; x < side; ++x) {
+      const float v = row[x] - mean_;
+      zero_mean_[static_cast<size_t>(y) * padded_side_ + x] = v;
+      norm_squared_ += static_cast<double>(v) * v;
+    }
   }
 }
 
@@ -32,29 +39,42 @@ bool SquareCorrelation::fits(const cv::Point& centre) const {
 double SquareCorrelation::at(const cv::Point& centre) const {
   CV_Assert(fits(centre));
   const int side = 2 * half_ + 1;
-  // The variance is a difference of two sums: of the pixels less the first square's mean (a
-  // little cancels), per row in float, across rows in double.
-  double sum = 0, sum_squares = 0, product = 0;
+  // Sums of the pixels less the first square's mean (the variance is a difference of two sums,
+  // and a little less cancels), kLanes pixels at a time in float. Each row is read in whole
+  // registers, the template's padding and `mask` zeroing what lies beyond the square, where the
+  // image has that many more columns; at its right edge the last pixels are added one by one.
+  const bool whole_registers = centre.x - half_ + padded_side_ <= image_.cols;
+  const int in_registers = whole_registers ? padded_side_ : side / kLanes * kLanes;
+  const Lanes mean = {mean_, mean_, mean_, mean_};
+  Lanes sum = {}, squares = {}, product = {};
   const float* t = zero_mean_.data();
-  for (int y = -half_; y <= half_; ++y, t += side) {
+  for (int y = -half_; y <= half_; ++y, t += padded_side_) {
     const float* row = image_.ptr<float>(centre.y + y) + centre.x - half_;
-    float row_sum = 0, row_squares = 0, row_product = 0;
-    for (int x = 0; x < side; ++x) {
-      const float v = row[x] - mean_;
-      row_sum += v;
-      row_squares += v * v;
-      row_product += v * t[x];
+    for (int x = 0; x < in_registers; x += kLanes) {
+      const Lanes v = (load(row + x) - mean) * load(mask_.data() + x);
+      sum += v;
+      squares += v * v;
+      product += v * load(t + x);
     }
-    sum += row_sum;
-    sum_squares += row_squares;
-    product += row_product;
+    for (int x = in_registers; x < side; ++x) {
+      const float v = row[x] - mean_;
+      sum[0] += v;
+      squares[0] += v * v;
+      product[0] += v * t[x];
+    }
+  }
+  double total = 0, total_squares = 0, total_product = 0;
+  for (int lane = 0; lane < kLanes; ++lane) {
+    total += sum[lane];
+    total_squares += squares[lane];
+    total_product += product[lane];
   }
   // With the first square zero-mean, sum t (v - mean v) = sum t (v - any constant).
-  const double variance = sum_squares - sum * sum / (side * side);
+  const double variance = total_squares - total * total / (side * side);
   // Flat: no contrast beyond the rounding of the sums.
   constexpr double kRounding = 1e-5;
-  if (!(variance > kRounding * sum_squares) || !(norm_squared_ > 0)) return 0;
-  return product / std::sqrt(norm_squared_ * variance);
+  if (!(variance > kRounding * total_squares) || !(norm_squared_ > 0)) return 0;
+  return total_product / std::sqrt(norm_squared_ * variance);
 }
 
 }  // namespace omnisfm::track

@@ -24,9 +24,12 @@ class SquareCorrelation {
  private:
   cv::Mat image_;
   int half_;
-  float mean_ = 0;                // of the first square
-  std::vector<float> zero_mean_;  // the first square less its mean, row-major
-  double norm_squared_ = 0;       // the sum of zero_mean_'s squares
+  float mean_ = 0;  // of the first square
+  // Its rows padded with zeros to whole registers, and which of a padded row's pixels count.
+  int padded_side_ = 0;
+  std::vector<float> zero_mean_;  // the first square less its mean, row-major, padded rows
+  std::vector<float> mask_;
+  double norm_squared_ = 0;  // the sum of zero_mean_'s squares
 };
 
 }  // namespace omnisfm::track

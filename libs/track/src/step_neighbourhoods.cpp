@@ -4,8 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "omnisfm/core/percentile.h"
-
 namespace omnisfm::track {
 
 StepNeighbourhoods::StepNeighbourhoods(std::vector<Eigen::Vector2d> starts,
@@ -63,27 +61,40 @@ int StepNeighbourhoods::row(double y) const { return clamped_cell(y - origin_.y(
 
 bool StepNeighbourhoods::median_step(const Eigen::Vector2d& at, std::size_t skip,
                                      std::size_t min_tracks, Eigen::Vector2d* step) const {
-  if (!at.allFinite()) return false;
-  const double radius_squared = radius_ * radius_;
+  if (!at.allFinite() || columns_ == 0) return false;
+  // The cells from a little before the radius to a little beyond it, along each axis (at most
+  // four: cells are at least as wide as the radius): a start whose rounded distance is within the
+  // radius lies at most a few units in the last place beyond it.
+  const double reach = radius_ * (1 + 1e-9);
+  const int first_row = row(at.y() - reach), last_row = row(at.y() + reach);
+  const int first_column = column(at.x() - reach), last_column = column(at.x() + reach);
+  // Room for every track in those cells at once: this runs for every track every frame, and
+  // growing the vectors as they fill cost more than the medians.
+  std::size_t candidates = 0;
+  for (int y = first_row; y <= last_row; ++y) {
+    const std::size_t begin = static_cast<std::size_t>(y) * columns_;
+    candidates += cell_begin_[begin + last_column + 1] - cell_begin_[begin + first_column];
+  }
   std::vector<double> xs, ys;
-  const auto read_cell = [&](int x, int y) {
-    const std::size_t cell = static_cast<std::size_t>(y) * columns_ + x;
-    for (std::size_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
+  xs.reserve(candidates);
+  ys.reserve(candidates);
+  const double radius_squared = radius_ * radius_;
+  for (int y = first_row; y <= last_row; ++y) {
+    const std::size_t begin = static_cast<std::size_t>(y) * columns_;
+    for (std::size_t k = cell_begin_[begin + first_column];
+         k < cell_begin_[begin + last_column + 1]; ++k) {
       const std::size_t i = by_cell_[k];
       if (i == skip || (starts_[i] - at).squaredNorm() > radius_squared) continue;
       xs.push_back(steps_[i].x());
       ys.push_back(steps_[i].y());
     }
-  };
-  // The cells from a little before the radius to a little beyond it, along each axis (at most
-  // four: cells are at least as wide as the radius): a start whose rounded distance is within the
-  // radius lies at most a few units in the last place beyond it.
-  const double reach = radius_ * (1 + 1e-9);
-  if (columns_ > 0)
-    for (int y = row(at.y() - reach); y <= row(at.y() + reach); ++y)
-      for (int x = column(at.x() - reach); x <= column(at.x() + reach); ++x) read_cell(x, y);
+  }
   if (xs.size() < min_tracks) return false;
-  *step = Eigen::Vector2d(core::percentile(xs, 0.5), core::percentile(ys, 0.5));
+  // The header's median (the upper middle one of an even count), in place.
+  const std::size_t middle = xs.size() / 2;
+  std::nth_element(xs.begin(), xs.begin() + middle, xs.end());
+  std::nth_element(ys.begin(), ys.begin() + middle, ys.end());
+  *step = Eigen::Vector2d(xs[middle], ys[middle]);
   return true;
 }
 
