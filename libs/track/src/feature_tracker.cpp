@@ -67,7 +67,8 @@ FeatureTracker::FeatureTracker(const cv::Mat& region, const TrackerSettings& set
 }
 
 cv::Mat FeatureTracker::alignment_image(const cv::Mat& image) const {
-  if (settings_.image_blur_sigma > 0) return gaussian_blurred_float(image, settings_.image_blur_sigma);
+  if (settings_.image_blur_sigma > 0)
+    return gaussian_blurred_float(image, settings_.image_blur_sigma);
   cv::Mat converted;
   image.convertTo(converted, CV_32F);
   return converted;
@@ -393,9 +394,9 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
   const Eigen::Vector2d centre = found.b;
   const double apart = t.reference.half_size();
   const int reach = static_cast<int>(std::ceil(radius));
-  // First the plain correlation of the square about the place found (SquareCorrelation): where
-  // that is below kLooseNcc the reference's weighted correlation, two thirds of the
-  // reacquisition's time, is not computed. A look-alike correlates highly on both; with this
+  // First the plain correlation of the square about the place found with the square about each
+  // place (SquareCorrelation), where both fit in the image: where that is below kLooseNcc the
+  // reference's weighted correlation, two thirds of the reacquisition's time, is not computed. A look-alike correlates highly on both; with this
   // filter the reacquisitions on every rendered set are those without it.
   constexpr float kLooseNcc = 0.5f;
   const int half = t.reference.half_size();

@@ -18,9 +18,10 @@ void reflect_ends(float* row, int cols, int half) {
 
 }  // namespace
 
-// Built also for AVX2, chosen when the processor has it (OpenCV dispatches its filters the same
-// way): the passes below are a few instructions per pixel, and twice the lanes nearly halve them.
-#if defined(__x86_64__) && defined(__has_attribute)
+// Built also for AVX2, chosen when the processor has it (OpenCV too picks its filters' code by
+// processor): the passes below are a few instructions per pixel, and twice the lanes nearly halve
+// them. The choice is made by the dynamic loader (an indirect function), which GNU/Linux's has.
+#if defined(__x86_64__) && defined(__ELF__) && defined(__GLIBC__) && defined(__has_attribute)
 #if __has_attribute(target_clones)
 #define OMNISFM_ALSO_FOR_AVX2 __attribute__((target_clones("avx2", "default")))
 #endif

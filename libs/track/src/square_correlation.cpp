@@ -19,12 +19,12 @@ SquareCorrelation::SquareCorrelation(const cv::Mat& image, const cv::Point& cent
     const float* row = image.ptr<float>(centre.y + y) + centre.x;
     for (int x = -half; x <= half; ++x) sum += row[x];
   }
-  mean_ = static_cast<float>(sum / (side * side));
+  const float mean = static_cast<float>(sum / (side * side));
   zero_mean_.assign(static_cast<size_t>(padded_side_) * side, 0.0f);
   for (int y = 0; y < side; ++y) {
     const float* row = image.ptr<float>(centre.y - half + y) + centre.x - half;
     for (int x = 0; x < side; ++x) {
-      const float v = row[x] - mean_;
+      const float v = row[x] - mean;
       zero_mean_[static_cast<size_t>(y) * padded_side_ + x] = v;
       norm_squared_ += static_cast<double>(v) * v;
     }
@@ -39,25 +39,27 @@ bool SquareCorrelation::fits(const cv::Point& centre) const {
 double SquareCorrelation::at(const cv::Point& centre) const {
   CV_Assert(fits(centre));
   const int side = 2 * half_ + 1;
-  // Sums of the pixels less the first square's mean (the variance is a difference of two sums,
-  // and a little less cancels), kLanes pixels at a time in float. Each row is read in whole
+  // Sums of the pixels less the square's own centre pixel (the variance is a difference of two
+  // sums, which then stay of the order of the square's own contrast), kLanes pixels at a time in
+  // float. Each row is read in whole
   // registers, the template's padding and `mask` zeroing what lies beyond the square, where the
   // image has that many more columns; at its right edge the last pixels are added one by one.
   const bool whole_registers = centre.x - half_ + padded_side_ <= image_.cols;
   const int in_registers = whole_registers ? padded_side_ : side / kLanes * kLanes;
-  const Lanes mean = {mean_, mean_, mean_, mean_};
+  const float reference = image_.ptr<float>(centre.y)[centre.x];
+  const Lanes shift = {reference, reference, reference, reference};
   Lanes sum = {}, squares = {}, product = {};
   const float* t = zero_mean_.data();
   for (int y = -half_; y <= half_; ++y, t += padded_side_) {
     const float* row = image_.ptr<float>(centre.y + y) + centre.x - half_;
     for (int x = 0; x < in_registers; x += kLanes) {
-      const Lanes v = (load(row + x) - mean) * load(mask_.data() + x);
+      const Lanes v = (load(row + x) - shift) * load(mask_.data() + x);
       sum += v;
       squares += v * v;
       product += v * load(t + x);
     }
     for (int x = in_registers; x < side; ++x) {
-      const float v = row[x] - mean_;
+      const float v = row[x] - reference;
       sum[0] += v;
       squares[0] += v * v;
       product[0] += v * t[x];
@@ -74,7 +76,7 @@ double SquareCorrelation::at(const cv::Point& centre) const {
   // Flat: no contrast beyond the rounding of the sums.
   constexpr double kRounding = 1e-5;
   if (!(variance > kRounding * total_squares) || !(norm_squared_ > 0)) return 0;
-  return total_product / std::sqrt(norm_squared_ * variance);
+  return std::clamp(total_product / std::sqrt(norm_squared_ * variance), -1.0, 1.0);
 }
 
 }  // namespace omnisfm::track

@@ -24,7 +24,6 @@ class SquareCorrelation {
  private:
   cv::Mat image_;
   int half_;
-  float mean_ = 0;  // of the first square
   // Its rows padded with zeros to whole registers, and which of a padded row's pixels count.
   int padded_side_ = 0;
   std::vector<float> zero_mean_;  // the first square less its mean, row-major, padded rows

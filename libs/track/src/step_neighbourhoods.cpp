@@ -89,7 +89,7 @@ bool StepNeighbourhoods::median_step(const Eigen::Vector2d& at, std::size_t skip
       ys.push_back(steps_[i].y());
     }
   }
-  if (xs.size() < min_tracks) return false;
+  if (xs.empty() || xs.size() < min_tracks) return false;
   // The header's median (the upper middle one of an even count), in place.
   const std::size_t middle = xs.size() / 2;
   std::nth_element(xs.begin(), xs.begin() + middle, xs.end());

@@ -18,7 +18,7 @@ class StepNeighbourhoods {
 
   // The median (core::percentile's: the upper middle one of an even count) of the steps, per
   // coordinate, of the tracks whose step began within the radius of `at`, track `skip` left out
-  // (pass the count for none); false with fewer than min_tracks of them.
+  // (pass the count for none); false with fewer than min_tracks of them, or none.
   bool median_step(const Eigen::Vector2d& at, std::size_t skip, std::size_t min_tracks,
                    Eigen::Vector2d* step) const;
 

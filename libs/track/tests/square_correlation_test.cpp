@@ -62,6 +62,27 @@ TEST(SquareCorrelation, IsTheNormedCorrelationCoefficient) {
   }
 }
 
+// The same texture far brighter or darker, with little contrast: still itself (the sums are
+// taken about each square's own level), and never beyond 1.
+TEST(SquareCorrelation, AFaintTextureAtAnotherLevelIsItself) {
+  const cv::Mat texture = textured(15, 15, 6);
+  cv::Mat image(15, 40, CV_32FC1);
+  // Contrast about 0.5 grey levels at 5, and 30 at 230.
+  cv::Mat faint = image(cv::Rect(0, 0, 15, 15)), strong = image(cv::Rect(20, 0, 15, 15));
+  cv::normalize(texture, faint, 4, 6, cv::NORM_MINMAX);
+  cv::normalize(texture, strong, 170, 250, cv::NORM_MINMAX);
+  image(cv::Rect(15, 0, 5, 15)).setTo(0);
+  image(cv::Rect(35, 0, 5, 15)).setTo(0);
+  for (const int half : {3, 7}) {
+    const SquareCorrelation from_strong(image, cv::Point(27, 7), half);
+    const SquareCorrelation from_faint(image, cv::Point(7, 7), half);
+    EXPECT_NEAR(from_strong.at(cv::Point(7, 7)), 1, 1e-4) << "half size " << half;
+    EXPECT_NEAR(from_faint.at(cv::Point(27, 7)), 1, 1e-4) << "half size " << half;
+    EXPECT_LE(from_strong.at(cv::Point(7, 7)), 1);
+    EXPECT_LE(from_faint.at(cv::Point(27, 7)), 1);
+  }
+}
+
 TEST(SquareCorrelation, KnowsWhereASquareFits) {
   const cv::Mat image = textured(20, 30, 4);
   const SquareCorrelation correlation(image, cv::Point(10, 10), 3);

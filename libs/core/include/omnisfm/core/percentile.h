@@ -6,7 +6,8 @@
 
 namespace omnisfm::core {
 
-// The value below which `fraction` of `values` lie (nearest rank, the lower one); 0 for none.
+// The value below which `fraction` of `values` lie: the sorted values' entry floor(fraction n)
+// (counted from 0; for the median of an even count the upper middle one); 0 for none.
 inline double percentile(std::vector<double> values, double fraction) {
   if (values.empty()) return 0;
   const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
