@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "omnisfm/core/percentile.h"
+#include "duplicate_tracks.h"
 #include "gaussian_blur.h"
 #include "square_correlation.h"
 #include "step_neighbourhoods.h"
@@ -275,17 +276,14 @@ void FeatureTracker::end_jumped_tracks() {
 }
 
 void FeatureTracker::remove_duplicates() {
-  std::vector<bool> ended(live_.size(), false);
-  for (size_t i = 0; i < live_.size(); ++i)
-    for (size_t j = i + 1; j < live_.size(); ++j) {
-      if (ended[i] || ended[j]) continue;
-      if ((live_[i].position - live_[j].position).norm() >= settings_.min_track_separation_px)
-        continue;
-      const bool i_younger =
-          live_[i].first_frame > live_[j].first_frame ||
-          (live_[i].first_frame == live_[j].first_frame && live_[i].id > live_[j].id);
-      ended[i_younger ? i : j] = true;
-    }
+  std::vector<Eigen::Vector2d> positions;
+  std::vector<std::pair<int, int>> started;
+  for (const Track& t : live_) {
+    positions.push_back(t.position);
+    started.emplace_back(t.first_frame, t.id);
+  }
+  const std::vector<bool> ended =
+      younger_duplicates(positions, started, settings_.min_track_separation_px);
   std::vector<Track> kept;
   for (size_t i = 0; i < live_.size(); ++i) {
     if (ended[i])
