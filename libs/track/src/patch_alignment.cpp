@@ -114,30 +114,44 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   p.norm_ = std::sqrt((p.weights_.cast<double>() * p.values_.cast<double>().square()).sum());
   if (p.norm_ < kMinContrast) return false;
 
-  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix2d part_hessian[kParts];
-  for (Eigen::Matrix2d& h : part_hessian) h.setZero();
+  // The Hessians' upper triangles summed entry by entry (w sd_i) sd_j: half the products of
+  // the whole outer products, the same sums. extract runs for every new or renewed reference.
+  constexpr int kEntries = 21;
+  double upper[kEntries] = {};
+  double part_upper[kParts][3] = {};
   p.steepest_.setZero(padded, 6);
   p.part_steepest_.setZero(padded, 2 * kParts);
   k = 0;
-  for (int y = -half_size; y <= half_size; ++y)
+  for (int y = -half_size; y <= half_size; ++y) {
+    const float* above = image.ptr<float>(cy + y - 1) + cx;
+    const float* row = image.ptr<float>(cy + y) + cx;
+    const float* below = image.ptr<float>(cy + y + 1) + cx;
     for (int x = -half_size; x <= half_size; ++x, ++k) {
-      const double gx =
-          0.5 * (image.at<float>(cy + y, cx + x + 1) - image.at<float>(cy + y, cx + x - 1));
-      const double gy =
-          0.5 * (image.at<float>(cy + y + 1, cx + x) - image.at<float>(cy + y - 1, cx + x));
-      const double u = p.offsets_x_(k), v = p.offsets_y_(k);
-      Eigen::Matrix<double, 6, 1> sd;
-      sd << gx * u, gx * v, gy * u, gy * v, gx, gy;
-      hessian += p.weights_(k) * sd * sd.transpose();
-      p.steepest_.row(k) = (p.weights_(k) * sd).cast<float>().transpose();
-      const Eigen::Vector2d gradient(gx, gy);
+      const double gx = 0.5 * (row[x + 1] - row[x - 1]);
+      const double gy = 0.5 * (below[x] - above[x]);
+      const double u = p.offsets_x_(k), v = p.offsets_y_(k), w = p.weights_(k);
+      const double sd[6] = {gx * u, gx * v, gy * u, gy * v, gx, gy};
+      double weighted[6];
+      for (int i = 0; i < 6; ++i) weighted[i] = w * sd[i];
+      for (int i = 0, e = 0; i < 6; ++i)
+        for (int j = i; j < 6; ++j, ++e) upper[e] += weighted[i] * sd[j];
+      for (int i = 0; i < 6; ++i) p.steepest_(k, i) = static_cast<float>(weighted[i]);
       for (int h = 0; h < kParts; ++h)
         if (in_part(u, v, h, half_size)) {
-          part_hessian[h] += p.weights_(k) * gradient * gradient.transpose();
-          p.part_steepest_.row(k).segment<2>(2 * h) = p.steepest_.row(k).tail<2>();
+          part_upper[h][0] += weighted[4] * gx;
+          part_upper[h][1] += weighted[4] * gy;
+          part_upper[h][2] += weighted[5] * gy;
+          p.part_steepest_(k, 2 * h) = p.steepest_(k, 4);
+          p.part_steepest_(k, 2 * h + 1) = p.steepest_(k, 5);
         }
     }
+  }
+  Eigen::Matrix<double, 6, 6> hessian;
+  for (int i = 0, e = 0; i < 6; ++i)
+    for (int j = i; j < 6; ++j, ++e) hessian(i, j) = hessian(j, i) = upper[e];
+  Eigen::Matrix2d part_hessian[kParts];
+  for (int h = 0; h < kParts; ++h)
+    part_hessian[h] << part_upper[h][0], part_upper[h][1], part_upper[h][1], part_upper[h][2];
   for (int h = 0; h < kParts; ++h) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> part(part_hessian[h],
                                                               Eigen::EigenvaluesOnly);
