@@ -394,15 +394,15 @@ bool FeatureTracker::repeated_nearby(const Track& t, const AffineWarp& found,
   const int reach = static_cast<int>(std::ceil(radius));
   // First the plain correlation of the square about the place found with the square about each
   // place (SquareCorrelation), where both fit in the image: where that is below kLooseNcc the
-  // reference's weighted correlation, two thirds of the reacquisition's time, is not computed. A look-alike correlates highly on both; with this
-  // filter the reacquisitions on every rendered set are those without it.
+  // reference's weighted correlation, two thirds of the reacquisition's time, is not computed. A
+  // look-alike correlates highly on both; with this filter the reacquisitions on every rendered
+  // set are those without it.
   constexpr float kLooseNcc = 0.5f;
   const int half = t.reference.half_size();
   const cv::Point pixel(static_cast<int>(std::lround(centre.x())),
                         static_cast<int>(std::lround(centre.y())));
   std::optional<SquareCorrelation> plain;
-  if (pixel.x - half >= 0 && pixel.y - half >= 0 && pixel.x + half < aligned_image_.cols &&
-      pixel.y + half < aligned_image_.rows)
+  if (SquareCorrelation::fits(aligned_image_, pixel, half))
     plain.emplace(aligned_image_, pixel, half);
   std::vector<Eigen::Vector2d> tried;  // where alignments ended: their peaks need no second try
   AffineWarp warp = found;

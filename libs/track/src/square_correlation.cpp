@@ -9,7 +9,7 @@ namespace omnisfm::track {
 
 SquareCorrelation::SquareCorrelation(const cv::Mat& image, const cv::Point& centre, int half)
     : image_(image), half_(half) {
-  CV_Assert(image.type() == CV_32FC1 && half >= 0 && fits(centre));
+  CV_Assert(image.type() == CV_32FC1 && half >= 0 && fits(image, centre, half));
   const int side = 2 * half + 1;
   padded_side_ = (side + kLanes - 1) / kLanes * kLanes;
   mask_.assign(padded_side_, 0.0f);
@@ -31,9 +31,9 @@ SquareCorrelation::SquareCorrelation(const cv::Mat& image, const cv::Point& cent
   }
 }
 
-bool SquareCorrelation::fits(const cv::Point& centre) const {
-  return centre.x - half_ >= 0 && centre.y - half_ >= 0 && centre.x + half_ < image_.cols &&
-         centre.y + half_ < image_.rows;
+bool SquareCorrelation::fits(const cv::Mat& image, const cv::Point& centre, int half) {
+  return centre.x - half >= 0 && centre.y - half >= 0 && centre.x + half < image.cols &&
+         centre.y + half < image.rows;
 }
 
 double SquareCorrelation::at(const cv::Point& centre) const {
@@ -41,9 +41,9 @@ double SquareCorrelation::at(const cv::Point& centre) const {
   const int side = 2 * half_ + 1;
   // Sums of the pixels less the square's own centre pixel (the variance is a difference of two
   // sums, which then stay of the order of the square's own contrast), kLanes pixels at a time in
-  // float. Each row is read in whole
-  // registers, the template's padding and `mask` zeroing what lies beyond the square, where the
-  // image has that many more columns; at its right edge the last pixels are added one by one.
+  // float. Each row is read in whole registers, the template's padding and `mask` zeroing what
+  // lies beyond the square, where the image has that many more columns; at its right edge the
+  // last pixels are added one by one.
   const bool whole_registers = centre.x - half_ + padded_side_ <= image_.cols;
   const int in_registers = whole_registers ? padded_side_ : side / kLanes * kLanes;
   const float reference = image_.ptr<float>(centre.y)[centre.x];

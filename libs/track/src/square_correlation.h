@@ -19,7 +19,9 @@ class SquareCorrelation {
   double at(const cv::Point& centre) const;
 
   // Whether the square about `centre` lies inside the image.
-  bool fits(const cv::Point& centre) const;
+  bool fits(const cv::Point& centre) const { return fits(image_, centre, half_); }
+  // Whether the square of side 2 half + 1 about `centre` lies inside `image`.
+  static bool fits(const cv::Mat& image, const cv::Point& centre, int half);
 
  private:
   cv::Mat image_;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "omnisfm/core/percentile.h"
+
 namespace omnisfm::track {
 
 StepNeighbourhoods::StepNeighbourhoods(std::vector<Eigen::Vector2d> starts,
@@ -90,11 +92,7 @@ bool StepNeighbourhoods::median_step(const Eigen::Vector2d& at, std::size_t skip
     }
   }
   if (xs.empty() || xs.size() < min_tracks) return false;
-  // The header's median (the upper middle one of an even count), in place.
-  const std::size_t middle = xs.size() / 2;
-  std::nth_element(xs.begin(), xs.begin() + middle, xs.end());
-  std::nth_element(ys.begin(), ys.begin() + middle, ys.end());
-  *step = Eigen::Vector2d(xs[middle], ys[middle]);
+  *step = Eigen::Vector2d(core::percentile_in_place(&xs, 0.5), core::percentile_in_place(&ys, 0.5));
   return true;
 }
 

@@ -24,7 +24,8 @@ cv::Mat noise(int rows, int cols, int seed) {
 }
 
 // OpenCV's separable filter with the same taps and border, on images from one pixel to wider
-// than a register, and kernels from 3 to 13 taps: within float rounding of 255-level sums.
+// than a register, and kernels from 3 to 13 taps: within float rounding of 255-level sums (6e-5
+// at most, measured).
 TEST(GaussianBlur, IsOpenCvsSeparableFilter) {
   int seed = 0;
   for (const double sigma : {0.3, 0.5, 1.0, 2.0})
@@ -34,7 +35,7 @@ TEST(GaussianBlur, IsOpenCvsSeparableFilter) {
       const cv::Mat ours = gaussian_blurred_float(grey, sigma);
       ASSERT_EQ(ours.type(), CV_32FC1);
       ASSERT_EQ(ours.size(), grey.size());
-      EXPECT_LE(cv::norm(ours, opencv_blurred(grey, sigma), cv::NORM_INF), 1e-3)
+      EXPECT_LE(cv::norm(ours, opencv_blurred(grey, sigma), cv::NORM_INF), 2e-4)
           << "sigma " << sigma << ", " << size;
     }
 }
@@ -45,12 +46,12 @@ TEST(GaussianBlur, ARegionOfInterestReflectsAtItsOwnEdges) {
   const cv::Mat grey = noise(100, 120, 7);
   const cv::Mat part = grey(cv::Rect(10, 20, 50, 40));
   const cv::Mat blurred = gaussian_blurred_float(part, 0.5);
-  EXPECT_LE(cv::norm(blurred, opencv_blurred(part.clone(), 0.5), cv::NORM_INF), 1e-3);
+  EXPECT_LE(cv::norm(blurred, opencv_blurred(part.clone(), 0.5), cv::NORM_INF), 2e-4);
   cv::Mat isolated;
   const cv::Mat kernel = cv::getGaussianKernel(3, 0.5, CV_32F);
   cv::sepFilter2D(part, isolated, CV_32F, kernel, kernel, cv::Point(-1, -1), 0,
                   cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
-  EXPECT_LE(cv::norm(blurred, isolated, cv::NORM_INF), 1e-3);
+  EXPECT_LE(cv::norm(blurred, isolated, cv::NORM_INF), 2e-4);
   // Without BORDER_ISOLATED OpenCV reads the parent's pixels beyond the edges: its edges differ.
   EXPECT_GT(cv::norm(blurred, opencv_blurred(part, 0.5), cv::NORM_INF), 1);
 }

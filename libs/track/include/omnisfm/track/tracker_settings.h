@@ -5,12 +5,12 @@
 namespace omnisfm::track {
 
 struct TrackerSettings {
-  // Replenishing: new features are detected once detect_at_missing of max_tracks are missing, or
-  // an eighth of max_tracks where that is fewer (at least one). A detection costs about as much as following
-  // every track, and on the realistic rover a frame loses about four: detected only once eight
-  // were missing, the tracker took 1.38 ms per frame where it took 1.78, with 109 tracks alive on
-  // average where it kept 112, the median track as long (28-31 frames, seeds 1-3) and its error
-  // as small, but half the reacquisitions (which start from new corners too: 12, 9, 11 where
+  // Replenishing: new features are detected once detect_at_missing of max_tracks are missing, or an
+  // eighth of max_tracks where that is fewer (at least one). A detection costs about as much as
+  // following every track, and on the realistic rover a frame loses about four: detected only once
+  // eight were missing, the tracker took 1.38 ms per frame where it took 1.78, with 109 tracks
+  // alive on average where it kept 112, the median track as long (28-31 frames, seeds 1-3) and its
+  // error as small, but half the reacquisitions (which start from new corners too: 12, 9, 11 where
   // there were 24, 17, 16, none wrong). 1: whenever one is missing.
   int max_tracks = 112;
   int detect_at_missing = 8;
