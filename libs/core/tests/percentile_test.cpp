@@ -29,5 +29,13 @@ TEST(Percentile, InPlaceGivesTheSameAndKeepsTheValues) {
   EXPECT_EQ(percentile_in_place(&none, 0.5), 0);
 }
 
+TEST(Percentile, OfARangeLeavesTheRestAlone) {
+  std::vector<double> values = {6, 2, 9, 4, 100, -100};
+  EXPECT_EQ(percentile_in_place(values.data(), values.data() + 4, 0.5), 6);  // {2, 4, 6, 9}
+  EXPECT_EQ(values[4], 100);
+  EXPECT_EQ(values[5], -100);
+  EXPECT_EQ(percentile_in_place(values.data(), values.data(), 0.5), 0);
+}
+
 }  // namespace
 }  // namespace omnisfm::core

@@ -259,10 +259,8 @@ void FeatureTracker::end_jumped_tracks() {
   const StepNeighbourhoods neighbourhoods = live_steps();
   std::vector<bool> jumped(live_.size(), false);
   for (size_t i = 0; i < live_.size(); ++i) {
-    Eigen::Vector2d step;
-    jumped[i] = neighbourhoods.median_step(live_[i].position - live_[i].velocity, i,
-                                           kMinNeighbours, &step) &&
-                (live_[i].velocity - step).norm() > settings_.max_step_deviation_px;
+    jumped[i] = neighbourhoods.departs(live_[i].position - live_[i].velocity, i, kMinNeighbours,
+                                       live_[i].velocity, settings_.max_step_deviation_px);
   }
   std::vector<Track> kept;
   kept.reserve(live_.size());

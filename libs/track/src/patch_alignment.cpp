@@ -29,16 +29,26 @@ Lanes join(const Pair& low, const Pair& high) {
   return __builtin_shufflevector(low, high, 0, 1, 2, 3);
 }
 
+// The square of the centre part's radius, half the half size: float, as misfit sums in.
+float centre_radius_squared(int half_size) {
+  return 0.25f * static_cast<float>(half_size * half_size);
+}
+
 // Whether template offset (x, y) lies in part h of a patch of this half size: its left, right,
-// top or bottom half, or its centre (within half the half size).
-bool in_part(double x, double y, int h, int half_size) {
+// top or bottom half, or its centre.
+bool in_part(float x, float y, int h, int half_size) {
   switch (h) {
     case 0: return x < 0;
     case 1: return x >= 0;
     case 2: return y < 0;
     case 3: return y >= 0;
-    default: return 4 * (x * x + y * y) <= half_size * half_size;
+    default: return x * x + y * y <= centre_radius_squared(half_size);
   }
+}
+
+// The lanes where `mask` (a comparison's all-ones or zero per lane) is set, zero elsewhere.
+Lanes where(const LaneIndices& mask, const Lanes& l) {
+  return reinterpret_cast<Lanes>(mask & reinterpret_cast<LaneIndices>(l));
 }
 
 double lane_sum(const Lanes& l) {
@@ -97,7 +107,8 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   // Zero beyond the pixels: a padded pixel weighs nothing, sits on the feature and has no
   // steepest-descent image, so it changes no sum.
   const Eigen::Index padded = (count + kLanes - 1) / kLanes * kLanes;
-  for (Eigen::ArrayXf* a : {&p.offsets_x_, &p.offsets_y_, &p.weights_, &p.values_})
+  for (Eigen::ArrayXf* a :
+       {&p.offsets_x_, &p.offsets_y_, &p.weights_, &p.values_, &p.weighted_gx_, &p.weighted_gy_})
     a->setZero(padded);
   const double weight_sum = column_weight.sum() * row_weight.sum();
   Eigen::Index k = 0;
@@ -119,8 +130,6 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   constexpr int kEntries = 21;
   double upper[kEntries] = {};
   double part_upper[kParts][3] = {};
-  p.steepest_.setZero(padded, 6);
-  p.part_steepest_.setZero(padded, 2 * kParts);
   k = 0;
   for (int y = -half_size; y <= half_size; ++y) {
     const float* above = image.ptr<float>(cy + y - 1) + cx;
@@ -135,14 +144,13 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
       for (int i = 0; i < 6; ++i) weighted[i] = w * sd[i];
       for (int i = 0, e = 0; i < 6; ++i)
         for (int j = i; j < 6; ++j, ++e) upper[e] += weighted[i] * sd[j];
-      for (int i = 0; i < 6; ++i) p.steepest_(k, i) = static_cast<float>(weighted[i]);
+      p.weighted_gx_(k) = static_cast<float>(weighted[4]);
+      p.weighted_gy_(k) = static_cast<float>(weighted[5]);
       for (int h = 0; h < kParts; ++h)
-        if (in_part(u, v, h, half_size)) {
+        if (in_part(p.offsets_x_(k), p.offsets_y_(k), h, half_size)) {
           part_upper[h][0] += weighted[4] * gx;
           part_upper[h][1] += weighted[4] * gy;
           part_upper[h][2] += weighted[5] * gy;
-          p.part_steepest_(k, 2 * h) = p.steepest_(k, 4);
-          p.part_steepest_(k, 2 * h + 1) = p.steepest_(k, 5);
         }
     }
   }
@@ -257,14 +265,55 @@ double ReferencePatch::ncc(const cv::Mat& image, const AffineWarp& warp) const {
   return sample(image, warp, values.data(), &mean, &gain);
 }
 
+Eigen::Matrix<double, 6, 1> ReferencePatch::gradient(const Eigen::ArrayXf& residuals) const {
+  Lanes sums[6] = {};
+  const float *r = residuals.data(), *wgx = weighted_gx_.data(), *wgy = weighted_gy_.data();
+  const float *offsets_x = offsets_x_.data(), *offsets_y = offsets_y_.data();
+  for (Eigen::Index k = 0; k < residuals.size(); k += kLanes) {
+    const Lanes along_x = load(r + k) * load(wgx + k), along_y = load(r + k) * load(wgy + k);
+    const Lanes u = load(offsets_x + k), v = load(offsets_y + k);
+    sums[0] += along_x * u;
+    sums[1] += along_x * v;
+    sums[2] += along_y * u;
+    sums[3] += along_y * v;
+    sums[4] += along_x;
+    sums[5] += along_y;
+  }
+  Eigen::Matrix<double, 6, 1> g;
+  for (int i = 0; i < 6; ++i) g(i) = lane_sum(sums[i]);
+  return g;
+}
+
 double ReferencePatch::misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp) const {
-  // One Gauss-Newton step of the feature's position per part, from the same residuals.
-  const Eigen::Matrix<float, 2 * kParts, 1> gradients =
-      part_steepest_.transpose() * residuals.matrix();
+  // One Gauss-Newton step of the feature's position per part, from the same residuals: each
+  // part's gradient of the translation, summed where the part is (the right half is the whole
+  // less the left, the bottom the whole less the top).
+  Lanes whole_x = {}, whole_y = {}, left_x = {}, left_y = {}, top_x = {}, top_y = {};
+  Lanes centre_x = {}, centre_y = {};
+  const float quarter_square = centre_radius_squared(half_size_);
+  const float *r = residuals.data(), *wgx = weighted_gx_.data(), *wgy = weighted_gy_.data();
+  const float *offsets_x = offsets_x_.data(), *offsets_y = offsets_y_.data();
+  for (Eigen::Index k = 0; k < residuals.size(); k += kLanes) {
+    const Lanes along_x = load(r + k) * load(wgx + k), along_y = load(r + k) * load(wgy + k);
+    const Lanes u = load(offsets_x + k), v = load(offsets_y + k);
+    whole_x += along_x;
+    whole_y += along_y;
+    const LaneIndices left = u < 0, top = v < 0, central = u * u + v * v <= quarter_square;
+    left_x += where(left, along_x);
+    left_y += where(left, along_y);
+    top_x += where(top, along_x);
+    top_y += where(top, along_y);
+    centre_x += where(central, along_x);
+    centre_y += where(central, along_y);
+  }
+  const Eigen::Vector2d whole(lane_sum(whole_x), lane_sum(whole_y));
+  const Eigen::Vector2d left(lane_sum(left_x), lane_sum(left_y));
+  const Eigen::Vector2d top(lane_sum(top_x), lane_sum(top_y));
+  const Eigen::Vector2d part_gradients[kParts] = {
+      left, whole - left, top, whole - top, {lane_sum(centre_x), lane_sum(centre_y)}};
   double worst = 0;
   for (int h = 0; h < kParts; ++h) {
-    const Eigen::Vector2d step =
-        warp.A * (part_hessian_inverse_[h] * gradients.segment<2>(2 * h).cast<double>());
+    const Eigen::Vector2d step = warp.A * (part_hessian_inverse_[h] * part_gradients[h]);
     worst = std::max(worst, step.norm());
   }
   return worst;
@@ -282,8 +331,7 @@ AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, in
     const float m = static_cast<float>(mean), g = static_cast<float>(gain);
     // The residuals, then one dot product per parameter: both vectorise.
     values = (values - m) * g - values_;
-    const Eigen::Matrix<float, 6, 1> gradient = steepest_.transpose() * values.matrix();
-    const Eigen::Matrix<double, 6, 1> dp = hessian_inverse_ * gradient.cast<double>();
+    const Eigen::Matrix<double, 6, 1> dp = hessian_inverse_ * gradient(values);
 
     // Inverse composition: W <- W o W(dp)^-1.
     Eigen::Matrix2d A_dp;

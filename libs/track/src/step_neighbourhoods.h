@@ -21,6 +21,11 @@ class StepNeighbourhoods {
   // (pass the count for none); false with fewer than min_tracks of them, or none.
   bool median_step(const Eigen::Vector2d& at, std::size_t skip, std::size_t min_tracks,
                    Eigen::Vector2d* step) const;
+  // Whether median_step(at, skip, min_tracks) finds a median that `step` is farther than
+  // max_deviation from. The medians are taken only where counting the steps on either side of
+  // `step` cannot tell: most tracks move as their neighbours do.
+  bool departs(const Eigen::Vector2d& at, std::size_t skip, std::size_t min_tracks,
+               const Eigen::Vector2d& step, double max_deviation) const;
 
  private:
   // A place's cell along each axis, clamped into the grid (every finite start lies inside it);
@@ -28,6 +33,16 @@ class StepNeighbourhoods {
   int column(double x) const;
   int row(double y) const;
   int clamped_cell(double offset, int cells) const;
+
+  // The steps of the tracks within the radius of `at`, but `skip`: the first `count` of xs and of
+  // ys (the storage has room for every track of the cells read).
+  struct Neighbours {
+    std::vector<double> storage;
+    double* xs = nullptr;
+    double* ys = nullptr;
+    std::size_t count = 0;
+  };
+  Neighbours neighbours(const Eigen::Vector2d& at, std::size_t skip) const;
 
   std::vector<Eigen::Vector2d> starts_, steps_;
   double radius_;

@@ -104,10 +104,56 @@ TEST(StepNeighbourhoods, FarApartOrNotFiniteStarts) {
   EXPECT_EQ(step, Eigen::Vector2d(3, 0));
 }
 
+// The jump check's question, answered by counting where it can: the same answers as the medians
+// give, with tracks that move together, that do not, and steps on the boundary itself.
+TEST(StepNeighbourhoods, DepartsAsTheMediansSay) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> across(0, 300), unit(0, 1);
+  constexpr double kRadius = 100, kMaxDeviation = 8;
+  int departing = 0, staying = 0, counted_out = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<Eigen::Vector2d> starts, steps;
+    const int tracks = 2 + trial;
+    // Steps spread by 0.5 to 20 px about a common one, some whole pixels (ties and steps at the
+    // boundary).
+    const double spread = 0.5 + 0.5 * trial;
+    std::normal_distribution<double> scatter(0, spread);
+    for (int i = 0; i < tracks; ++i) {
+      starts.emplace_back(across(rng), across(rng));
+      Eigen::Vector2d s(3 + scatter(rng), -2 + scatter(rng));
+      if (unit(rng) < 0.3) s = s.array().round();
+      steps.push_back(s);
+    }
+    const StepNeighbourhoods neighbourhoods(starts, steps, kRadius);
+    for (int i = 0; i < tracks; ++i) {
+      Eigen::Vector2d median;
+      // The track's own step, and steps exactly max_deviation from the median.
+      std::vector<Eigen::Vector2d> asked = {steps[i]};
+      if (neighbourhoods.median_step(starts[i], i, 3, &median)) {
+        asked.push_back(median + Eigen::Vector2d(kMaxDeviation, 0));
+        asked.push_back(median + Eigen::Vector2d(0, -kMaxDeviation));
+      }
+      for (const Eigen::Vector2d& step : asked) {
+        const bool found = neighbourhoods.median_step(starts[i], i, 3, &median);
+        const bool expected = found && (step - median).norm() > kMaxDeviation;
+        ASSERT_EQ(neighbourhoods.departs(starts[i], i, 3, step, kMaxDeviation), expected)
+            << "trial " << trial << " track " << i;
+        if (!found) ++counted_out;
+        (expected ? departing : staying) += 1;
+      }
+    }
+  }
+  // Both answers, and too few neighbours, were asked about.
+  EXPECT_GT(departing, 50);
+  EXPECT_GT(staying, 500);
+  EXPECT_GT(counted_out, 5);
+}
+
 TEST(StepNeighbourhoods, NoTracks) {
   const StepNeighbourhoods neighbourhoods({}, {}, 100);
   Eigen::Vector2d step;
   EXPECT_FALSE(neighbourhoods.median_step({0, 0}, 0, 1, &step));
+  EXPECT_FALSE(neighbourhoods.departs({0, 0}, 0, 1, {100, 100}, 8));
   EXPECT_THROW(StepNeighbourhoods({{0, 0}}, {}, 100), std::invalid_argument);
   EXPECT_THROW(StepNeighbourhoods({}, {}, 0), std::invalid_argument);
 }

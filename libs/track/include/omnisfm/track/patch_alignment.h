@@ -89,16 +89,20 @@ class ReferencePatch {
   Eigen::ArrayXf weights_;  // Gaussian window about the feature, sums to 1
   Eigen::ArrayXf values_;   // the template, weighted mean removed
   double norm_ = 0;         // sqrt(sum w * values^2)
-  // Weighted steepest-descent images, a column per parameter: the gradient is six dot products.
-  Eigen::Matrix<float, Eigen::Dynamic, 6> steepest_;
+  // The template's gradient times the window weight, per pixel: with the offsets they give the
+  // six steepest-descent images (w gx u, w gx v, w gy u, w gy v, w gx, w gy), which are not
+  // stored. A patch's data is read at every step of every track, and kept this small it stays in
+  // the cache from one step to the next.
+  Eigen::ArrayXf weighted_gx_, weighted_gy_;
   Eigen::Matrix<double, 6, 6> hessian_inverse_;
-  // The translation's two columns of steepest_ within each part of the patch (left, right, top,
-  // bottom, centre; zero elsewhere), and each part's 2 x 2 Hessian inverse (zero for a part too
-  // flat to place on its own).
+  // Each part of the patch's (left, right, top, bottom, centre) 2 x 2 Hessian inverse of the
+  // translation (zero for a part too flat to place on its own).
   static constexpr int kParts = 5;
-  Eigen::Matrix<float, Eigen::Dynamic, 2 * kParts> part_steepest_;
   Eigen::Matrix2d part_hessian_inverse_[kParts];
 
+  // The gradient of the misfit over the six affine parameters: sum of residual times each
+  // steepest-descent image.
+  Eigen::Matrix<double, 6, 1> gradient(const Eigen::ArrayXf& residuals) const;
   // The largest shift one part of the patch would take alone, from the residuals at `warp`.
   double misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp) const;
 };
