@@ -18,28 +18,43 @@ FeatureDetector::FeatureDetector(const cv::Mat& region, const TrackerSettings& s
   for (int l = 0; l < settings.detection_level; ++l)
     level_size = cv::Size((level_size.width + 1) / 2, (level_size.height + 1) / 2);
   level_region_.create(level_size, CV_8UC1);
-  for (int y = 0; y < level_size.height; ++y)
-    for (int x = 0; x < level_size.width; ++x) {
-      const int fx = static_cast<int>(x * level_scale_), fy = static_cast<int>(y * level_scale_);
-      level_region_.at<uchar>(y, x) =
-          fx < region.cols && fy < region.rows ? region.at<uchar>(fy, fx) : 0;
+  for (int y = 0; y < level_size.height; ++y) {
+    uchar* out = level_region_.ptr<uchar>(y);
+    const int fy = static_cast<int>(y * level_scale_);
+    if (fy >= region.rows) {
+      std::fill(out, out + level_size.width, uchar{0});
+      continue;
     }
+    const uchar* in = region.ptr<uchar>(fy);
+    for (int x = 0; x < level_size.width; ++x) {
+      const int fx = static_cast<int>(x * level_scale_);
+      out[x] = fx < region.cols ? in[fx] : 0;
+    }
+  }
   level_bounds_ = cv::boundingRect(level_region_);
 
-  // Equal-area rings between the region's nearest and farthest pixels from the centre. Squared
-  // radii throughout: a tracker is made per sequence, and this visits every pixel.
+  // Equal-area rings between the region's nearest and farthest pixels from the centre. A tracker
+  // is made per sequence, but reading every pixel of a large region cost more than a few frames:
+  // per row, the farthest pixel is one of its ends, and the nearest is the first one found
+  // walking out from the centre's column either way.
   const cv::Rect bounds = cv::boundingRect(region);
   double r2_min = 1e300, r2_max = 0;
+  const int left_of_centre = static_cast<int>(std::floor(centre_.x));
   for (int y = bounds.y; y < bounds.y + bounds.height; ++y) {
     const uchar* inside = region.ptr<uchar>(y);
+    int first = bounds.x, last = bounds.x + bounds.width - 1;
+    while (first <= last && !inside[first]) ++first;
+    if (first > last) continue;
+    while (!inside[last]) --last;
     const double dy = y - centre_.y;
-    for (int x = bounds.x; x < bounds.x + bounds.width; ++x)
-      if (inside[x]) {
-        const double dx = x - centre_.x;
-        const double r2 = dx * dx + dy * dy;
-        r2_min = std::min(r2_min, r2);
-        r2_max = std::max(r2_max, r2);
-      }
+    const auto r2 = [&](int x) { return (x - centre_.x) * (x - centre_.x) + dy * dy; };
+    r2_max = std::max({r2_max, r2(first), r2(last)});
+    int left = std::min(left_of_centre, last);
+    while (left >= first && !inside[left]) --left;
+    int right = std::max(left_of_centre + 1, first);
+    while (right <= last && !inside[right]) ++right;
+    if (left >= first) r2_min = std::min(r2_min, r2(left));
+    if (right <= last) r2_min = std::min(r2_min, r2(right));
   }
   for (int i = 1; i <= settings.rings; ++i)
     ring_radii_squared_.push_back(r2_min + (r2_max - r2_min) * i / settings.rings);

@@ -29,21 +29,11 @@ Lanes join(const Pair& low, const Pair& high) {
   return __builtin_shufflevector(low, high, 0, 1, 2, 3);
 }
 
-// The square of the centre part's radius, half the half size: float, as misfit sums in.
+// The parts of a patch of half size h: its left half (template offset x < 0), its right half
+// (the rest), its top and bottom halves (y < 0, the rest), and its centre (within h / 2 of the
+// feature). The centre's radius squared, in float as misfit's lanes compare.
 float centre_radius_squared(int half_size) {
   return 0.25f * static_cast<float>(half_size * half_size);
-}
-
-// Whether template offset (x, y) lies in part h of a patch of this half size: its left, right,
-// top or bottom half, or its centre.
-bool in_part(float x, float y, int h, int half_size) {
-  switch (h) {
-    case 0: return x < 0;
-    case 1: return x >= 0;
-    case 2: return y < 0;
-    case 3: return y >= 0;
-    default: return x * x + y * y <= centre_radius_squared(half_size);
-  }
 }
 
 // The lanes where `mask` (a comparison's all-ones or zero per lane) is set, zero elsewhere.
@@ -125,11 +115,16 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   p.norm_ = std::sqrt((p.weights_.cast<double>() * p.values_.cast<double>().square()).sum());
   if (p.norm_ < kMinContrast) return false;
 
-  // The Hessians' upper triangles summed entry by entry (w sd_i) sd_j: half the products of
-  // the whole outer products, the same sums. extract runs for every new or renewed reference.
-  constexpr int kEntries = 21;
-  double upper[kEntries] = {};
-  double part_upper[kParts][3] = {};
+  // The Hessian of the six steepest-descent images (w gx u, w gx v, w gy u, w gy v, w gx, w gy)
+  // holds only the gradients' products (gx gx, gx gy, gy gy) times 1, u, v, uu, uv, vv: 18 sums,
+  // each in a register of its own (entry by entry, from arrays, the compiler's vector loads of
+  // scalar stores stalled: extract runs for every new or renewed reference). The parts need the
+  // products' sums over the left, top and centre parts (right and bottom: the whole less left and
+  // top).
+  struct Moments {
+    double one = 0, u = 0, v = 0, uu = 0, uv = 0, vv = 0;
+  } xx, xy, yy;
+  double left[3] = {}, top[3] = {}, centre[3] = {};
   k = 0;
   for (int y = -half_size; y <= half_size; ++y) {
     const float* above = image.ptr<float>(cy + y - 1) + cx;
@@ -138,25 +133,50 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
     for (int x = -half_size; x <= half_size; ++x, ++k) {
       const double gx = 0.5 * (row[x + 1] - row[x - 1]);
       const double gy = 0.5 * (below[x] - above[x]);
-      const double u = p.offsets_x_(k), v = p.offsets_y_(k), w = p.weights_(k);
-      const double sd[6] = {gx * u, gx * v, gy * u, gy * v, gx, gy};
-      double weighted[6];
-      for (int i = 0; i < 6; ++i) weighted[i] = w * sd[i];
-      for (int i = 0, e = 0; i < 6; ++i)
-        for (int j = i; j < 6; ++j, ++e) upper[e] += weighted[i] * sd[j];
-      p.weighted_gx_(k) = static_cast<float>(weighted[4]);
-      p.weighted_gy_(k) = static_cast<float>(weighted[5]);
-      for (int h = 0; h < kParts; ++h)
-        if (in_part(p.offsets_x_(k), p.offsets_y_(k), h, half_size)) {
-          part_upper[h][0] += weighted[4] * gx;
-          part_upper[h][1] += weighted[4] * gy;
-          part_upper[h][2] += weighted[5] * gy;
-        }
+      const float u_float = p.offsets_x_(k), v_float = p.offsets_y_(k);
+      const double u = u_float, v = v_float, w = p.weights_(k);
+      const double wgx = w * gx, wgy = w * gy;
+      p.weighted_gx_(k) = static_cast<float>(wgx);
+      p.weighted_gy_(k) = static_cast<float>(wgy);
+      const double products[3] = {wgx * gx, wgx * gy, wgy * gy};
+      const double uu = u * u, uv = u * v, vv = v * v;
+      Moments* const moments[3] = {&xx, &xy, &yy};
+      const double in_left = u_float < 0, in_top = v_float < 0;
+      const double in_centre =
+          u_float * u_float + v_float * v_float <= centre_radius_squared(half_size);
+      for (int i = 0; i < 3; ++i) {
+        const double g = products[i];
+        Moments& m = *moments[i];
+        m.one += g;
+        m.u += g * u;
+        m.v += g * v;
+        m.uu += g * uu;
+        m.uv += g * uv;
+        m.vv += g * vv;
+        left[i] += in_left * g;
+        top[i] += in_top * g;
+        centre[i] += in_centre * g;
+      }
     }
   }
+  // Columns 0-5: gx u, gx v, gy u, gy v, gx, gy.
   Eigen::Matrix<double, 6, 6> hessian;
-  for (int i = 0, e = 0; i < 6; ++i)
-    for (int j = i; j < 6; ++j, ++e) hessian(i, j) = hessian(j, i) = upper[e];
+  hessian << xx.uu, xx.uv, xy.uu, xy.uv, xx.u, xy.u,  //
+      0, xx.vv, xy.uv, xy.vv, xx.v, xy.v,             //
+      0, 0, yy.uu, yy.uv, xy.u, yy.u,                 //
+      0, 0, 0, yy.vv, xy.v, yy.v,                     //
+      0, 0, 0, 0, xx.one, xy.one,                     //
+      0, 0, 0, 0, 0, yy.one;
+  hessian.triangularView<Eigen::StrictlyLower>() = hessian.transpose();
+  const double whole[3] = {xx.one, xy.one, yy.one};
+  double part_upper[kParts][3];
+  for (int i = 0; i < 3; ++i) {
+    part_upper[0][i] = left[i];
+    part_upper[1][i] = whole[i] - left[i];
+    part_upper[2][i] = top[i];
+    part_upper[3][i] = whole[i] - top[i];
+    part_upper[4][i] = centre[i];
+  }
   Eigen::Matrix2d part_hessian[kParts];
   for (int h = 0; h < kParts; ++h)
     part_hessian[h] << part_upper[h][0], part_upper[h][1], part_upper[h][1], part_upper[h][2];
