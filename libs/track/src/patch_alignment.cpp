@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "float_lanes.h"
 
@@ -124,7 +125,9 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   struct Moments {
     double one = 0, u = 0, v = 0, uu = 0, uv = 0, vv = 0;
   } xx, xy, yy;
-  double left[3] = {}, top[3] = {}, centre[3] = {};
+  struct PartMoments {
+    double one[3] = {}, u[3] = {}, v[3] = {};  // of gx gx, gx gy, gy gy
+  } left, top, centre;
   k = 0;
   for (int y = -half_size; y <= half_size; ++y) {
     const float* above = image.ptr<float>(cy + y - 1) + cx;
@@ -153,9 +156,11 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
         m.uu += g * uu;
         m.uv += g * uv;
         m.vv += g * vv;
-        left[i] += in_left * g;
-        top[i] += in_top * g;
-        centre[i] += in_centre * g;
+        for (auto [part, in] : {std::pair{&left, in_left}, {&top, in_top}, {&centre, in_centre}}) {
+          part->one[i] += in * g;
+          part->u[i] += in * g * u;
+          part->v[i] += in * g * v;
+        }
       }
     }
   }
@@ -168,24 +173,26 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
       0, 0, 0, 0, xx.one, xy.one,                     //
       0, 0, 0, 0, 0, yy.one;
   hessian.triangularView<Eigen::StrictlyLower>() = hessian.transpose();
-  const double whole[3] = {xx.one, xy.one, yy.one};
-  double part_upper[kParts][3];
-  for (int i = 0; i < 3; ++i) {
-    part_upper[0][i] = left[i];
-    part_upper[1][i] = whole[i] - left[i];
-    part_upper[2][i] = top[i];
-    part_upper[3][i] = whole[i] - top[i];
-    part_upper[4][i] = centre[i];
-  }
-  Eigen::Matrix2d part_hessian[kParts];
-  for (int h = 0; h < kParts; ++h)
-    part_hessian[h] << part_upper[h][0], part_upper[h][1], part_upper[h][1], part_upper[h][2];
+  // Each part's rows of the translation in its own Hessian: the gradients' moments over the
+  // part, as the Hessian's rows 4 and 5 are over the whole.
+  const auto coupling = [](const PartMoments& m) {
+    Eigen::Matrix<double, 2, 6> c;
+    c << m.u[0], m.v[0], m.u[1], m.v[1], m.one[0], m.one[1],  //
+        m.u[1], m.v[1], m.u[2], m.v[2], m.one[1], m.one[2];
+    return c;
+  };
+  const Eigen::Matrix<double, 2, 6> whole = hessian.bottomRows<2>();
+  p.part_coupling_[0] = coupling(left);
+  p.part_coupling_[1] = whole - p.part_coupling_[0];
+  p.part_coupling_[2] = coupling(top);
+  p.part_coupling_[3] = whole - p.part_coupling_[2];
+  p.part_coupling_[4] = coupling(centre);
   for (int h = 0; h < kParts; ++h) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> part(part_hessian[h],
-                                                              Eigen::EigenvaluesOnly);
+    const Eigen::Matrix2d part_hessian = p.part_coupling_[h].rightCols<2>();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> part(part_hessian, Eigen::EigenvaluesOnly);
     const bool placeable = part.eigenvalues()(0) > 1e-6 * part.eigenvalues()(1);
     p.part_hessian_inverse_[h] =
-        placeable ? Eigen::Matrix2d(part_hessian[h].inverse()) : Eigen::Matrix2d::Zero();
+        placeable ? Eigen::Matrix2d(part_hessian.inverse()) : Eigen::Matrix2d::Zero();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(hessian,
                                                                          Eigen::EigenvaluesOnly);
@@ -304,7 +311,8 @@ Eigen::Matrix<double, 6, 1> ReferencePatch::gradient(const Eigen::ArrayXf& resid
   return g;
 }
 
-double ReferencePatch::misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp) const {
+double ReferencePatch::misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp,
+                              const Eigen::Matrix<double, 6, 1>& last_step) const {
   // One Gauss-Newton step of the feature's position per part, from the same residuals: each
   // part's gradient of the translation, summed where the part is (the right half is the whole
   // less the left, the bottom the whole less the top).
@@ -333,7 +341,11 @@ double ReferencePatch::misfit(const Eigen::ArrayXf& residuals, const AffineWarp&
       left, whole - left, top, whole - top, {lane_sum(centre_x), lane_sum(centre_y)}};
   double worst = 0;
   for (int h = 0; h < kParts; ++h) {
-    const Eigen::Vector2d step = warp.A * (part_hessian_inverse_[h] * part_gradients[h]);
+    if (part_hessian_inverse_[h].isZero()) continue;  // too flat to place on its own
+    // The part's gradient as the last step leaves it: the step removed the residuals' part
+    // along each steepest-descent image.
+    const Eigen::Vector2d gradient_after = part_gradients[h] - part_coupling_[h] * last_step;
+    const Eigen::Vector2d step = warp.A * (part_hessian_inverse_[h] * gradient_after);
     worst = std::max(worst, step.norm());
   }
   return worst;
@@ -368,7 +380,7 @@ AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, in
     // fifth of the alignment.
     if (step.norm() < step_tolerance_px) {
       result.converged = true;
-      result.misfit_px = misfit(values, *warp);
+      result.misfit_px = misfit(values, *warp, dp);
       result.residual_rms = std::sqrt((weights_ * values.square()).sum());
       return result;
     }

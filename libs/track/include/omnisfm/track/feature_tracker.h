@@ -75,6 +75,9 @@ class FeatureTracker {
     Eigen::Vector2d velocity{0, 0};       // pixels per frame, over the last step
     std::vector<Eigen::Vector2d> recent;  // the last few positions, oldest first
     AffineWarp warp;                      // the reference patch in the latest image
+    // The patch's change of shape in the image over the last step (warp.A then, as a map from
+    // the image before): the next step's is predicted to be the same.
+    Eigen::Matrix2d shape_step = Eigen::Matrix2d::Identity();
     ReferencePatch reference;
     int renewals = 0;  // of the reference (TrackerSettings::max_renewals)
     double ncc = 1;                  // of the latest alignment

@@ -95,16 +95,21 @@ class ReferencePatch {
   // the cache from one step to the next.
   Eigen::ArrayXf weighted_gx_, weighted_gy_;
   Eigen::Matrix<double, 6, 6> hessian_inverse_;
-  // Each part of the patch's (left, right, top, bottom, centre) 2 x 2 Hessian inverse of the
-  // translation (zero for a part too flat to place on its own).
+  // Each part of the patch's (left, right, top, bottom, centre) rows of the translation in the
+  // Hessian of its own pixels, and the inverse of their translation block (zero for a part too
+  // flat to place on its own).
   static constexpr int kParts = 5;
+  Eigen::Matrix<double, 2, 6> part_coupling_[kParts];
   Eigen::Matrix2d part_hessian_inverse_[kParts];
 
-  // The gradient of the misfit over the six affine parameters: sum of residual times each
+  // The gradient of the alignment's cost over the six affine parameters: sum of residual times each
   // steepest-descent image.
   Eigen::Matrix<double, 6, 1> gradient(const Eigen::ArrayXf& residuals) const;
-  // The largest shift one part of the patch would take alone, from the residuals at `warp`.
-  double misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp) const;
+  // The largest shift one part of the patch would take alone after the whole patch's last step
+  // (of the six parameters), from the residuals before it: the step is below the tolerance but
+  // not nothing, and an affine step left untaken pulls the halves apart.
+  double misfit(const Eigen::ArrayXf& residuals, const AffineWarp& warp,
+                const Eigen::Matrix<double, 6, 1>& last_step) const;
 };
 
 }  // namespace omnisfm::track
