@@ -133,6 +133,17 @@ void FeatureTracker::end_track(size_t index, int* counter, bool may_return) {
   if (t.descriptor.valid) lost_.push_back(std::move(t));
 }
 
+template <typename Keep>
+void FeatureTracker::keep_live_tracks(Keep keep) {
+  size_t kept = 0;
+  for (size_t i = 0; i < live_.size(); ++i) {
+    if (!keep(i)) continue;
+    if (kept != i) live_[kept] = std::move(live_[i]);
+    ++kept;
+  }
+  live_.erase(live_.begin() + static_cast<std::ptrdiff_t>(kept), live_.end());
+}
+
 void FeatureTracker::follow_live_tracks() {
   if (live_.empty()) return;
   // Pixels of the pyramid's finest level.
@@ -159,8 +170,9 @@ void FeatureTracker::follow_live_tracks() {
   cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok, cv::noArray(),
                            window, 0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
 
-  std::vector<Track> kept;
-  kept.reserve(live_.size());
+  // Kept tracks move to the front in place: a vector of them made anew each frame cost its
+  // allocation and, once new tracks were added, a reallocation.
+  size_t kept = 0;
   std::vector<double> residuals;
   for (size_t i = 0; i < live_.size(); ++i) {
     Track& t = live_[i];
@@ -235,9 +247,10 @@ void FeatureTracker::follow_live_tracks() {
     t.ncc = ncc;
     t.recent.push_back(t.position);
     if (t.recent.size() > kRecentPositions) t.recent.erase(t.recent.begin());
-    kept.push_back(std::move(t));
+    if (kept != i) live_[kept] = std::move(t);
+    ++kept;
   }
-  live_.swap(kept);
+  live_.erase(live_.begin() + static_cast<std::ptrdiff_t>(kept), live_.end());
   estimate_noise(std::move(residuals));
 }
 
@@ -270,15 +283,10 @@ void FeatureTracker::end_jumped_tracks() {
     jumped[i] = neighbourhoods.departs(live_[i].position - live_[i].velocity, i, kMinNeighbours,
                                        live_[i].velocity, settings_.max_step_deviation_px);
   }
-  std::vector<Track> kept;
-  kept.reserve(live_.size());
-  for (size_t i = 0; i < live_.size(); ++i) {
-    if (jumped[i])
-      end_track(i, &statistics_.jumped, false);
-    else
-      kept.push_back(std::move(live_[i]));
-  }
-  live_.swap(kept);
+  keep_live_tracks([&](size_t i) {
+    if (jumped[i]) end_track(i, &statistics_.jumped, false);
+    return !jumped[i];
+  });
 }
 
 void FeatureTracker::remove_duplicates() {
@@ -290,14 +298,10 @@ void FeatureTracker::remove_duplicates() {
   }
   const std::vector<bool> ended =
       younger_duplicates(positions, started, settings_.min_track_separation_px);
-  std::vector<Track> kept;
-  for (size_t i = 0; i < live_.size(); ++i) {
-    if (ended[i])
-      ++statistics_.duplicate;  // not worth reacquiring: another track has it
-    else
-      kept.push_back(std::move(live_[i]));
-  }
-  live_.swap(kept);
+  keep_live_tracks([&](size_t i) {
+    if (ended[i]) ++statistics_.duplicate;  // not worth reacquiring: another track has it
+    return !ended[i];
+  });
 }
 
 bool FeatureTracker::start_track(const cv::Point2f& at, int id) {
@@ -595,11 +599,8 @@ void FeatureTracker::reacquire(std::vector<cv::Point2f>* corners,
   lost_.swap(still_lost);
 
   // A young track recognised as a lost one gives way to it.
-  std::vector<Track> kept;
-  for (size_t i = 0; i < live_.size(); ++i)
-    if (!young_ended[i]) kept.push_back(std::move(live_[i]));
-  for (Track& t : back) kept.push_back(std::move(t));
-  live_.swap(kept);
+  keep_live_tracks([&](size_t i) { return !young_ended[i]; });
+  for (Track& t : back) live_.push_back(std::move(t));
   std::vector<cv::Point2f> unused;
   for (size_t c = 0; c < corners->size(); ++c)
     if (!corner_used[c]) unused.push_back((*corners)[c]);

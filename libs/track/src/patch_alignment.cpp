@@ -182,22 +182,24 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
     return c;
   };
   const Eigen::Matrix<double, 2, 6> whole = hessian.bottomRows<2>();
-  p.part_coupling_[0] = coupling(left);
-  p.part_coupling_[1] = whole - p.part_coupling_[0];
-  p.part_coupling_[2] = coupling(top);
-  p.part_coupling_[3] = whole - p.part_coupling_[2];
-  p.part_coupling_[4] = coupling(centre);
+  auto solves = std::make_shared<Solves>();
+  solves->part_coupling[0] = coupling(left);
+  solves->part_coupling[1] = whole - solves->part_coupling[0];
+  solves->part_coupling[2] = coupling(top);
+  solves->part_coupling[3] = whole - solves->part_coupling[2];
+  solves->part_coupling[4] = coupling(centre);
   for (int h = 0; h < kParts; ++h) {
-    const Eigen::Matrix2d part_hessian = p.part_coupling_[h].rightCols<2>();
+    const Eigen::Matrix2d part_hessian = solves->part_coupling[h].rightCols<2>();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> part(part_hessian, Eigen::EigenvaluesOnly);
     const bool placeable = part.eigenvalues()(0) > 1e-6 * part.eigenvalues()(1);
-    p.part_hessian_inverse_[h] =
+    solves->part_hessian_inverse[h] =
         placeable ? Eigen::Matrix2d(part_hessian.inverse()) : Eigen::Matrix2d::Zero();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(hessian,
                                                                          Eigen::EigenvaluesOnly);
   if (!(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5))) return false;
-  p.hessian_inverse_ = hessian.inverse();
+  solves->hessian_inverse = hessian.inverse();
+  p.solves_ = std::move(solves);
   *patch = std::move(p);
   return true;
 }
@@ -341,11 +343,12 @@ double ReferencePatch::misfit(const Eigen::ArrayXf& residuals, const AffineWarp&
       left, whole - left, top, whole - top, {lane_sum(centre_x), lane_sum(centre_y)}};
   double worst = 0;
   for (int h = 0; h < kParts; ++h) {
-    if (part_hessian_inverse_[h].isZero()) continue;  // too flat to place on its own
+    if (solves_->part_hessian_inverse[h].isZero()) continue;  // too flat to place on its own
     // The part's gradient as the last step leaves it: the step removed the residuals' part
     // along each steepest-descent image.
-    const Eigen::Vector2d gradient_after = part_gradients[h] - part_coupling_[h] * last_step;
-    const Eigen::Vector2d step = warp.A * (part_hessian_inverse_[h] * gradient_after);
+    const Eigen::Vector2d gradient_after =
+        part_gradients[h] - solves_->part_coupling[h] * last_step;
+    const Eigen::Vector2d step = warp.A * (solves_->part_hessian_inverse[h] * gradient_after);
     worst = std::max(worst, step.norm());
   }
   return worst;
@@ -363,7 +366,7 @@ AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, in
     const float m = static_cast<float>(mean), g = static_cast<float>(gain);
     // The residuals, then one dot product per parameter: both vectorise.
     values = (values - m) * g - values_;
-    const Eigen::Matrix<double, 6, 1> dp = hessian_inverse_ * gradient(values);
+    const Eigen::Matrix<double, 6, 1> dp = solves_->hessian_inverse * gradient(values);
 
     // Inverse composition: W <- W o W(dp)^-1.
     Eigen::Matrix2d A_dp;

@@ -132,6 +132,10 @@ class FeatureTracker {
   // Counts the end in *counter; a track that may come back (not one that left the region or
   // changed its look) is remembered for reacquisition.
   void end_track(size_t index, int* counter, bool may_return = true);
+  // Keeps the live tracks for whose index keep(i) is true, in order, moved to the front in
+  // place; keep(i) may end track i.
+  template <typename Keep>
+  void keep_live_tracks(Keep keep);
   bool in_region(const Eigen::Vector2d& p) const;
   // The pyramids start at this level (0: full resolution).
   int lucas_kanade_finest_level() const;
