@@ -1,6 +1,5 @@
 #include "omnisfm/track/feature_tracker.h"
 
-#include <Eigen/SVD>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -207,8 +206,7 @@ void FeatureTracker::follow_live_tracks() {
       end_track(i, &statistics_.misfit, false);
       continue;
     }
-    const Eigen::Vector2d stretch = Eigen::JacobiSVD<Eigen::Matrix2d>(warp.A).singularValues();
-    const double distortion = std::max(std::abs(stretch(0) - 1), std::abs(stretch(1) - 1));
+    const double distortion = patch_distortion(warp.A);
     if (distortion > settings_.max_patch_distortion) {
       end_track(i, &statistics_.reshaped, false);
       continue;

@@ -1,7 +1,7 @@
 #include "omnisfm/track/patch_alignment.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -80,6 +80,16 @@ bool patch_window(const cv::Mat& image, const Eigen::Vector2d& feature, int half
 }
 
 }  // namespace
+
+double patch_distortion(const Eigen::Matrix2d& A) {
+  // A 2 x 2 matrix's singular values are half the sum and half the difference of the norms of
+  // its conformal (rotation and scale) and anti-conformal parts.
+  const double conformal = std::hypot(A(0, 0) + A(1, 1), A(1, 0) - A(0, 1));
+  const double anti_conformal = std::hypot(A(0, 0) - A(1, 1), A(1, 0) + A(0, 1));
+  const double largest = 0.5 * (conformal + anti_conformal);
+  const double smallest = 0.5 * std::abs(conformal - anti_conformal);
+  return std::max(std::abs(largest - 1), std::abs(smallest - 1));
+}
 
 bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size,
                              ReferencePatch* patch) {
@@ -190,15 +200,21 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   solves->part_coupling[4] = coupling(centre);
   for (int h = 0; h < kParts; ++h) {
     const Eigen::Matrix2d part_hessian = solves->part_coupling[h].rightCols<2>();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> part(part_hessian, Eigen::EigenvaluesOnly);
-    const bool placeable = part.eigenvalues()(0) > 1e-6 * part.eigenvalues()(1);
+    // A symmetric 2 x 2 matrix's eigenvalues: their mean, plus and minus the root.
+    const double mean = 0.5 * part_hessian.trace();
+    const double root = std::hypot(0.5 * (part_hessian(0, 0) - part_hessian(1, 1)),
+                                   part_hessian(0, 1));
+    const bool placeable = mean - root > 1e-6 * (mean + root);
     solves->part_hessian_inverse[h] =
         placeable ? Eigen::Matrix2d(part_hessian.inverse()) : Eigen::Matrix2d::Zero();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(hessian,
-                                                                         Eigen::EigenvaluesOnly);
-  if (!(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5))) return false;
-  solves->hessian_inverse = hessian.inverse();
+  // Too nearly singular to solve when its eigenvalues' ratio may be below 1e-9: the smallest is
+  // at least 1 / trace(H^-1), the largest at most trace(H), so the bound is within a factor 36
+  // of the ratio itself (an eigen-solver cost more than the rest of extract).
+  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> cholesky(hessian);
+  if (cholesky.info() != Eigen::Success) return false;
+  solves->hessian_inverse = cholesky.solve(Eigen::Matrix<double, 6, 6>::Identity());
+  if (!(1 / solves->hessian_inverse.trace() > 1e-9 * hessian.trace())) return false;
   p.solves_ = std::move(solves);
   *patch = std::move(p);
   return true;

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <algorithm>
+#include <random>
 #include <cmath>
 #include <vector>
 #include <cstdio>
@@ -158,6 +160,22 @@ TEST(PatchAlignment, TellsTheMisfitAfterItsLastStep) {
   // Measured 0.015 px; 0.075 px with the residuals before the last step taken as they are.
   std::printf("misfit stopped at 0.05 px against converged: at most %.4f px apart\n", worst);
   EXPECT_LT(worst, 0.03);
+}
+
+TEST(PatchAlignment, DistortionIsTheSingularValuesDepartureFromOne) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> entry(-2, 2);
+  for (int i = 0; i < 200; ++i) {
+    Eigen::Matrix2d A;
+    A << entry(rng), entry(rng), entry(rng), entry(rng);
+    if (i % 4 == 0) A = Eigen::Rotation2Dd(entry(rng)).toRotationMatrix() * (1 + 0.1 * entry(rng));
+    if (i % 4 == 1) A.col(1) = 0.5 * A.col(0);  // singular
+    const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(A).singularValues();
+    const double expected = std::max(std::abs(s(0) - 1), std::abs(s(1) - 1));
+    EXPECT_NEAR(patch_distortion(A), expected, 1e-12) << A;
+  }
+  EXPECT_EQ(patch_distortion(Eigen::Matrix2d::Identity()), 0);
+  EXPECT_NEAR(patch_distortion(Eigen::Vector2d(1.3, 0.9).asDiagonal()), 0.3, 1e-15);
 }
 
 TEST(PatchAlignment, IgnoresContrastAndBrightness) {

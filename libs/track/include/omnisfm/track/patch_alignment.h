@@ -26,6 +26,10 @@ struct AffineWarp {
   Eigen::Vector2d b{0, 0};  // where the feature lands
 };
 
+// How far the warp's linear part A stretches or shrinks the patch along any direction: its
+// singular values' largest departure from 1.
+double patch_distortion(const Eigen::Matrix2d& A);
+
 struct AlignmentResult {
   bool converged = false;
   int iterations = 0;
