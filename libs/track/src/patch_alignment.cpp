@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "float_lanes.h"
@@ -202,8 +203,8 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
     const Eigen::Matrix2d part_hessian = solves->part_coupling[h].rightCols<2>();
     // A symmetric 2 x 2 matrix's eigenvalues: their mean, plus and minus the root.
     const double mean = 0.5 * part_hessian.trace();
-    const double root = std::hypot(0.5 * (part_hessian(0, 0) - part_hessian(1, 1)),
-                                   part_hessian(0, 1));
+    const double root =
+        std::hypot(0.5 * (part_hessian(0, 0) - part_hessian(1, 1)), part_hessian(0, 1));
     const bool placeable = mean - root > 1e-6 * (mean + root);
     solves->part_hessian_inverse[h] =
         placeable ? Eigen::Matrix2d(part_hessian.inverse()) : Eigen::Matrix2d::Zero();
@@ -258,43 +259,61 @@ double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp, floa
   const float a10 = static_cast<float>(warp.A(1, 0)), a11 = static_cast<float>(warp.A(1, 1));
   const float bx = static_cast<float>(warp.b.x()), by = static_cast<float>(warp.b.y());
   const int step = static_cast<int>(image.step1());
+  const float float_step = static_cast<float>(step);
   const float* data = image.ptr<float>();
-  Lanes sum_wv = {}, sum_wvv = {}, sum_wvt = {};
   const float *offsets_x = offsets_x_.data(), *offsets_y = offsets_y_.data();
   const float *weights = weights_.data(), *template_values = values_.data();
-  for (Eigen::Index k = 0; k < values_.size(); k += kLanes) {
-    const Lanes u = load(offsets_x + k), v = load(offsets_y + k);
-    const Lanes x = a00 * u + a01 * v + bx, y = a10 * u + a11 * v + by;
-    // Inside the image (checked above), so truncation is the floor.
-    const LaneIndices x0 = __builtin_convertvector(x, LaneIndices);
-    const LaneIndices y0 = __builtin_convertvector(y, LaneIndices);
-    const Lanes fx = x - __builtin_convertvector(x0, Lanes);
-    const Lanes fy = y - __builtin_convertvector(y0, Lanes);
-    const LaneIndices index = y0 * step + x0;
-    // Each pixel's left and right neighbours are adjacent in memory: one 8-byte read per row,
-    // and shuffles deal the pairs out into lanes (inserting floats one by one costs twice as
-    // many instructions).
-    const float* p0 = data + index[0];
-    const float* p1 = data + index[1];
-    const float* p2 = data + index[2];
-    const float* p3 = data + index[3];
-    const Lanes top01 = join(load_pair(p0), load_pair(p1));
-    const Lanes top23 = join(load_pair(p2), load_pair(p3));
-    const Lanes bottom01 = join(load_pair(p0 + step), load_pair(p1 + step));
-    const Lanes bottom23 = join(load_pair(p2 + step), load_pair(p3 + step));
-    const Lanes top_left = __builtin_shufflevector(top01, top23, 0, 2, 4, 6);
-    const Lanes top_right = __builtin_shufflevector(top01, top23, 1, 3, 5, 7);
-    const Lanes bottom_left = __builtin_shufflevector(bottom01, bottom23, 0, 2, 4, 6);
-    const Lanes bottom_right = __builtin_shufflevector(bottom01, bottom23, 1, 3, 5, 7);
-    const Lanes top = top_left + fx * (top_right - top_left);
-    const Lanes bottom = bottom_left + fx * (bottom_right - bottom_left);
-    const Lanes sampled = top + fy * (bottom - top);
-    std::memcpy(values + k, &sampled, sizeof sampled);
-    const Lanes weighted = load(weights + k) * sampled;
-    sum_wv += weighted;
-    sum_wvv += weighted * sampled;
-    sum_wvt += weighted * load(template_values + k);
-  }
+  // The sums of w v, w v^2 and w v t. A pixel's index is computed in float where that is exact
+  // (an image of fewer than 2^24 floats): a vector multiply of integers is several instructions
+  // on SSE2.
+  struct Sums {
+    Lanes wv = {}, wvv = {}, wvt = {};
+  };
+  const auto sums = [&](auto index_in_float) {
+    Sums sum;
+    for (Eigen::Index k = 0; k < values_.size(); k += kLanes) {
+      const Lanes u = load(offsets_x + k), v = load(offsets_y + k);
+      const Lanes x = a00 * u + a01 * v + bx, y = a10 * u + a11 * v + by;
+      // Inside the image (checked above), so truncation is the floor.
+      const LaneIndices x0 = __builtin_convertvector(x, LaneIndices);
+      const LaneIndices y0 = __builtin_convertvector(y, LaneIndices);
+      const Lanes x_floor = __builtin_convertvector(x0, Lanes);
+      const Lanes y_floor = __builtin_convertvector(y0, Lanes);
+      const Lanes fx = x - x_floor, fy = y - y_floor;
+      LaneIndices index;
+      if constexpr (decltype(index_in_float)::value)
+        index = __builtin_convertvector(y_floor * float_step + x_floor, LaneIndices);
+      else
+        index = y0 * step + x0;
+      // Each pixel's left and right neighbours are adjacent in memory: one 8-byte read per
+      // row, and shuffles deal the pairs out into lanes (inserting floats one by one costs twice
+      // as many instructions).
+      const float* p0 = data + index[0];
+      const float* p1 = data + index[1];
+      const float* p2 = data + index[2];
+      const float* p3 = data + index[3];
+      const Lanes top01 = join(load_pair(p0), load_pair(p1));
+      const Lanes top23 = join(load_pair(p2), load_pair(p3));
+      const Lanes bottom01 = join(load_pair(p0 + step), load_pair(p1 + step));
+      const Lanes bottom23 = join(load_pair(p2 + step), load_pair(p3 + step));
+      const Lanes top_left = __builtin_shufflevector(top01, top23, 0, 2, 4, 6);
+      const Lanes top_right = __builtin_shufflevector(top01, top23, 1, 3, 5, 7);
+      const Lanes bottom_left = __builtin_shufflevector(bottom01, bottom23, 0, 2, 4, 6);
+      const Lanes bottom_right = __builtin_shufflevector(bottom01, bottom23, 1, 3, 5, 7);
+      const Lanes top = top_left + fx * (top_right - top_left);
+      const Lanes bottom = bottom_left + fx * (bottom_right - bottom_left);
+      const Lanes sampled = top + fy * (bottom - top);
+      std::memcpy(values + k, &sampled, sizeof sampled);
+      const Lanes weighted = load(weights + k) * sampled;
+      sum.wv += weighted;
+      sum.wvv += weighted * sampled;
+      sum.wvt += weighted * load(template_values + k);
+    }
+    return sum;
+  };
+  const Sums sum = static_cast<double>(image.rows) * step < (1 << 24) ? sums(std::true_type())
+                                                                      : sums(std::false_type());
+  const Lanes &sum_wv = sum.wv, &sum_wvv = sum.wvv, &sum_wvt = sum.wvt;
   // Weights sum to 1 and the template has weighted mean 0, so sum w (v - m) t = sum w v t.
   const double m = lane_sum(sum_wv);
   const double variance = std::max(0.0, lane_sum(sum_wvv) - m * m);

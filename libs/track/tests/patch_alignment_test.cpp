@@ -5,11 +5,11 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
-#include <random>
 #include <cmath>
-#include <vector>
 #include <cstdio>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "synthetic_images.h"
 
@@ -176,6 +176,31 @@ TEST(PatchAlignment, DistortionIsTheSingularValuesDepartureFromOne) {
   }
   EXPECT_EQ(patch_distortion(Eigen::Matrix2d::Identity()), 0);
   EXPECT_NEAR(patch_distortion(Eigen::Vector2d(1.3, 0.9).asDiagonal()), 0.3, 1e-15);
+}
+
+// An image of more than 2^24 floats, whose pixel indices float cannot hold exactly: the same
+// texture far into it aligns as it does in a small image, but for float's coarser rounding of
+// positions 50 times farther from the origin (measured 8e-5 px).
+TEST(PatchAlignment, AlignsInImagesOfMoreThanTwoToThe24Pixels) {
+  const CentrePatch reference;
+  const auto& [texture, centre, patch] = reference;
+  ASSERT_FALSE(patch.empty());
+  const Eigen::Matrix2d A = Eigen::Rotation2Dd(0.05).toRotationMatrix() * 1.03;
+  const Eigen::Vector2d b(0.4, -0.3);
+  const cv::Mat small = as_float(texture.image(160, 160, A, b, false));
+  cv::Mat large = cv::Mat::zeros(4200, 4201, CV_32FC1);
+  const cv::Point corner(4001, 4003);  // (4003 + 80) * 4201 > 2^24 + 1.1e6
+  small.copyTo(large(cv::Rect(corner.x, corner.y, small.cols, small.rows)));
+  AffineWarp in_small;
+  in_small.A = A.inverse();
+  in_small.b = moved(A, b, centre) + Eigen::Vector2d(0.5, -0.4);
+  AffineWarp in_large = in_small;
+  in_large.b += Eigen::Vector2d(corner.x, corner.y);
+  const AlignmentResult small_result = patch.align(small, &in_small, 30, 1e-4);
+  const AlignmentResult large_result = patch.align(large, &in_large, 30, 1e-4);
+  ASSERT_TRUE(small_result.converged && large_result.converged);
+  EXPECT_LT((in_large.b - Eigen::Vector2d(corner.x, corner.y) - in_small.b).norm(), 1e-3);
+  EXPECT_NEAR(large_result.ncc, small_result.ncc, 1e-5);
 }
 
 TEST(PatchAlignment, IgnoresContrastAndBrightness) {
