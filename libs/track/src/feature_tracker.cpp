@@ -174,6 +174,11 @@ void FeatureTracker::follow_live_tracks() {
   size_t kept = 0;
   std::vector<double> residuals;
   for (size_t i = 0; i < live_.size(); ++i) {
+    // The next track's pixels are fetched while this one is aligned: the blurred image is read
+    // first here, from beyond the fastest caches.
+    if (settings_.refine && i + 1 < live_.size())
+      ReferencePatch::prefetch(aligned_image_, vector(predicted[i + 1]) / to_level,
+                               settings_.patch_half_size);
     Track& t = live_[i];
     if (!forward_ok[i] || !backward_ok[i]) {
       end_track(i, &statistics_.lost);

@@ -221,6 +221,18 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   return true;
 }
 
+void ReferencePatch::prefetch(const cv::Mat& image, const Eigen::Vector2d& at, int half_size) {
+  const int reach = half_size + 2;
+  const int x0 = static_cast<int>(at.x()) - reach, x1 = static_cast<int>(at.x()) + reach;
+  const int y0 = static_cast<int>(at.y()) - reach, y1 = static_cast<int>(at.y()) + reach;
+  if (!(x0 >= 0 && y0 >= 0 && x1 < image.cols && y1 < image.rows)) return;
+  for (int y = y0; y <= y1; ++y) {
+    const uchar* row = image.ptr(y);
+    __builtin_prefetch(row + x0 * image.elemSize());
+    __builtin_prefetch(row + x1 * image.elemSize());
+  }
+}
+
 double ReferencePatch::contrast_at(const cv::Mat& image, const Eigen::Vector2d& feature,
                                    int half_size) {
   CV_Assert(image.type() == CV_32FC1 && half_size >= 1);
@@ -329,12 +341,17 @@ double ReferencePatch::ncc(const cv::Mat& image, const AffineWarp& warp) const {
   return sample(image, warp, values.data(), &mean, &gain);
 }
 
-Eigen::Matrix<double, 6, 1> ReferencePatch::gradient(const Eigen::ArrayXf& residuals) const {
+Eigen::Matrix<double, 6, 1> ReferencePatch::residuals_and_gradient(float mean, float gain,
+                                                                 Eigen::ArrayXf* values) const {
   Lanes sums[6] = {};
-  const float *r = residuals.data(), *wgx = weighted_gx_.data(), *wgy = weighted_gy_.data();
+  float* r = values->data();
+  const float *wgx = weighted_gx_.data(), *wgy = weighted_gy_.data();
   const float *offsets_x = offsets_x_.data(), *offsets_y = offsets_y_.data();
-  for (Eigen::Index k = 0; k < residuals.size(); k += kLanes) {
-    const Lanes along_x = load(r + k) * load(wgx + k), along_y = load(r + k) * load(wgy + k);
+  const float* template_values = values_.data();
+  for (Eigen::Index k = 0; k < values->size(); k += kLanes) {
+    const Lanes residual = (load(r + k) - mean) * gain - load(template_values + k);
+    store(r + k, residual);
+    const Lanes along_x = residual * load(wgx + k), along_y = residual * load(wgy + k);
     const Lanes u = load(offsets_x + k), v = load(offsets_y + k);
     sums[0] += along_x * u;
     sums[1] += along_x * v;
@@ -398,10 +415,9 @@ AlignmentResult ReferencePatch::align(const cv::Mat& image, AffineWarp* warp, in
     double mean, gain;
     result.ncc = sample(image, *warp, values.data(), &mean, &gain);
     if (result.ncc == -1) return result;
-    const float m = static_cast<float>(mean), g = static_cast<float>(gain);
-    // The residuals, then one dot product per parameter: both vectorise.
-    values = (values - m) * g - values_;
-    const Eigen::Matrix<double, 6, 1> dp = solves_->hessian_inverse * gradient(values);
+    const Eigen::Matrix<double, 6, 1> dp =
+        solves_->hessian_inverse *
+        residuals_and_gradient(static_cast<float>(mean), static_cast<float>(gain), &values);
 
     // Inverse composition: W <- W o W(dp)^-1.
     Eigen::Matrix2d A_dp;

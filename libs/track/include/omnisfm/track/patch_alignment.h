@@ -61,6 +61,10 @@ class ReferencePatch {
   // fit.
   static double contrast_at(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size);
 
+  // Asks the caches for the pixels a patch of this half size about `at` reads (a patch that
+  // moves little reads about them): a hint, which changes nothing else.
+  static void prefetch(const cv::Mat& image, const Eigen::Vector2d& at, int half_size);
+
   // Moves *warp to the best alignment, starting from it. Not converged when the patch leaves the
   // image, the warp degenerates, or max_iterations pass before a step of the feature is
   // below step_tolerance_px.
@@ -112,9 +116,11 @@ class ReferencePatch {
   };
   std::shared_ptr<const Solves> solves_;
 
-  // The gradient of the alignment's cost over the six affine parameters: sum of residual times each
-  // steepest-descent image.
-  Eigen::Matrix<double, 6, 1> gradient(const Eigen::ArrayXf& residuals) const;
+  // Turns sampled *values into the residuals (normalised by the sample's mean and gain, less
+  // the template) in place, and returns the alignment cost's gradient over the six affine
+  // parameters: the residuals' sums against each steepest-descent image, in the same pass.
+  Eigen::Matrix<double, 6, 1> residuals_and_gradient(float mean, float gain,
+                                                     Eigen::ArrayXf* values) const;
   // The largest shift one part of the patch would take alone after the whole patch's last step
   // (of the six parameters), from the residuals before it: the step is below the tolerance but
   // not nothing, and an affine step left untaken pulls the halves apart.
