@@ -342,7 +342,7 @@ double ReferencePatch::ncc(const cv::Mat& image, const AffineWarp& warp) const {
 }
 
 Eigen::Matrix<double, 6, 1> ReferencePatch::residuals_and_gradient(float mean, float gain,
-                                                                 Eigen::ArrayXf* values) const {
+                                                                   Eigen::ArrayXf* values) const {
   Lanes sums[6] = {};
   float* r = values->data();
   const float *wgx = weighted_gx_.data(), *wgy = weighted_gy_.data();
