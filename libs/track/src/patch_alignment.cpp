@@ -223,9 +223,12 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
 
 void ReferencePatch::prefetch(const cv::Mat& image, const Eigen::Vector2d& at, int half_size) {
   const int reach = half_size + 2;
+  // Compared before the casts: a point Lucas-Kanade lost may be anywhere, or not finite.
+  if (!(at.x() >= reach && at.y() >= reach && at.x() + reach < image.cols - 1 &&
+        at.y() + reach < image.rows - 1))
+    return;
   const int x0 = static_cast<int>(at.x()) - reach, x1 = static_cast<int>(at.x()) + reach;
   const int y0 = static_cast<int>(at.y()) - reach, y1 = static_cast<int>(at.y()) + reach;
-  if (!(x0 >= 0 && y0 >= 0 && x1 < image.cols && y1 < image.rows)) return;
   for (int y = y0; y <= y1; ++y) {
     const uchar* row = image.ptr(y);
     __builtin_prefetch(row + x0 * image.elemSize());
@@ -257,8 +260,10 @@ double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp, floa
                               double* mean, double* gain) const {
   const int side = 2 * half_size_ + 1;
   const Eigen::Index count = side * side;
-  // The patch's corners bound it (an affine image of a square is a parallelogram).
-  const float x_limit = image.cols - 1.0f, y_limit = image.rows - 1.0f;
+  // The patch's corners bound it (an affine image of a square is a parallelogram), a hundredth
+  // of a pixel inside the last pixel's centre: the pixels' places are computed in float, whose
+  // rounding must not reach a row or column beyond it (4.9e-4 px at 4,000 px).
+  const double x_limit = image.cols - 1.01, y_limit = image.rows - 1.01;
   for (const Eigen::Index corner :
        {Eigen::Index{0}, Eigen::Index(side - 1), count - side, count - 1}) {
     const Eigen::Vector2d at =

@@ -76,6 +76,10 @@ class ReferencePatch {
   double ncc(const cv::Mat& image, const AffineWarp& warp) const;
 
   int half_size() const { return half_size_; }
+  // The inverse of the alignment's Hessian: the Gram matrix of the six steepest-descent images
+  // (w gx u, w gx v, w gy u, w gy v, w gx, w gy against gx u, ..., gy; u, v the offsets from the
+  // feature, w the Gaussian window summing to 1, g the central differences).
+  const Eigen::Matrix<double, 6, 6>& hessian_inverse() const { return solves_->hessian_inverse; }
   // The template's weighted standard deviation, grey levels.
   double contrast() const { return norm_; }
 
