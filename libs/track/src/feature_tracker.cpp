@@ -134,6 +134,8 @@ void FeatureTracker::end_track(size_t index, int* counter, bool may_return) {
 
 template <typename Keep>
 void FeatureTracker::keep_live_tracks(Keep keep) {
+  // In place: a vector of the kept tracks made anew cost its allocation four times a frame and,
+  // once new tracks were added, a reallocation.
   size_t kept = 0;
   for (size_t i = 0; i < live_.size(); ++i) {
     if (!keep(i)) continue;
@@ -169,11 +171,8 @@ void FeatureTracker::follow_live_tracks() {
   cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok, cv::noArray(),
                            window, 0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
 
-  // Kept tracks move to the front in place: a vector of them made anew each frame cost its
-  // allocation and, once new tracks were added, a reallocation.
-  size_t kept = 0;
   std::vector<double> residuals;
-  for (size_t i = 0; i < live_.size(); ++i) {
+  keep_live_tracks([&](size_t i) {
     // The next track's pixels are fetched while this one is aligned: the blurred image is read
     // first here, from beyond the fastest caches.
     if (settings_.refine && i + 1 < live_.size())
@@ -182,11 +181,11 @@ void FeatureTracker::follow_live_tracks() {
     Track& t = live_[i];
     if (!forward_ok[i] || !backward_ok[i]) {
       end_track(i, &statistics_.lost);
-      continue;
+      return false;
     }
     if ((vector(back[i]) / to_level - t.position).norm() > settings_.max_forward_backward_px) {
       end_track(i, &statistics_.forward_backward);
-      continue;
+      return false;
     }
     const Eigen::Vector2d prediction = vector(predicted[i]) / to_level;
     // The patch's shape changes steadily as the feature crosses the mirror or comes closer: the
@@ -205,20 +204,20 @@ void FeatureTracker::follow_live_tracks() {
     if (!aligned.converged || aligned.ncc < settings_.min_ncc ||
         (warp.b - prediction).norm() > settings_.max_refinement_shift_px) {
       end_track(i, &statistics_.appearance);
-      continue;
+      return false;
     }
     if (settings_.refine && aligned.misfit_px > settings_.max_misfit_px) {
       end_track(i, &statistics_.misfit, false);
-      continue;
+      return false;
     }
     const double distortion = patch_distortion(warp.A);
     if (distortion > settings_.max_patch_distortion) {
       end_track(i, &statistics_.reshaped, false);
-      continue;
+      return false;
     }
     if (!in_region(warp.b)) {
       end_track(i, &statistics_.left_region, false);
-      continue;
+      return false;
     }
     if (settings_.refine) residuals.push_back(aligned.residual_rms);
     const Eigen::Matrix2d shape_step = warp.A * t.warp.A.inverse();
@@ -250,10 +249,8 @@ void FeatureTracker::follow_live_tracks() {
     t.ncc = ncc;
     t.recent.push_back(t.position);
     if (t.recent.size() > kRecentPositions) t.recent.erase(t.recent.begin());
-    if (kept != i) live_[kept] = std::move(t);
-    ++kept;
-  }
-  live_.erase(live_.begin() + static_cast<std::ptrdiff_t>(kept), live_.end());
+    return true;
+  });
   estimate_noise(std::move(residuals));
 }
 

@@ -201,11 +201,11 @@ bool ReferencePatch::extract(const cv::Mat& image, const Eigen::Vector2d& featur
   solves->part_coupling[4] = coupling(centre);
   for (int h = 0; h < kParts; ++h) {
     const Eigen::Matrix2d part_hessian = solves->part_coupling[h].rightCols<2>();
-    // A symmetric 2 x 2 matrix's eigenvalues: their mean, plus and minus the root.
-    const double mean = 0.5 * part_hessian.trace();
+    // A symmetric 2 x 2 matrix's eigenvalues: half its trace, plus and minus the root.
+    const double half_trace = 0.5 * part_hessian.trace();
     const double root =
         std::hypot(0.5 * (part_hessian(0, 0) - part_hessian(1, 1)), part_hessian(0, 1));
-    const bool placeable = mean - root > 1e-6 * (mean + root);
+    const bool placeable = half_trace - root > 1e-6 * (half_trace + root);
     solves->part_hessian_inverse[h] =
         placeable ? Eigen::Matrix2d(part_hessian.inverse()) : Eigen::Matrix2d::Zero();
   }
@@ -330,14 +330,13 @@ double ReferencePatch::sample(const cv::Mat& image, const AffineWarp& warp, floa
   };
   const Sums sum = static_cast<double>(image.rows) * step < (1 << 24) ? sums(std::true_type())
                                                                       : sums(std::false_type());
-  const Lanes &sum_wv = sum.wv, &sum_wvv = sum.wvv, &sum_wvt = sum.wvt;
   // Weights sum to 1 and the template has weighted mean 0, so sum w (v - m) t = sum w v t.
-  const double m = lane_sum(sum_wv);
-  const double variance = std::max(0.0, lane_sum(sum_wvv) - m * m);
+  const double m = lane_sum(sum.wv);
+  const double variance = std::max(0.0, lane_sum(sum.wvv) - m * m);
   const double norm = std::sqrt(variance);
   *mean = m;
   *gain = norm > 0 ? norm_ / norm : 0;
-  return norm > 0 ? lane_sum(sum_wvt) / (norm * norm_) : 0;
+  return norm > 0 ? lane_sum(sum.wvt) / (norm * norm_) : 0;
 }
 
 double ReferencePatch::ncc(const cv::Mat& image, const AffineWarp& warp) const {
