@@ -4,9 +4,11 @@
 // for the same scenario and seed (rendering them again would take most of the time).
 //   omnisfm simulate --scenario rover --render --imaging realistic --out /tmp/rover
 //   track_truth rover /tmp/rover/images [SEED=1] [SETTING=VALUE...] [--mistracked] [--size=WxH]
+//               [--dump=FILE]
 // SETTING is one of the TrackerSettings fields listed in `settable` below. --mistracked lists the
 // tracks that strayed beyond 1 px, their errors frame by frame and their last step. --size: the
 // images' size when they were rendered at another than the default (simulate --width --height).
+// --dump: every observation with its true pixel and what its patch covers (see dump).
 
 #include <algorithm>
 #include <cstdio>
@@ -18,6 +20,7 @@
 #include "omnisfm/core/percentile.h"
 #include "omnisfm/eval/track_accuracy.h"
 #include "omnisfm/sim/scenario.h"
+#include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/track/image_sequence.h"
 #include "omnisfm/track/track_images.h"
 #include "omnisfm/track/track_lengths.h"
@@ -41,9 +44,9 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
       {"patch_half_size", [&](double v) { settings->patch_half_size = static_cast<int>(v); }},
       {"reacquire", [&](double v) { settings->reacquire = v != 0; }},
       {"image_blur_sigma", [&](double v) { settings->image_blur_sigma = v; }},
+      {"camera_blur_px", [&](double v) { settings->camera_blur_px = v; }},
       {"max_tracks", [&](double v) { settings->max_tracks = static_cast<int>(v); }},
-      {"detect_at_missing",
-       [&](double v) { settings->detect_at_missing = static_cast<int>(v); }},
+      {"detect_at_missing", [&](double v) { settings->detect_at_missing = static_cast<int>(v); }},
       {"max_step_deviation_px", [&](double v) { settings->max_step_deviation_px = v; }},
       {"rim_margin_px", [&](double v) { settings->rim_margin_px = v; }},
   };
@@ -123,13 +126,72 @@ void print_mistracked(const sim::Dataset& dataset,
   }
 }
 
+// Where the scene point seen at `pixel` in `frame` is; false where the ray meets nothing.
+bool scene_point(const sim::Dataset& dataset, int frame, const Eigen::Vector2d& pixel,
+                 Eigen::Vector3d* point, sim::SceneHit* hit) {
+  Eigen::Vector3d origin, direction;
+  if (!dataset.camera.unproject(pixel, &origin, &direction)) return false;
+  const Eigen::Isometry3d& pose = dataset.world_from_cam[frame];
+  const Eigen::Vector3d origin_W = pose * origin, direction_W = pose.linear() * direction;
+  if (!dataset.scene.intersect(origin_W, direction_W, 1e4, hit)) return false;
+  *point = origin_W + hit->distance * direction_W;
+  return true;
+}
+
+// Writes a line per observation to `path`: track, frame, age (frames since its first), error
+// (px; nan for a first observation), its pixel, its true pixel (-1 -1 where hidden), and what
+// its first patch covers: how many of the scene's surfaces (1: one wall; 2 or 3: a crease where
+// they meet), plus 10 where a marker is among them (rays through a 5 x 5 grid over the patch).
+void dump(const char* path, const sim::Dataset& dataset,
+          const std::vector<core::TrackObservation>& observations, int half_size) {
+  const std::vector<double> errors = eval::track_errors(dataset, observations);
+  std::map<int, size_t> first;
+  for (size_t i = 0; i < observations.size(); ++i)
+    if (!first.count(observations[i].track)) first[observations[i].track] = i;
+  std::map<int, Eigen::Vector3d> truth;
+  std::map<int, int> covers;
+  for (const auto& [track, index] : first) {
+    const core::TrackObservation& o = observations[index];
+    Eigen::Vector3d point;
+    sim::SceneHit hit;
+    if (scene_point(dataset, o.frame, o.pixel, &point, &hit)) truth[track] = point;
+    std::vector<int> quads;
+    bool marker = false;
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx)
+        if (scene_point(dataset, o.frame, o.pixel + Eigen::Vector2d(dx, dy) * (half_size / 2.0),
+                        &point, &hit)) {
+          if (hit.marker >= 0) marker = true;
+          if (hit.quad >= 0) quads.push_back(hit.quad);
+        }
+    std::sort(quads.begin(), quads.end());
+    covers[track] = static_cast<int>(std::unique(quads.begin(), quads.end()) - quads.begin()) +
+                    (marker ? 10 : 0);
+  }
+  FILE* out = std::fopen(path, "w");
+  if (!out) {
+    std::fprintf(stderr, "track_truth: cannot write %s\n", path);
+    return;
+  }
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const core::TrackObservation& o = observations[i];
+    Eigen::Vector2d true_pixel(-1, -1);
+    const auto point = truth.find(o.track);
+    if (point != truth.end()) sim::true_pixel(dataset, o.frame, point->second, &true_pixel);
+    std::fprintf(out, "%d %d %d %.4f %.3f %.3f %.3f %.3f %d\n", o.track, o.frame,
+                 o.frame - observations[first[o.track]].frame, errors[i], o.pixel.x(), o.pixel.y(),
+                 true_pixel.x(), true_pixel.y(), covers[o.track]);
+  }
+  std::fclose(out);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
                  "usage: track_truth SCENARIO IMAGES_DIR [SEED=1] [SETTING=VALUE...] "
-                 "[--mistracked] [--size=WxH]\n");
+                 "[--mistracked] [--size=WxH] [--dump=FILE]\n");
     return 2;
   }
   sim::SimulationOptions options;
@@ -139,9 +201,12 @@ int main(int argc, char** argv) {
     options.seed = std::strtoull(argv[next++], nullptr, 10);
   track::TrackerSettings settings;
   bool list_mistracked = false;
+  std::string dump_path;
   for (; next < argc; ++next)
     if (std::string(argv[next]) == "--mistracked")
       list_mistracked = true;
+    else if (std::string(argv[next]).rfind("--dump=", 0) == 0)
+      dump_path = argv[next] + 7;
     else if (std::sscanf(argv[next], "--size=%dx%d", &options.image_width,
                          &options.image_height) == 2)
       continue;
@@ -164,10 +229,12 @@ int main(int argc, char** argv) {
       1000 * tracked.tracking_seconds / std::max(1, s.frames));
   std::printf(
       "ended: lost %d, forward-backward %d, appearance %d, misfit %d, reshaped %d, jumped %d, "
-      "left region %d, duplicate %d; renewed %d, corners too faint %d\n",
+      "left region %d, duplicate %d; renewed %d, smoothed anew %d, corners too faint %d\n",
       s.lost, s.forward_backward, s.appearance, s.misfit, s.reshaped, s.jumped, s.left_region,
-      s.duplicate, s.renewed, s.too_faint);
+      s.duplicate, s.renewed, s.smoothed_anew, s.too_faint);
   print_errors_by_age(dataset, tracked.observations, a);
   if (list_mistracked) print_mistracked(dataset, tracked.observations, a);
+  if (!dump_path.empty())
+    dump(dump_path.c_str(), dataset, tracked.observations, settings.patch_half_size);
   return 0;
 }

@@ -18,6 +18,31 @@ constexpr double kExposureTarget = 115;
 
 }  // namespace
 
+Eigen::Isometry3d pose_during_exposure(const Dataset& dataset, int k, double t) {
+  const std::vector<double>& times = dataset.timestamps;
+  if (k == 0 || k + 1 >= static_cast<int>(times.size())) return extrapolate_pose(dataset, t);
+  const double t0 = times[k - 1], t1 = times[k], t2 = times[k + 1];
+  // Lagrange's weights of the three poses at t.
+  const double w0 = (t - t1) * (t - t2) / ((t0 - t1) * (t0 - t2));
+  const double w1 = (t - t0) * (t - t2) / ((t1 - t0) * (t1 - t2));
+  const double w2 = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
+  const Eigen::Isometry3d& before = dataset.world_from_cam[k - 1];
+  const Eigen::Isometry3d& at = dataset.world_from_cam[k];
+  const Eigen::Isometry3d& after = dataset.world_from_cam[k + 1];
+  const auto turn_to = [&](const Eigen::Isometry3d& pose) {
+    const Eigen::AngleAxisd turn(at.linear().transpose() * pose.linear());
+    return Eigen::Vector3d(turn.angle() * turn.axis());
+  };
+  const Eigen::Vector3d turn = w0 * turn_to(before) + w2 * turn_to(after);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = w0 * before.translation() + w1 * at.translation() + w2 * after.translation();
+  pose.linear() =
+      turn.norm() > 0
+          ? Eigen::Matrix3d(at.linear() * Eigen::AngleAxisd(turn.norm(), turn.normalized()))
+          : at.linear();
+  return pose;
+}
+
 ImagingSettings ImagingSettings::clean() {
   ImagingSettings s;
   s.photographs = false;
@@ -87,7 +112,7 @@ cv::Mat Imaging::record(const Dataset& dataset, int frame) {
     light = cv::Mat::zeros(renderer_->height(), renderer_->width(), CV_32FC1);
     for (int k = 0; k < samples; ++k) {
       const double at = t + exposure * ((k + 0.5) / samples - 0.5);
-      light += renderer_->render_radiance(dataset.scene, extrapolate_pose(dataset, at));
+      light += renderer_->render_radiance(dataset.scene, pose_during_exposure(dataset, frame, at));
     }
     light /= samples;
   }

@@ -191,7 +191,7 @@ TEST(FeatureTracker, RenewsTheReferenceOfALookThatChangesSteadily) {
   EXPECT_LE(longest(fixed), 25u);
   EXPECT_EQ(longest(renewed), 40u);
   EXPECT_GT(renewed.statistics.renewed, 0);
-  // Measured: median 0.024 px and worst 0.317 px renewed, 0.020 and 0.253 px fixed (the worst
+  // Measured: median 0.021 px and worst 0.376 px renewed, 0.017 and 0.268 px fixed (the worst
   // where the texture's finest waves, magnified, leave few details to align on): each renewal
   // passes the track's small error on, and nothing strays.
   EXPECT_LT(renewed.median_error, 0.03);

@@ -46,6 +46,14 @@ struct ImagingSettings {
   bool is_clean() const;
 };
 
+// The rig's pose at `time` during frame k's exposure: on the parabola through the frame's pose
+// and its neighbours' (position, and rotation relative to the frame's), which a rig that turns
+// smoothly follows, so that a symmetric exposure's image is centred on the frame's pose. Straight
+// legs between poses would make an exposure about a corner an L (the lab's U), whose blurred
+// image lies off the frame's pose by a third of the exposure's turn: 0.4 px at the median in the
+// realistic lab's corner frames. The first and last frames' exposures run on along their one leg.
+Eigen::Isometry3d pose_during_exposure(const Dataset& dataset, int k, double time);
+
 // One sequence's camera: the exposure's gain and the noise go on from frame to frame.
 class Imaging {
  public:

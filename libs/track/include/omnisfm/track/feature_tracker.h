@@ -38,6 +38,7 @@ struct TrackerStatistics {
   int started = 0;
   int too_faint = 0;  // corners not started: the noise leaves their patch below min_followable_ncc
   int renewed = 0;    // references taken anew (TrackerSettings::max_renewals)
+  int smoothed_anew = 0;  // references' templates matched to their patch's scale (match_blur)
   int reacquired = 0;
   // Of those, found again in the frame that lost them: their tracks show no gap.
   int reacquired_at_once = 0;
@@ -75,6 +76,9 @@ class FeatureTracker {
     Eigen::Vector2d velocity{0, 0};       // pixels per frame, over the last step
     std::vector<Eigen::Vector2d> recent;  // the last few positions, oldest first
     AffineWarp warp;                      // the reference patch in the latest image
+    // The point the track reports, in the reference's coordinates (the feature is at 0): at
+    // first the reference's best located point (ReferencePatch::best_located_offset).
+    Eigen::Vector2d reported{0, 0};
     // The patch's change of shape in the image over the last step (warp.A then, as a map from
     // the image before): the next step's is predicted to be the same.
     Eigen::Matrix2d shape_step = Eigen::Matrix2d::Identity();

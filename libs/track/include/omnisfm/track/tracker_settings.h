@@ -32,7 +32,9 @@ struct TrackerSettings {
   // frame or two however well it is followed: on the realistic rover, more than half of the
   // tracks that ended on it did so at an age of one or two frames, with a median contrast of 8.5
   // grey levels against 17 for the others. The noise estimate is approximate: the patches'
-  // misfit raises it and bilinear sampling lowers it by up to a fifth. While fewer than half of
+  // misfit raises it, and it reads low by about a third where the misfit is small (the
+  // template, smoothed as bilinear sampling smooths, keeps half its look's noise variance, and
+  // sampling smooths the other look's), as the figures here were measured. While fewer than half of
   // max_tracks are alive, faint corners start tracks too. 0: every corner with texture starts a
   // track.
   double min_followable_ncc = 0.99;
@@ -64,6 +66,13 @@ struct TrackerSettings {
   bool refine = true;  // false: positions chained by Lucas-Kanade alone (faster; drifts)
   int patch_half_size = 7;
   double image_blur_sigma = 0.5;  // Gaussian smoothing of the images patches are aligned on
+  // The camera's own blur before that smoothing (a Gaussian's sigma, pixels: its optics and its
+  // pixels' area). An image blurs what it shows by the same amount at any scale, so a patch the
+  // image shrinks shows its texture more blurred than its reference, and one it magnifies
+  // sharper; the reference's template is smoothed to match (ReferencePatch::match_blur), for
+  // which the images' whole blur is needed. The realistic renderings': a defocus of 0.6 px and
+  // the pixels' area, 0.66.
+  double camera_blur_px = 0.66;
   double min_ncc = 0.97;
   double max_refinement_shift_px = 1.0;
   double max_misfit_px = 0.2;
