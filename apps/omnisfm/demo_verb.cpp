@@ -87,11 +87,14 @@ void render_dataset(const sim::Dataset& d, const PaperFigures& paper, std::uint6
 
 // From pixels: the rendered images tracked, as `omnisfm track` does, into dir/track.
 track::TrackedSequence track_rendered(const sim::Dataset& d, const PaperFigures& paper,
-                                      const fs::path& dir) {
+                                      const std::string& imaging, const fs::path& dir) {
   track::ImageSequence images((dir / "dataset" / "images").string());
   TerminalProgress tracking_progress(step(paper.scenario, "tracked"), "images");
-  track::TrackedSequence tracked = track::track_images(d.camera, images, track::TrackerSettings(),
-                                                       tracking_progress.callback());
+  // The tracker told the rendered camera's blur, as a user tells it a real camera's.
+  track::TrackerSettings settings;
+  settings.camera_blur_px = sim::ImagingSettings::named(imaging).blur_px();
+  track::TrackedSequence tracked =
+      track::track_images(d.camera, images, settings, tracking_progress.callback());
   for (track::TrackedFrame& f : tracked.frames) f.timestamp = d.timestamps[f.index];
   fs::create_directories(dir / "track");
   track::write_frames_file((dir / "track" / "frames.vnl").string(), tracked.frames);
@@ -114,7 +117,7 @@ ExperimentRows run_experiment(const PaperFigures& paper, std::uint64_t seed,
   const fs::path dir = root / paper.scenario;
   fs::create_directories(dir);
   render_dataset(d, paper, seed, imaging, dir);
-  const track::TrackedSequence tracked = track_rendered(d, paper, dir);
+  const track::TrackedSequence tracked = track_rendered(d, paper, imaging, dir);
   const eval::TrackAccuracy accuracy = eval::track_accuracy(d, tracked.observations);
 
   // The same estimators on the simulator's tracks (Gaussian noise, known mistracks): what the

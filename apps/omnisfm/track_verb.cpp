@@ -120,6 +120,12 @@ void add_track_verb(CLI::App& app) {
                    "End a track whose patch correlates less than this with its first appearance")
       ->capture_default_str()
       ->check(number_between(0, 1));
+  verb->add_option("--camera-blur", o->settings.camera_blur_px,
+                   "The camera's own blur, pixels (a Gaussian's sigma: its optics and its "
+                   "pixels' area); references are smoothed to match as their patches change "
+                   "scale")
+      ->capture_default_str()
+      ->check(number_between(0, 5));
   verb->add_flag("--no-reacquisition", o->no_reacquisition, "Do not look for lost features again");
   verb->add_option("--draw", o->draw,
                    "Also write tracks_FRAME.png beside the tracks: that frame (counted from 0) "

@@ -22,6 +22,7 @@ Eigen::Isometry3d pose_during_exposure(const Dataset& dataset, int k, double t) 
   const std::vector<double>& times = dataset.timestamps;
   if (k == 0 || k + 1 >= static_cast<int>(times.size())) return extrapolate_pose(dataset, t);
   const double t0 = times[k - 1], t1 = times[k], t2 = times[k + 1];
+  if (!(t0 < t1 && t1 < t2)) return extrapolate_pose(dataset, t);
   // Lagrange's weights of the three poses at t.
   const double w0 = (t - t1) * (t - t2) / ((t0 - t1) * (t0 - t2));
   const double w1 = (t - t0) * (t - t2) / ((t1 - t0) * (t1 - t2));
@@ -61,6 +62,10 @@ ImagingSettings ImagingSettings::named(const std::string& name) {
   if (name == "clean") return clean();
   if (name == "realistic") return {};
   throw std::invalid_argument("unknown imaging \"" + name + "\" (clean or realistic)");
+}
+
+double ImagingSettings::blur_px() const {
+  return std::sqrt(defocus_sigma_px * defocus_sigma_px + 1.0 / 12);
 }
 
 bool ImagingSettings::is_clean() const {

@@ -105,24 +105,42 @@ constexpr double kSampledShareStep = 0.3;
 constexpr double kLeastAddedBlur = 0.05;
 
 // The (2 reach + 1)^2 pixels about the centre of `pixels` (a square of 2 pixels_reach + 1, rows
-// `stride` apart and padded by kLanes for the last register's reads), blurred by a Gaussian of
-// `covariance` (kept just positive definite where it is flat along a direction), tap by tap over
-// whole rows a register at a time; into *square, rows *square_stride apart.
-void gaussian_blurred_square(const std::vector<float>& pixels, int stride, int pixels_reach,
-                             int reach, const Eigen::Matrix2d& covariance,
-                             std::vector<float>* square, int* square_stride) {
-  const Eigen::Matrix2d information = (covariance + 1e-4 * Eigen::Matrix2d::Identity()).inverse();
-  // Three sigmas along its widest direction.
-  const int kernel_reach =
-      std::min(kBlurReach, static_cast<int>(std::ceil(3 * std::sqrt(covariance.trace()))));
-  float kernel[2 * kBlurReach + 1][2 * kBlurReach + 1];
-  float kernel_sum = 0;
-  for (int y = -kernel_reach; y <= kernel_reach; ++y)
-    for (int x = -kernel_reach; x <= kernel_reach; ++x) {
-      const Eigen::Vector2d d(x, y);
-      kernel_sum += kernel[y + kBlurReach][x + kBlurReach] =
-          static_cast<float>(std::exp(-0.5 * d.dot(information * d)));
-    }
+// `stride` apart and padded by kLanes for the last register's reads), blurred by `covariance`,
+// tap by tap over whole rows a register at a time; into *square, rows *square_stride apart. A
+// blur small enough is the 3 x 3 kernel whose second moments are the covariance's exactly (a
+// Gaussian sampled at whole pixels blurs by much less: by 0.013 px^2 where 0.1 is asked); a
+// wider one a sampled Gaussian (kept just positive definite where it is flat along a direction).
+void blurred_square(const std::vector<float>& pixels, int stride, int pixels_reach, int reach,
+                    const Eigen::Matrix2d& covariance, std::vector<float>* square,
+                    int* square_stride) {
+  float kernel[2 * kBlurReach + 1][2 * kBlurReach + 1] = {};
+  int kernel_reach = 1;
+  const double a = covariance(0, 0), b = covariance(1, 1), c = covariance(0, 1);
+  const double corner = std::abs(c);
+  if (a >= corner && b >= corner && a + b - corner <= 0.75) {
+    auto tap = [&](int x, int y) -> float& { return kernel[y + kBlurReach][x + kBlurReach]; };
+    tap(0, 0) = static_cast<float>(1 - (a + b - corner));
+    tap(1, 0) = tap(-1, 0) = static_cast<float>(0.5 * (a - corner));
+    tap(0, 1) = tap(0, -1) = static_cast<float>(0.5 * (b - corner));
+    if (c > 0)
+      tap(1, 1) = tap(-1, -1) = static_cast<float>(0.5 * corner);
+    else
+      tap(1, -1) = tap(-1, 1) = static_cast<float>(0.5 * corner);
+  } else {
+    const Eigen::Matrix2d information = (covariance + 1e-4 * Eigen::Matrix2d::Identity()).inverse();
+    // Three sigmas along its widest direction.
+    kernel_reach =
+        std::min(kBlurReach, static_cast<int>(std::ceil(3 * std::sqrt(covariance.trace()))));
+    float kernel_sum = 0;
+    for (int y = -kernel_reach; y <= kernel_reach; ++y)
+      for (int x = -kernel_reach; x <= kernel_reach; ++x) {
+        const Eigen::Vector2d d(x, y);
+        kernel_sum += kernel[y + kBlurReach][x + kBlurReach] =
+            static_cast<float>(std::exp(-0.5 * d.dot(information * d)));
+      }
+    for (auto& row : kernel)
+      for (float& tap : row) tap /= kernel_sum;
+  }
   const int side = 2 * reach + 1;
   const int row_lanes = (side + kLanes - 1) / kLanes;
   *square_stride = row_lanes * kLanes;
@@ -134,7 +152,7 @@ void gaussian_blurred_square(const std::vector<float>& pixels, int stride, int p
       const float* in = &pixels[static_cast<size_t>(pixels_reach - reach + y + ky) * stride +
                                 pixels_reach - reach];
       for (int kx = -kernel_reach; kx <= kernel_reach; ++kx) {
-        const float tap = kernel[ky + kBlurReach][kx + kBlurReach] / kernel_sum;
+        const float tap = kernel[ky + kBlurReach][kx + kBlurReach];
         for (int lane = 0; lane < row_lanes; ++lane)
           sums[lane] += tap * load(in + lane * kLanes + kx);
       }
@@ -371,48 +389,53 @@ bool ReferencePatch::match_blur(const Eigen::Matrix2d& A, double image_blur_vari
       std::clamp(wanted_eigen.eigenvalues().minCoeff() / sampled_variance, 0.0, 1.0);
   const Eigen::Matrix2d added =
       as_blur(wanted - sampled_share * sampled_variance * Eigen::Matrix2d::Identity());
-  const Eigen::Matrix2d smoothing =
-      sampled_share * sampled_variance * Eigen::Matrix2d::Identity() + added;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> change;
   change.computeDirect(added - added_, Eigen::EigenvaluesOnly);
   if (!(change.eigenvalues().cwiseAbs().maxCoeff() > tolerance) &&
       !(std::abs(sampled_share - sampled_share_) > kSampledShareStep))
     return false;
 
-  // The pixels the template's values and gradients read (and the smoothing's ring), with the
-  // Gaussian where there is one.
+  const bool blur = added.trace() > kLeastAddedBlur;
+  const Eigen::Matrix2d applied = blur ? added : Eigen::Matrix2d::Zero();
+  const Eigen::Matrix2d smoothing =
+      sampled_share * sampled_variance * Eigen::Matrix2d::Identity() + applied;
+  const float side_weight = static_cast<float>(0.5 * sampled_share * sampled_variance);
   const cv::Mat kept(2 * pixels_reach_ + 1, 2 * pixels_reach_ + 1, CV_32FC1, pixels_.data(),
                      pixels_stride_ * sizeof(float));
-  const float side_weight = static_cast<float>(0.5 * sampled_share * sampled_variance);
-  if (!(added.trace() > kLeastAddedBlur)) {
-    // Less smoothing than sampling's, where the patch grows: the values and steepest-descent
-    // images anew, the Hessian kept (retaking it would cost five times as much; it changes by
-    // at most that small smoothing, and it only sizes an alignment's steps, not where it stops).
+  if (!blur && added_.isZero()) {
+    // Less smoothing than sampling's, where the patch grows, on a template that had no more:
+    // the values and steepest-descent images anew, the Hessian kept (retaking it would cost five
+    // times as much; it changes by at most sampling's smoothing, and it only sizes an
+    // alignment's steps, not where it stops).
     if (!retake_values(kept, pixels_reach_, side_weight)) return false;
     smoothing_ = smoothing;
-    added_ = added;
     sampled_share_ = sampled_share;
     return true;
   }
-  // A Gaussian over the pixels the template reads (its values, their gradients' and the
-  // smoothing's rings), then the template anew from them.
+  // Otherwise the whole template anew, its Hessian too, from the pixels it reads (its values,
+  // their gradients' and the smoothing's rings), blurred where a blur is wanted.
   const int reach = half_size_ + 2;
-  int stride = 0;
+  cv::Mat square = kept;
+  Eigen::Vector2i square_centre(pixels_reach_, pixels_reach_);
   std::vector<float> blurred;
-  gaussian_blurred_square(pixels_, pixels_stride_, pixels_reach_, reach, added, &blurred, &stride);
-  const cv::Mat square(2 * reach + 1, 2 * reach + 1, CV_32FC1, blurred.data(),
-                       stride * sizeof(float));
-  const Eigen::Vector2d feature_in_square =
-      feature_ - (feature_pixel_ - Eigen::Vector2i(reach, reach)).cast<double>();
+  if (blur) {
+    int stride = 0;
+    blurred_square(pixels_, pixels_stride_, pixels_reach_, reach, added, &blurred, &stride);
+    square =
+        cv::Mat(2 * reach + 1, 2 * reach + 1, CV_32FC1, blurred.data(), stride * sizeof(float));
+    square_centre = Eigen::Vector2i(reach, reach);
+  }
   ReferencePatch p;
-  if (!extract_smoothed(square, feature_in_square, half_size_, side_weight, &p)) return false;
+  if (!extract_smoothed(square, feature_ - (feature_pixel_ - square_centre).cast<double>(),
+                        half_size_, side_weight, &p))
+    return false;
   p.feature_ = feature_;
   p.feature_pixel_ = feature_pixel_;
   p.pixels_ = std::move(pixels_);
   p.pixels_reach_ = pixels_reach_;
   p.pixels_stride_ = pixels_stride_;
   p.smoothing_ = smoothing;
-  p.added_ = added;
+  p.added_ = applied;
   p.sampled_share_ = sampled_share;
   *this = std::move(p);
   return true;

@@ -475,6 +475,46 @@ TEST(PatchAlignment, MatchesTheBlurOfAShrunkenPatch) {
   EXPECT_GT(worst_plain, 3 * worst_matched);
 }
 
+// A small blur is made exactly: a patch shrunk to 0.95 wants 0.093 px^2 more along each axis,
+// which a Gaussian sampled at whole pixels would give a twentieth of. On waves 12 px long its
+// contrast falls as a Gaussian of that variance makes it fall.
+TEST(PatchAlignment, MatchesASmallBlurExactly) {
+  cv::Mat image(60, 60, CV_32FC1);
+  const double k = 2 * M_PI / 12;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      image.at<float>(y, x) =
+          static_cast<float>(100 + 30 * std::sin(k * x + 0.3) + 30 * std::sin(k * y + 1.1));
+  ReferencePatch patch;
+  ASSERT_TRUE(ReferencePatch::extract(image, {30, 30}, 7, &patch));
+  const double before = patch.contrast();
+  const double image_blur = 0.66 * 0.66 + 0.5 * 0.5;
+  const Eigen::Matrix2d shrunk = 0.95 * Eigen::Matrix2d::Identity();
+  ASSERT_TRUE(patch.match_blur(shrunk, image_blur, 0.05));
+  const double added = (image_blur + 1.0 / 6) / (0.95 * 0.95) - image_blur - 1.0 / 6;
+  ASSERT_NEAR(patch.smoothing()(0, 0), 1.0 / 6 + added, 1e-6);
+  EXPECT_NEAR(patch.contrast() / before, std::exp(-0.5 * added * k * k), 1e-3) << "added " << added;
+}
+
+// A patch shrunk, then grown back to its first size: its template is again the one extracted,
+// Hessian and all.
+TEST(PatchAlignment, MatchingBackToItsSizeRestoresTheTemplate) {
+  const ShortWaves texture(7);
+  const double image_blur = 0.66 * 0.66 + 0.5 * 0.5;
+  const cv::Mat image = texture.image(100, 100, Eigen::Matrix2d::Identity(), {0, 0}, image_blur);
+  ReferencePatch fresh, cycled;
+  ASSERT_TRUE(ReferencePatch::extract(image, {50.3, 49.6}, 7, &fresh));
+  cycled = fresh;
+  ASSERT_TRUE(cycled.match_blur(0.75 * Eigen::Matrix2d::Identity(), image_blur, 0.3));
+  EXPECT_GT((cycled.hessian_inverse() - fresh.hessian_inverse()).norm(),
+            0.1 * fresh.hessian_inverse().norm());
+  ASSERT_TRUE(cycled.match_blur(Eigen::Matrix2d::Identity(), image_blur, 0.3));
+  EXPECT_LT((cycled.smoothing() - Eigen::Matrix2d::Identity() / 6).norm(), 1e-6);
+  EXPECT_LT((cycled.hessian_inverse() - fresh.hessian_inverse()).norm(),
+            1e-5 * fresh.hessian_inverse().norm());
+  EXPECT_NEAR(cycled.contrast(), fresh.contrast(), 1e-4 * fresh.contrast());
+}
+
 // The best located point: where the trace of the covariance of A x + b over the six parameters
 // (the inverse Hessian) is least, found here by search.
 TEST(PatchAlignment, BestLocatedOffsetIsWhereAPointsVarianceIsLeast) {

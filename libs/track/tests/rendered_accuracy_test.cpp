@@ -55,7 +55,9 @@ eval::TrackAccuracy track_rendered(const Expected& e, TrackedSequence* tracked) 
     sim::write_png((dir / name).string(), camera.record(d, f));
   }
   ImageSequence images(dir.string());
-  *tracked = track_images(d.camera, images, TrackerSettings());
+  TrackerSettings settings;
+  settings.camera_blur_px = sim::ImagingSettings::named(e.imaging).blur_px();
+  *tracked = track_images(d.camera, images, settings);
   fs::remove_all(dir);
   return eval::track_accuracy(d, tracked->observations);
 }
@@ -114,13 +116,13 @@ std::string scenario_name(const ::testing::TestParamInfo<Expected>& param) {
 // realistic rover's 95th percentile 0.249 px (0.178 before), none of its 262 tracks beyond 1 px;
 // the clean rover's mistracked 14 of 463 (3.0 %), where renewed references let its procedural
 // textures change their look with the scale past max_patch_distortion. With the template
-// smoothed as sampling smooths and matched to its patch's scale, and each track reporting its
-// reference's best located point (ReferencePatch::match_blur, best_located_offset), and the
-// exposure's motion blur about the lab's corners centred on the frames' poses: realistic lab
-// 0.087 / 0.209 px (0.104 / 0.331 before), none of 280 beyond 1 px; crane 0.075 / 0.254 px
-// (0.074 / 0.205), 1 of 190; rover 0.074 / 0.240 px, none of 231, 11 frames at the median
-// (8); clean lab 0.084 / 0.283 px, 1 of 277; crane 0.040 / 0.180, 1 of 190; rover 0.077 /
-// 0.364, 11 of 442.
+// smoothed as sampling smooths and matched to its patch's scale (told the rendering's blur,
+// sim::ImagingSettings::blur_px), each track reporting its reference's best located point
+// (ReferencePatch::match_blur, best_located_offset), and the exposure's motion blur about the
+// lab's corners centred on the frames' poses: realistic lab 0.087 / 0.206 px (0.104 / 0.331
+// before), none of 280 beyond 1 px; crane 0.075 / 0.254 px (0.074 / 0.205), 1 of 190; rover
+// 0.075 / 0.236 px, none of 234, 11 frames at the median (8); clean lab 0.080 / 0.277 px, none of
+// 279; crane 0.038 / 0.155, 2 of 204; rover 0.080 / 0.385, 13 of 418.
 INSTANTIATE_TEST_SUITE_P(Scenarios, RenderedAccuracy,
                          ::testing::Values(Expected{"lab", "clean", 41, 0.1, 0.3, 0.01, 0, 10},
                                            Expected{"crane", "clean", 60, 0.1, 0.3, 0.02, 0, 27},

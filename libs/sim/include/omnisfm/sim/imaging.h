@@ -44,6 +44,10 @@ struct ImagingSettings {
   // the name otherwise.
   static ImagingSettings named(const std::string& name);
   bool is_clean() const;
+  // The blur of the images these settings make, as a Gaussian's sigma in pixels: the defocus and
+  // the pixels' area (a box of a pixel, variance 1/12; motion blur aside). What a tracker is told
+  // of the camera (track::TrackerSettings::camera_blur_px).
+  double blur_px() const;
 };
 
 // The rig's pose at `time` during frame k's exposure: on the parabola through the frame's pose

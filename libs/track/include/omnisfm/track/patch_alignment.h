@@ -9,9 +9,10 @@
 // and contrast at every step, so that it minimises a weighted zero-mean normalised SSD; the
 // Gaussian window weight (sigma: the half size) lets the patch's rim matter less.
 //
-// The template is the image's own pixels around the feature (no resampling: an interpolated
-// template is smoothed by an amount that depends on its sub-pixel phase, which would bias every
-// later alignment); template coordinates are offsets from the feature itself. Images are
+// The template is the image's own pixels around the feature, smoothed by (1/12, 5/6, 1/12) along
+// each axis as bilinear sampling smooths on average (no resampling: an interpolated template is
+// smoothed by an amount that depends on its sub-pixel phase, which would bias every later
+// alignment); template coordinates are offsets from the feature itself. Images are
 // CV_32FC1, sampled bilinearly; a warp whose patch comes within a pixel of the border fails.
 
 #include <Eigen/Core>
@@ -53,8 +54,8 @@ class ReferencePatch {
  public:
   ReferencePatch() = default;
 
-  // The (2 half_size + 1)^2 pixels of `image` around the pixel nearest `feature`. False when
-  // the patch does not fit in the image or is flat (no texture to align on).
+  // The (2 half_size + 1)^2 pixels of `image` around the pixel nearest `feature`, smoothed as
+  // above. False when the patch does not fit in the image or is flat (no texture to align on).
   static bool extract(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size,
                       ReferencePatch* patch);
   // What contrast() of that patch would be, at a fraction of extract's work; 0 where it does not
@@ -89,8 +90,8 @@ class ReferencePatch {
   // template stays where it was, so the track's position inherits no error, as it would from a
   // new reference.
   // image_blur_variance: the reference image's own blur (px^2 along each axis: the camera's and
-  // the tracker's smoothing). False when nothing changed (within tolerance, or the reference
-  // kept no pixels for it: taken too near the image's border).
+  // the tracker's smoothing). False when nothing changed (within tolerance; the reference kept
+  // no pixels for it, taken too near the image's border; or the template would be flat).
   bool match_blur(const Eigen::Matrix2d& A, double image_blur_variance, double tolerance);
   // What the template's pixels are smoothed by (covariance, px^2, template coordinates): s
   // along each axis as extracted, then what match_blur set.
@@ -102,12 +103,13 @@ class ReferencePatch {
   // feature, w the Gaussian window summing to 1, g the central differences).
   const Eigen::Matrix<double, 6, 6>& hessian_inverse() const { return solves_->hessian_inverse; }
   // The point of the template (offset from the feature) whose place an alignment measures best:
-  // where the variance of A x + b, over the six parameters' covariance (the inverse Hessian),
-  // is least. Errors in the patch's shape A move a point by A's error times its offset from
-  // that point, so a track reports it rather than the feature: on the realistic lab, aligned
-  // from the truth, the features were 0.26 px off at the 95th percentile and these points 0.23
-  // (1.1 px from the features at the median, 2.7 at the 95th percentile). Within half_size of
-  // the feature.
+  // where the variance of A x + b is least, over the six parameters' covariance taken as the
+  // inverse Hessian (the Gaussian window's weights make the true one H^-1 (sum w^2 s s^T) H^-1,
+  // which that stands for up to their spread). Errors in the patch's shape A move a point by A's
+  // error times its offset from that point, so a track reports it rather than the feature: on the
+  // realistic lab, aligned from the truth, the features were 0.26 px off at the 95th percentile and
+  // these points 0.23 (1.1 px from the features at the median, 2.7 at the 95th percentile). Within
+  // half_size of the feature.
   Eigen::Vector2d best_located_offset() const;
   // The template's weighted standard deviation, grey levels.
   double contrast() const { return norm_; }

@@ -70,8 +70,9 @@ struct TrackerSettings {
   // pixels' area). An image blurs what it shows by the same amount at any scale, so a patch the
   // image shrinks shows its texture more blurred than its reference, and one it magnifies
   // sharper; the reference's template is smoothed to match (ReferencePatch::match_blur), for
-  // which the images' whole blur is needed. The realistic renderings': a defocus of 0.6 px and
-  // the pixels' area, 0.66.
+  // which the images' whole blur is needed (`omnisfm track --camera-blur`). The realistic
+  // renderings': a defocus of 0.6 px and the pixels' area, 0.66; the clean ones' 0.29
+  // (sim::ImagingSettings::blur_px).
   double camera_blur_px = 0.66;
   double min_ncc = 0.97;
   double max_refinement_shift_px = 1.0;
