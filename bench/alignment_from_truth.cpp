@@ -62,18 +62,6 @@ class Frames {
   std::map<int, cv::Mat> images_;
 };
 
-bool scene_point(const sim::Dataset& d, int frame, const Eigen::Vector2d& pixel,
-                 Eigen::Vector3d* point) {
-  Eigen::Vector3d origin, direction;
-  if (!d.camera.unproject(pixel, &origin, &direction)) return false;
-  const Eigen::Isometry3d& pose = d.world_from_cam[frame];
-  sim::SceneHit hit;
-  const Eigen::Vector3d origin_W = pose * origin, direction_W = pose.linear() * direction;
-  if (!d.scene.intersect(origin_W, direction_W, 1e4, &hit)) return false;
-  *point = origin_W + hit.distance * direction_W;
-  return true;
-}
-
 // The affine map that best carries the patch's pixels about `feature` in frame `from` to where
 // the scene puts them in frame `to`, weighted as the patch's window weighs them.
 bool true_shape(const sim::Dataset& d, int from, const Eigen::Vector2d& feature, int to,
@@ -84,7 +72,7 @@ bool true_shape(const sim::Dataset& d, int from, const Eigen::Vector2d& feature,
     for (int dx = -kHalfSize; dx <= kHalfSize; dx += 2) {
       Eigen::Vector3d point;
       Eigen::Vector2d pixel;
-      if (!scene_point(d, from, feature + Eigen::Vector2d(dx, dy), &point) ||
+      if (!sim::scene_point(d, from, feature + Eigen::Vector2d(dx, dy), &point) ||
           !sim::true_pixel(d, to, point, &pixel))
         continue;
       const double w = std::exp(-(dx * dx + dy * dy) / (2.0 * kHalfSize * kHalfSize));
@@ -185,7 +173,7 @@ int main(int argc, char** argv) {
     const Eigen::Vector2d offset = r.patch.best_located_offset();
     Eigen::Vector3d point;
     Eigen::Vector2d point_pixel;
-    if (!scene_point(dataset, r.frame, r.pixel + offset, &point) ||
+    if (!sim::scene_point(dataset, r.frame, r.pixel + offset, &point) ||
         !sim::true_pixel(dataset, frame, point, &point_pixel))
       continue;
     const std::string band = age <= 2 ? "1-2" : age <= 8 ? "3-8" : "9+";

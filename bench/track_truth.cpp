@@ -126,18 +126,6 @@ void print_mistracked(const sim::Dataset& dataset,
   }
 }
 
-// Where the scene point seen at `pixel` in `frame` is; false where the ray meets nothing.
-bool scene_point(const sim::Dataset& dataset, int frame, const Eigen::Vector2d& pixel,
-                 Eigen::Vector3d* point, sim::SceneHit* hit) {
-  Eigen::Vector3d origin, direction;
-  if (!dataset.camera.unproject(pixel, &origin, &direction)) return false;
-  const Eigen::Isometry3d& pose = dataset.world_from_cam[frame];
-  const Eigen::Vector3d origin_W = pose * origin, direction_W = pose.linear() * direction;
-  if (!dataset.scene.intersect(origin_W, direction_W, 1e4, hit)) return false;
-  *point = origin_W + hit->distance * direction_W;
-  return true;
-}
-
 // Writes a line per observation to `path`: track, frame, age (frames since its first), error
 // (px; nan for a first observation), its pixel, its true pixel (-1 -1 where hidden), and what
 // its first patch covers: how many of the scene's surfaces (1: one wall; 2 or 3: a crease where
@@ -154,13 +142,13 @@ void dump(const char* path, const sim::Dataset& dataset,
     const core::TrackObservation& o = observations[index];
     Eigen::Vector3d point;
     sim::SceneHit hit;
-    if (scene_point(dataset, o.frame, o.pixel, &point, &hit)) truth[track] = point;
+    if (sim::scene_point(dataset, o.frame, o.pixel, &point, &hit)) truth[track] = point;
     std::vector<int> quads;
     bool marker = false;
     for (int dy = -2; dy <= 2; ++dy)
       for (int dx = -2; dx <= 2; ++dx)
-        if (scene_point(dataset, o.frame, o.pixel + Eigen::Vector2d(dx, dy) * (half_size / 2.0),
-                        &point, &hit)) {
+        if (sim::scene_point(dataset, o.frame,
+                             o.pixel + Eigen::Vector2d(dx, dy) * (half_size / 2.0), &point, &hit)) {
           if (hit.marker >= 0) marker = true;
           if (hit.quad >= 0) quads.push_back(hit.quad);
         }

@@ -10,11 +10,6 @@
 #include "omnisfm/sim/track_simulator.h"
 
 namespace omnisfm::eval {
-namespace {
-
-constexpr double kFarthestSurfaceM = 1e4;
-
-}  // namespace
 
 std::vector<double> track_errors(const sim::Dataset& dataset,
                                  const std::vector<core::TrackObservation>& tracks) {
@@ -28,14 +23,8 @@ std::vector<double> track_errors(const sim::Dataset& dataset,
   std::map<int, Eigen::Vector3d> truth;
   for (const auto& [track, index] : first) {
     const core::TrackObservation& o = tracks[index];
-    Eigen::Vector3d origin, direction;
-    if (!dataset.camera.unproject(o.pixel, &origin, &direction)) continue;
-    const Eigen::Isometry3d& world_from_cam = dataset.world_from_cam[o.frame];
-    const Eigen::Vector3d origin_W = world_from_cam * origin;
-    const Eigen::Vector3d direction_W = world_from_cam.linear() * direction;
-    sim::SceneHit hit;
-    if (dataset.scene.intersect(origin_W, direction_W, kFarthestSurfaceM, &hit))
-      truth[track] = origin_W + hit.distance * direction_W;
+    Eigen::Vector3d point;
+    if (sim::scene_point(dataset, o.frame, o.pixel, &point)) truth[track] = point;
   }
 
   std::vector<double> errors(tracks.size(), nan);

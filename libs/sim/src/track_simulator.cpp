@@ -83,6 +83,20 @@ bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_
   return dataset.scene.visible(mirror_W, point_W);
 }
 
+bool scene_point(const Dataset& dataset, int frame, const Eigen::Vector2d& pixel,
+                 Eigen::Vector3d* point_W, SceneHit* hit) {
+  Eigen::Vector3d origin, direction;
+  if (!dataset.camera.unproject(pixel, &origin, &direction)) return false;
+  const Eigen::Isometry3d& world_from_cam = dataset.world_from_cam[frame];
+  const Eigen::Vector3d origin_W = world_from_cam * origin;
+  const Eigen::Vector3d direction_W = world_from_cam.linear() * direction;
+  SceneHit met;
+  if (!dataset.scene.intersect(origin_W, direction_W, 1e4, &met)) return false;
+  *point_W = origin_W + met.distance * direction_W;
+  if (hit) *hit = met;
+  return true;
+}
+
 namespace {
 
 struct Run {

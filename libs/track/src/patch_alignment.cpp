@@ -162,12 +162,26 @@ void blurred_square(const std::vector<float>& pixels, int stride, int pixels_rea
   }
 }
 
+// The square of the reference image's pixels a patch keeps for blurring its template later: about
+// the feature's nearest pixel, reaching the template's pixels and the blur's kernel, each row
+// padded for the last register's reads.
+struct KeptPixels {
+  int reach, side, stride;
+  explicit KeptPixels(int half_size)
+      : reach(half_size + 2 + kBlurReach), side(2 * reach + 1), stride(side + kLanes) {}
+};
+
+Eigen::Vector2i nearest_pixel(const Eigen::Vector2d& p) {
+  return {static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y()))};
+}
+
 // False when the patch and the pixels its smoothed values and their gradients read do not fit in
 // the image.
 bool patch_window(const cv::Mat& image, const Eigen::Vector2d& feature, int half_size,
                   PatchWindow* w) {
-  w->cx = static_cast<int>(std::lround(feature.x()));
-  w->cy = static_cast<int>(std::lround(feature.y()));
+  const Eigen::Vector2i nearest = nearest_pixel(feature);
+  w->cx = nearest.x();
+  w->cy = nearest.y();
   const int reach = half_size + 2;
   if (!(w->cx - reach >= 0 && w->cy - reach >= 0 && w->cx + reach < image.cols &&
         w->cy + reach < image.rows))
@@ -333,16 +347,13 @@ bool ReferencePatch::extract_smoothed(const cv::Mat& image, const Eigen::Vector2
   p.solves_ = std::move(solves);
   // The pixels a template blurred later reads.
   p.feature_ = feature;
-  p.feature_pixel_ = Eigen::Vector2i(cx, cy);
-  const int kept = half_size + 2 + kBlurReach;
-  if (cx - kept >= 0 && cy - kept >= 0 && cx + kept < image.cols && cy + kept < image.rows) {
-    const int kept_side = 2 * kept + 1;
-    p.pixels_reach_ = kept;
-    p.pixels_stride_ = kept_side + kLanes;
-    p.pixels_.assign(static_cast<size_t>(p.pixels_stride_) * kept_side, 0.0f);
-    for (int y = 0; y < kept_side; ++y) {
-      const float* row = image.ptr<float>(cy - kept + y) + cx - kept;
-      std::copy(row, row + kept_side, &p.pixels_[static_cast<size_t>(y) * p.pixels_stride_]);
+  const KeptPixels kept(half_size);
+  if (cx - kept.reach >= 0 && cy - kept.reach >= 0 && cx + kept.reach < image.cols &&
+      cy + kept.reach < image.rows) {
+    p.pixels_.assign(static_cast<size_t>(kept.stride) * kept.side, 0.0f);
+    for (int y = 0; y < kept.side; ++y) {
+      const float* row = image.ptr<float>(cy - kept.reach + y) + cx - kept.reach;
+      std::copy(row, row + kept.side, &p.pixels_[static_cast<size_t>(y) * kept.stride]);
     }
   }
   *patch = std::move(p);
@@ -396,19 +407,16 @@ bool ReferencePatch::match_blur(const Eigen::Matrix2d& A, double image_blur_vari
     return false;
 
   const bool blur = added.trace() > kLeastAddedBlur;
-  const Eigen::Matrix2d applied = blur ? added : Eigen::Matrix2d::Zero();
-  const Eigen::Matrix2d smoothing =
-      sampled_share * sampled_variance * Eigen::Matrix2d::Identity() + applied;
   const float side_weight = static_cast<float>(0.5 * sampled_share * sampled_variance);
-  const cv::Mat kept(2 * pixels_reach_ + 1, 2 * pixels_reach_ + 1, CV_32FC1, pixels_.data(),
-                     pixels_stride_ * sizeof(float));
+  const KeptPixels kept_square(half_size_);
+  const cv::Mat kept(kept_square.side, kept_square.side, CV_32FC1, pixels_.data(),
+                     kept_square.stride * sizeof(float));
   if (!blur && added_.isZero()) {
     // Less smoothing than sampling's, where the patch grows, on a template that had no more:
     // the values and steepest-descent images anew, the Hessian kept (retaking it would cost five
     // times as much; it changes by at most sampling's smoothing, and it only sizes an
     // alignment's steps, not where it stops).
-    if (!retake_values(kept, pixels_reach_, side_weight)) return false;
-    smoothing_ = smoothing;
+    if (!retake_values(kept, kept_square.reach, side_weight)) return false;
     sampled_share_ = sampled_share;
     return true;
   }
@@ -416,29 +424,30 @@ bool ReferencePatch::match_blur(const Eigen::Matrix2d& A, double image_blur_vari
   // their gradients' and the smoothing's rings), blurred where a blur is wanted.
   const int reach = half_size_ + 2;
   cv::Mat square = kept;
-  Eigen::Vector2i square_centre(pixels_reach_, pixels_reach_);
+  Eigen::Vector2i square_centre(kept_square.reach, kept_square.reach);
   std::vector<float> blurred;
   if (blur) {
     int stride = 0;
-    blurred_square(pixels_, pixels_stride_, pixels_reach_, reach, added, &blurred, &stride);
+    blurred_square(pixels_, kept_square.stride, kept_square.reach, reach, added, &blurred, &stride);
     square =
         cv::Mat(2 * reach + 1, 2 * reach + 1, CV_32FC1, blurred.data(), stride * sizeof(float));
     square_centre = Eigen::Vector2i(reach, reach);
   }
   ReferencePatch p;
-  if (!extract_smoothed(square, feature_ - (feature_pixel_ - square_centre).cast<double>(),
+  if (!extract_smoothed(square, feature_ - (nearest_pixel(feature_) - square_centre).cast<double>(),
                         half_size_, side_weight, &p))
     return false;
+  // The new template in place of the old; the kept pixels and the feature stay.
   p.feature_ = feature_;
-  p.feature_pixel_ = feature_pixel_;
   p.pixels_ = std::move(pixels_);
-  p.pixels_reach_ = pixels_reach_;
-  p.pixels_stride_ = pixels_stride_;
-  p.smoothing_ = smoothing;
-  p.added_ = applied;
+  p.added_ = blur ? added : Eigen::Matrix2d::Zero();
   p.sampled_share_ = sampled_share;
   *this = std::move(p);
   return true;
+}
+
+Eigen::Matrix2d ReferencePatch::smoothing() const {
+  return 2.0 * kSampleSmoothing * sampled_share_ * Eigen::Matrix2d::Identity() + added_;
 }
 
 bool ReferencePatch::retake_values(const cv::Mat& pixels, int centre, float side_weight) {

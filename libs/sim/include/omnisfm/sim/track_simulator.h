@@ -41,6 +41,12 @@ bool visible_pixel(const camera::CatadioptricCamera& camera, const Eigen::Isomet
 bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_W,
                 Eigen::Vector2d* pixel, double border_px = 0.0);
 
+// The scene point a pixel of a frame sees (true_pixel's inverse): where its reflected ray first
+// meets the scene, within 10 km. False where the pixel has no ray or the ray meets nothing (the
+// sky). *hit, when given, tells what it met.
+bool scene_point(const Dataset& dataset, int frame, const Eigen::Vector2d& pixel,
+                 Eigen::Vector3d* point_W, SceneHit* hit = nullptr);
+
 // A standard normal deviate; the same on every platform for the same generator state.
 double standard_normal(std::mt19937_64& rng);
 // Independent standard normal deviates, drawn last coordinate first (the order the datasets were

@@ -95,7 +95,7 @@ class ReferencePatch {
   bool match_blur(const Eigen::Matrix2d& A, double image_blur_variance, double tolerance);
   // What the template's pixels are smoothed by (covariance, px^2, template coordinates): s
   // along each axis as extracted, then what match_blur set.
-  const Eigen::Matrix2d& smoothing() const { return smoothing_; }
+  Eigen::Matrix2d smoothing() const;
 
   int half_size() const { return half_size_; }
   // The inverse of the alignment's Hessian: the Gram matrix of the six steepest-descent images
@@ -135,13 +135,11 @@ class ReferencePatch {
 
   int half_size_ = 0;
   // The reference image's pixels about the feature's nearest pixel, as they were, wide enough
-  // for the added blur's kernel (a square of 2 pixels_reach_ + 1, row by row, each row padded
-  // to pixels_stride_).
+  // for the added blur's kernel (empty where they did not fit: KeptPixels in the source tells
+  // their square); the feature in that image; the Gaussian added to the template; and the share
+  // of sampling's smoothing it has.
   std::vector<float> pixels_;
-  int pixels_reach_ = 0, pixels_stride_ = 0;
-  Eigen::Vector2d feature_{0, 0};        // in the reference image
-  Eigen::Vector2i feature_pixel_{0, 0};  // its nearest pixel, the kept pixels' centre
-  Eigen::Matrix2d smoothing_ = Eigen::Matrix2d::Identity() / 6;
+  Eigen::Vector2d feature_{0, 0};
   Eigen::Matrix2d added_ = Eigen::Matrix2d::Zero();
   double sampled_share_ = 1;
   // Per template pixel, row-major, padded with zeros to a multiple of kLanes pixels. From the
