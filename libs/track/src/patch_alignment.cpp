@@ -1,7 +1,6 @@
 #include "omnisfm/track/patch_alignment.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -104,9 +103,38 @@ constexpr double kSampledShareStep = 0.3;
 // kernel sampled at whole pixels is nearly a single tap.
 constexpr double kLeastAddedBlur = 0.05;
 
+// A symmetric 2 x 2 matrix's eigen-decomposition in closed form: its eigenvalues are the mean
+// of its diagonal plus and minus a radius, and its larger eigenvalue's eigenvector lies at the
+// angle t with (cos 2t, sin 2t) = ((a - b) / 2, c) / radius.
+class SymmetricEigen {
+ public:
+  explicit SymmetricEigen(const Eigen::Matrix2d& m)
+      : mean_(0.5 * (m(0, 0) + m(1, 1))),
+        half_difference_(0.5 * (m(0, 0) - m(1, 1))),
+        off_diagonal_(0.5 * (m(0, 1) + m(1, 0))),
+        radius_(std::sqrt(half_difference_ * half_difference_ + off_diagonal_ * off_diagonal_)) {}
+  double largest() const { return mean_ + radius_; }
+  double smallest() const { return mean_ - radius_; }
+  double largest_magnitude() const { return std::abs(mean_) + radius_; }
+  // The matrix with the same eigenvectors and these eigenvalues.
+  Eigen::Matrix2d with(double larger, double smaller) const {
+    const double mean = 0.5 * (larger + smaller), half_spread = 0.5 * (larger - smaller);
+    // An isotropic matrix: any axes.
+    const double cos2 = radius_ > 0 ? half_difference_ / radius_ : 1;
+    const double sin2 = radius_ > 0 ? off_diagonal_ / radius_ : 0;
+    Eigen::Matrix2d m;
+    m << mean + half_spread * cos2, half_spread * sin2, half_spread * sin2,
+        mean - half_spread * cos2;
+    return m;
+  }
+
+ private:
+  double mean_, half_difference_, off_diagonal_, radius_;
+};
+
 // The (2 reach + 1)^2 pixels about the centre of `pixels` (a square of 2 pixels_reach + 1, rows
 // `stride` apart and padded by kLanes for the last register's reads), blurred by `covariance`,
-// tap by tap over whole rows a register at a time; into *square, rows *square_stride apart. A
+// a register of a row at a time; into *square, rows *square_stride apart. A
 // blur small enough is the 3 x 3 kernel whose second moments are the covariance's exactly (a
 // Gaussian sampled at whole pixels blurs by much less: by 0.013 px^2 where 0.1 is asked); a
 // wider one a sampled Gaussian (kept just positive definite where it is flat along a direction).
@@ -145,21 +173,18 @@ void blurred_square(const std::vector<float>& pixels, int stride, int pixels_rea
   const int row_lanes = (side + kLanes - 1) / kLanes;
   *square_stride = row_lanes * kLanes;
   square->resize(static_cast<size_t>(*square_stride) * side);
-  std::vector<Lanes> sums(row_lanes);
-  for (int y = 0; y < side; ++y) {
-    std::fill(sums.begin(), sums.end(), Lanes{});
-    for (int ky = -kernel_reach; ky <= kernel_reach; ++ky) {
-      const float* in = &pixels[static_cast<size_t>(pixels_reach - reach + y + ky) * stride +
-                                pixels_reach - reach];
-      for (int kx = -kernel_reach; kx <= kernel_reach; ++kx) {
-        const float tap = kernel[ky + kBlurReach][kx + kBlurReach];
-        for (int lane = 0; lane < row_lanes; ++lane)
-          sums[lane] += tap * load(in + lane * kLanes + kx);
+  // A register's sum over all taps at a time, kept in the register.
+  for (int y = 0; y < side; ++y)
+    for (int lane = 0; lane < row_lanes; ++lane) {
+      Lanes sum = {};
+      for (int ky = -kernel_reach; ky <= kernel_reach; ++ky) {
+        const float* in = &pixels[static_cast<size_t>(pixels_reach - reach + y + ky) * stride +
+                                  pixels_reach - reach + lane * kLanes];
+        for (int kx = -kernel_reach; kx <= kernel_reach; ++kx)
+          sum += kernel[ky + kBlurReach][kx + kBlurReach] * load(in + kx);
       }
+      store(&(*square)[static_cast<size_t>(y) * *square_stride + lane * kLanes], sum);
     }
-    for (int lane = 0; lane < row_lanes; ++lane)
-      store(&(*square)[static_cast<size_t>(y) * *square_stride + lane * kLanes], sums[lane]);
-  }
 }
 
 // The square of the reference image's pixels a patch keeps for blurring its template later: about
@@ -256,53 +281,82 @@ bool ReferencePatch::extract_smoothed(const cv::Mat& image, const Eigen::Vector2
   if (p.norm_ < kMinContrast) return false;
 
   // The Hessian of the six steepest-descent images (w gx u, w gx v, w gy u, w gy v, w gx, w gy)
-  // holds only the gradients' products (gx gx, gx gy, gy gy) times 1, u, v, uu, uv, vv: 18 sums,
-  // each in a register of its own (entry by entry, from arrays, the compiler's vector loads of
-  // scalar stores stalled: extract runs for every new or renewed reference). The parts need the
-  // products' sums over the left, top and centre parts (right and bottom: the whole less left and
-  // top).
+  // holds only the gradients' products (gx gx, gx gy, gy gy) times 1, u, v, uu, uv, vv: 18 sums.
+  // The parts need the products' sums over the left, top and centre parts (right and bottom: the
+  // whole less left and top). Along a row v is fixed, so a row needs only each product's sums
+  // times 1, u and uu, over the row and over its left and centre pixels: kLanes pixels at a time
+  // in float, each row's sums then added up in double (extract runs for every new, renewed or
+  // re-blurred reference; pixel by pixel in double it took most of extract's time).
   struct Moments {
     double one = 0, u = 0, v = 0, uu = 0, uv = 0, vv = 0;
-  } xx, xy, yy;
+  } moments[3];
   struct PartMoments {
     double one[3] = {}, u[3] = {}, v[3] = {};  // of gx gx, gx gy, gy gy
   } left, top, centre;
-  k = 0;
+  const int row_lanes = (side + kLanes - 1) / kLanes;
+  // Lane reads run up to a register past each row's end; those lanes are masked off, and the
+  // last row's reach past the square reads this padding.
+  smoothed.resize(smoothed.size() + kLanes, 0.0f);
+  const float centre_radius2 = centre_radius_squared(half_size);
   for (int y = -half_size; y <= half_size; ++y) {
-    const float* row = &smoothed[static_cast<size_t>(y + reach) * stride + reach];
-    const float* above = row - stride;
-    const float* below = row + stride;
-    for (int x = -half_size; x <= half_size; ++x, ++k) {
-      const double gx = 0.5 * (row[x + 1] - row[x - 1]);
-      const double gy = 0.5 * (below[x] - above[x]);
-      const float u_float = p.offsets_x_(k), v_float = p.offsets_y_(k);
-      const double u = u_float, v = v_float, w = p.weights_(k);
-      const double wgx = w * gx, wgy = w * gy;
-      p.weighted_gx_(k) = static_cast<float>(wgx);
-      p.weighted_gy_(k) = static_cast<float>(wgy);
-      const double products[3] = {wgx * gx, wgx * gy, wgy * gy};
-      const double uu = u * u, uv = u * v, vv = v * v;
-      Moments* const moments[3] = {&xx, &xy, &yy};
-      const double in_left = u_float < 0, in_top = v_float < 0;
-      const double in_centre =
-          u_float * u_float + v_float * v_float <= centre_radius_squared(half_size);
+    const Eigen::Index row_start = static_cast<Eigen::Index>(y + half_size) * side;
+    const float* row = &smoothed[static_cast<size_t>(y + reach) * stride + reach - half_size];
+    const float v_float = p.offsets_y_(row_start);
+    // Per product: the sums times 1, u and uu, and times 1 and u over the left and the centre.
+    Lanes sums[3][7] = {};
+    for (int lane = 0; lane < row_lanes; ++lane) {
+      const int x = lane * kLanes;  // from the row's first pixel
+      const Eigen::Index first = row_start + x;
+      const LaneIndices column = {x, x + 1, x + 2, x + 3};
+      const LaneIndices in_row = column < side;
+      const Lanes u = where(in_row, load(p.offsets_x_.data() + first));
+      const Lanes w = where(in_row, load(p.weights_.data() + first));
+      const Lanes gx = 0.5f * (load(row + x + 1) - load(row + x - 1));
+      const Lanes gy = 0.5f * (load(row + x + stride) - load(row + x - stride));
+      const Lanes wgx = w * gx, wgy = w * gy;
+      // Past the row's end these write zeros where the next row then writes its own.
+      store(p.weighted_gx_.data() + first, wgx);
+      store(p.weighted_gy_.data() + first, wgy);
+      const Lanes products[3] = {wgx * gx, wgx * gy, wgy * gy};
+      const LaneIndices in_left = u < 0;
+      const LaneIndices in_centre = u * u + v_float * v_float <= centre_radius2;
+      const Lanes uu = u * u;
       for (int i = 0; i < 3; ++i) {
-        const double g = products[i];
-        Moments& m = *moments[i];
-        m.one += g;
-        m.u += g * u;
-        m.v += g * v;
-        m.uu += g * uu;
-        m.uv += g * uv;
-        m.vv += g * vv;
-        for (auto [part, in] : {std::pair{&left, in_left}, {&top, in_top}, {&centre, in_centre}}) {
-          part->one[i] += in * g;
-          part->u[i] += in * g * u;
-          part->v[i] += in * g * v;
-        }
+        const Lanes g = products[i], gu = g * u;
+        sums[i][0] += g;
+        sums[i][1] += gu;
+        sums[i][2] += g * uu;
+        sums[i][3] += where(in_left, g);
+        sums[i][4] += where(in_left, gu);
+        sums[i][5] += where(in_centre, g);
+        sums[i][6] += where(in_centre, gu);
+      }
+    }
+    const double v = v_float;
+    for (int i = 0; i < 3; ++i) {
+      const double one = lane_sum(sums[i][0]), u = lane_sum(sums[i][1]);
+      Moments& m = moments[i];
+      m.one += one;
+      m.u += u;
+      m.v += v * one;
+      m.uu += lane_sum(sums[i][2]);
+      m.uv += v * u;
+      m.vv += v * v * one;
+      const double left_one = lane_sum(sums[i][3]), centre_one = lane_sum(sums[i][5]);
+      left.one[i] += left_one;
+      left.u[i] += lane_sum(sums[i][4]);
+      left.v[i] += v * left_one;
+      centre.one[i] += centre_one;
+      centre.u[i] += lane_sum(sums[i][6]);
+      centre.v[i] += v * centre_one;
+      if (v_float < 0) {
+        top.one[i] += one;
+        top.u[i] += u;
+        top.v[i] += v * one;
       }
     }
   }
+  const Moments &xx = moments[0], &xy = moments[1], &yy = moments[2];
   // Columns 0-5: gx u, gx v, gy u, gy v, gx, gy.
   Eigen::Matrix<double, 6, 6> hessian;
   hessian << xx.uu, xx.uv, xy.uu, xy.uv, xx.u, xy.u,  //
@@ -376,33 +430,24 @@ Eigen::Vector2d ReferencePatch::best_located_offset() const {
 bool ReferencePatch::match_blur(const Eigen::Matrix2d& A, double image_blur_variance,
                                 double tolerance) {
   if (pixels_.empty() || !(std::abs(A.determinant()) > 1e-6)) return false;
-  // A symmetric 2 x 2 matrix with its eigenvalues held within [0, kMaxAddedBlur]: a blur.
-  const auto as_blur = [](const Eigen::Matrix2d& m) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen;
-    eigen.computeDirect(m);
-    const Eigen::Vector2d variances = eigen.eigenvalues().cwiseMax(0.0).cwiseMin(kMaxAddedBlur);
-    return Eigen::Matrix2d(eigen.eigenvectors() * variances.asDiagonal() *
-                           eigen.eigenvectors().transpose());
-  };
   // The image's blur and sampling's in template coordinates, less the reference image's own
   // blur: what the template's pixels are to be smoothed by. Where the patch grows that falls
   // below sampling's 1/6 (the magnified image is sharper in the template's coordinates), and the
   // template's smoothing is lessened (to none at about 1.1 times); where it shrinks, a Gaussian
-  // adds the rest.
+  // adds the rest, its variances held within [0, kMaxAddedBlur] along its axes (which are
+  // wanted's: a multiple of the identity moves none).
   const Eigen::Matrix2d A_inverse = A.inverse();
   const double sampled_variance = 2.0 * kSampleSmoothing;
-  const Eigen::Matrix2d wanted =
-      (image_blur_variance + sampled_variance) * A_inverse * A_inverse.transpose() -
-      image_blur_variance * Eigen::Matrix2d::Identity();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> wanted_eigen;
-  wanted_eigen.computeDirect(wanted, Eigen::EigenvaluesOnly);
-  const double sampled_share =
-      std::clamp(wanted_eigen.eigenvalues().minCoeff() / sampled_variance, 0.0, 1.0);
-  const Eigen::Matrix2d added =
-      as_blur(wanted - sampled_share * sampled_variance * Eigen::Matrix2d::Identity());
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> change;
-  change.computeDirect(added - added_, Eigen::EigenvaluesOnly);
-  if (!(change.eigenvalues().cwiseAbs().maxCoeff() > tolerance) &&
+  const SymmetricEigen wanted((image_blur_variance + sampled_variance) * A_inverse *
+                                  A_inverse.transpose() -
+                              image_blur_variance * Eigen::Matrix2d::Identity());
+  const double sampled_share = std::clamp(wanted.smallest() / sampled_variance, 0.0, 1.0);
+  const auto as_blur = [](double variance) { return std::clamp(variance, 0.0, kMaxAddedBlur); };
+  const double from_sampling = sampled_share * sampled_variance;
+  const Eigen::Matrix2d added = wanted.with(as_blur(wanted.largest() - from_sampling),
+                                            as_blur(wanted.smallest() - from_sampling));
+  // Checked for every track in every frame, in closed form: most checks change nothing.
+  if (!(SymmetricEigen(added - added_).largest_magnitude() > tolerance) &&
       !(std::abs(sampled_share - sampled_share_) > kSampledShareStep))
     return false;
 
