@@ -166,7 +166,7 @@ void FeatureTracker::follow_live_tracks() {
   // Lucas-Kanade only predicts (the reference alignment measures) and checks consistency to
   // max_forward_backward_px: a few hundredths of a pixel is enough.
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03);
-  std::vector<uchar> forward_ok, backward_ok;
+  std::vector<uchar> forward_ok, backward_ok(live_.size(), 1);
   // No error output: OpenCV then skips computing each point's patch difference.
   cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid_, previous, predicted, forward_ok, cv::noArray(),
                            window, settings_.pyramid_levels - 1 - finest, criteria,
@@ -174,9 +174,12 @@ void FeatureTracker::follow_live_tracks() {
   // Back from where the step ends, starting where it began: a consistent step returns there
   // (within max_forward_backward_px, well inside the window) on the finest level alone, and an
   // inconsistent one ends whether it fails to converge there or converges too far away.
-  back = previous;
-  cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok, cv::noArray(),
-                           window, 0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  const bool check_back = settings_.max_forward_backward_px > 0;
+  if (check_back) {
+    back = previous;
+    cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok,
+                             cv::noArray(), window, 0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  }
 
   std::vector<double> residuals;
   // The images' blur: the camera's and the smoothing's.
@@ -193,7 +196,8 @@ void FeatureTracker::follow_live_tracks() {
       end_track(i, &statistics_.lost);
       return false;
     }
-    if ((vector(back[i]) / to_level - t.position).norm() > settings_.max_forward_backward_px) {
+    if (check_back &&
+        (vector(back[i]) / to_level - t.position).norm() > settings_.max_forward_backward_px) {
       end_track(i, &statistics_.forward_backward);
       return false;
     }

@@ -4,6 +4,8 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "also_for_avx2.h"
+
 namespace omnisfm::track {
 namespace {
 
@@ -17,18 +19,6 @@ void reflect_ends(float* row, int cols, int half) {
 }
 
 }  // namespace
-
-// Built also for AVX2, chosen when the processor has it (OpenCV too picks its filters' code by
-// processor): the passes below are a few instructions per pixel, and twice the lanes nearly halve
-// them. The choice is made by the dynamic loader (an indirect function), which GNU/Linux's has.
-#if defined(__x86_64__) && defined(__ELF__) && defined(__GLIBC__) && defined(__has_attribute)
-#if __has_attribute(target_clones)
-#define OMNISFM_ALSO_FOR_AVX2 __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef OMNISFM_ALSO_FOR_AVX2
-#define OMNISFM_ALSO_FOR_AVX2
-#endif
 
 OMNISFM_ALSO_FOR_AVX2 cv::Mat gaussian_blurred_float(const cv::Mat& grey, double sigma) {
   CV_Assert(grey.type() == CV_8UC1 && !grey.empty() && sigma > 0);

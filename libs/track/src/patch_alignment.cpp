@@ -50,6 +50,25 @@ double lane_sum(const Lanes& l) {
   return sum;
 }
 
+// The sum of w v (kPower 1) or w v^2 (kPower 2) over the first n entries, in double, in kLanes
+// partial sums: summed one after the other, each addition waited for the last, a fifth of
+// extract's time.
+template <int kPower>
+double weighted_sum(const float* w, const float* v, Eigen::Index n) {
+  double partial[kLanes] = {};
+  Eigen::Index k = 0;
+  for (; k + kLanes <= n; k += kLanes)
+    for (int lane = 0; lane < kLanes; ++lane) {
+      const double value = v[k + lane];
+      partial[lane] += static_cast<double>(w[k + lane]) * (kPower == 2 ? value * value : value);
+    }
+  for (; k < n; ++k) {
+    const double value = v[k];
+    partial[0] += static_cast<double>(w[k]) * (kPower == 2 ? value * value : value);
+  }
+  return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+}
+
 // The pixels a patch of this half size about `feature` reads: those about the nearest pixel
 // (cx, cy), one more around for central-difference gradients, and its Gaussian window (sigma: the
 // half size), separable: a weight per column and per row, which multiply to the pixel's.
@@ -275,9 +294,9 @@ bool ReferencePatch::extract_smoothed(const cv::Mat& image, const Eigen::Vector2
           static_cast<float>(column_weight(x + half_size) * row_weight(y + half_size) / weight_sum);
       p.values_(k) = smoothed[static_cast<size_t>(y + reach) * stride + x + reach];
     }
-  const double mean = (p.weights_.cast<double>() * p.values_.cast<double>()).sum();
+  const double mean = weighted_sum<1>(p.weights_.data(), p.values_.data(), count);
   p.values_.head(count) = (p.values_.head(count).cast<double>() - mean).cast<float>();
-  p.norm_ = std::sqrt((p.weights_.cast<double>() * p.values_.cast<double>().square()).sum());
+  p.norm_ = std::sqrt(weighted_sum<2>(p.weights_.data(), p.values_.data(), count));
   if (p.norm_ < kMinContrast) return false;
 
   // The Hessian of the six steepest-descent images (w gx u, w gx v, w gy u, w gy v, w gx, w gy)
@@ -504,10 +523,9 @@ bool ReferencePatch::retake_values(const cv::Mat& pixels, int centre, float side
   for (int y = 0, k = 0; y < side; ++y)
     for (int x = 0; x < side; ++x, ++k)
       values(k) = smoothed[static_cast<size_t>(y + 1) * smoothed_side + x + 1];
-  const Eigen::ArrayXd weights = weights_.head(count).cast<double>();
-  const double mean = (weights * values.cast<double>()).sum();
+  const double mean = weighted_sum<1>(weights_.data(), values.data(), count);
   values -= static_cast<float>(mean);
-  const double norm = std::sqrt((weights * values.cast<double>().square()).sum());
+  const double norm = std::sqrt(weighted_sum<2>(weights_.data(), values.data(), count));
   if (!(norm >= kMinContrast)) return false;
   values_.head(count) = values;
   norm_ = norm;

@@ -2,16 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
-#include "float_lanes.h"
+#include "also_for_avx2.h"
 
 namespace omnisfm::track {
+namespace {
+
+// Eight floats: one AVX register, two SSE ones where the processor has no AVX2.
+using Wide = float __attribute__((vector_size(32)));
+constexpr int kWide = 8;
+
+}  // namespace
 
 SquareCorrelation::SquareCorrelation(const cv::Mat& image, const cv::Point& centre, int half)
     : image_(image), half_(half) {
   CV_Assert(image.type() == CV_32FC1 && half >= 0 && fits(image, centre, half));
   const int side = 2 * half + 1;
-  padded_side_ = (side + kLanes - 1) / kLanes * kLanes;
+  padded_side_ = (side + kWide - 1) / kWide * kWide;
   mask_.assign(padded_side_, 0.0f);
   std::fill(mask_.begin(), mask_.begin() + side, 1.0f);
   double sum = 0;
@@ -36,27 +44,30 @@ bool SquareCorrelation::fits(const cv::Mat& image, const cv::Point& centre, int 
          centre.y + half < image.rows;
 }
 
-double SquareCorrelation::at(const cv::Point& centre) const {
+OMNISFM_ALSO_FOR_AVX2 double SquareCorrelation::at(const cv::Point& centre) const {
   CV_Assert(fits(centre));
   const int side = 2 * half_ + 1;
   // Sums of the pixels less the square's own centre pixel (the variance is a difference of two
-  // sums, which then stay of the order of the square's own contrast), kLanes pixels at a time in
+  // sums, which then stay of the order of the square's own contrast), kWide pixels at a time in
   // float. Each row is read in whole registers, the template's padding and `mask` zeroing what
   // lies beyond the square, where the image has that many more columns; at its right edge the
   // last pixels are added one by one.
   const bool whole_registers = centre.x - half_ + padded_side_ <= image_.cols;
-  const int in_registers = whole_registers ? padded_side_ : side / kLanes * kLanes;
+  const int in_registers = whole_registers ? padded_side_ : side / kWide * kWide;
   const float reference = image_.ptr<float>(centre.y)[centre.x];
-  const Lanes shift = {reference, reference, reference, reference};
-  Lanes sum = {}, squares = {}, product = {};
+  Wide sum = {}, squares = {}, product = {};
   const float* t = zero_mean_.data();
   for (int y = -half_; y <= half_; ++y, t += padded_side_) {
     const float* row = image_.ptr<float>(centre.y + y) + centre.x - half_;
-    for (int x = 0; x < in_registers; x += kLanes) {
-      const Lanes v = (load(row + x) - shift) * load(mask_.data() + x);
+    for (int x = 0; x < in_registers; x += kWide) {
+      Wide pixels, mask, first;
+      std::memcpy(&pixels, row + x, sizeof pixels);
+      std::memcpy(&mask, mask_.data() + x, sizeof mask);
+      std::memcpy(&first, t + x, sizeof first);
+      const Wide v = (pixels - reference) * mask;
       sum += v;
       squares += v * v;
-      product += v * load(t + x);
+      product += v * first;
     }
     for (int x = in_registers; x < side; ++x) {
       const float v = row[x] - reference;
@@ -66,7 +77,7 @@ double SquareCorrelation::at(const cv::Point& centre) const {
     }
   }
   double total = 0, total_squares = 0, total_product = 0;
-  for (int lane = 0; lane < kLanes; ++lane) {
+  for (int lane = 0; lane < kWide; ++lane) {
     total += sum[lane];
     total_squares += squares[lane];
     total_product += product[lane];

@@ -317,29 +317,29 @@ TEST(FeatureTracker, DetectsOnceAFewTracksAreMissing) {
   expect_detection_once_missing(6, 5, 1);
 }
 
-TEST(FeatureTracker, EndsTracksWhoseFeatureChanges) {
+// 16 frames of a sliding texture whose right half shows another texture from frame kSwap on.
+constexpr int kSwap = 10;
+Outcome across_a_swap(TrackerSettings settings) {
   const WaveTexture texture(4), other(40);
-  TrackerSettings settings;
   settings.max_tracks = 40;
   settings.reacquire = false;
-  constexpr int kSwap = 10;
-  // From frame kSwap on, the right half shows another texture.
-  const Outcome o = track_texture(
-      texture, 16,
-      [](int f) {
-        Motion m;
-        m.b = Eigen::Vector2d(0.8 * f, 0.5 * f);
-        return m;
-      },
-      settings,
+  const auto motion = [](int f) {
+    Motion m;
+    m.b = Eigen::Vector2d(0.8 * f, 0.5 * f);
+    return m;
+  };
+  return track_texture(
+      texture, 16, motion, settings,
       [&](int f, cv::Mat& image) {
         if (f < kSwap) return;
-        Motion m;
-        m.b = Eigen::Vector2d(0.8 * f, 0.5 * f);
-        frame_image(other, m)(cv::Rect(160, 0, 160, kHeight))
+        frame_image(other, motion(f))(cv::Rect(160, 0, 160, kHeight))
             .copyTo(image(cv::Rect(160, 0, 160, kHeight)));
       },
       cv::Rect(160, 0, 1, kHeight));
+}
+
+TEST(FeatureTracker, EndsTracksWhoseFeatureChanges) {
+  const Outcome o = across_a_swap(TrackerSettings());
   int ended = 0;
   for (const auto& [track, frames] : o.frames_of_track) {
     const Eigen::Vector2d& first = o.first_pixel.at(track);
@@ -349,6 +349,17 @@ TEST(FeatureTracker, EndsTracksWhoseFeatureChanges) {
     ++ended;
   }
   EXPECT_GE(ended, 10);
+  EXPECT_LT(o.worst_error, 0.1);
+  // The forward-backward check is off by default.
+  EXPECT_EQ(o.statistics.forward_backward, 0);
+}
+
+// Asked for, the forward-backward check ends tracks whose Lucas-Kanade step does not return.
+TEST(FeatureTracker, TheForwardBackwardCheckEndsStepsThatDoNotReturn) {
+  TrackerSettings settings;
+  settings.max_forward_backward_px = 0.5;
+  const Outcome o = across_a_swap(settings);
+  EXPECT_GE(o.statistics.forward_backward, 3);  // measured 14
   EXPECT_LT(o.worst_error, 0.1);
 }
 
