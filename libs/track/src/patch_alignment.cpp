@@ -192,17 +192,34 @@ void blurred_square(const std::vector<float>& pixels, int stride, int pixels_rea
   const int row_lanes = (side + kLanes - 1) / kLanes;
   *square_stride = row_lanes * kLanes;
   square->resize(static_cast<size_t>(*square_stride) * side);
-  // A register's sum over all taps at a time, kept in the register.
+  // The kernel's taps that weigh anything, as offsets into `pixels` and weights.
+  int offsets[(2 * kBlurReach + 1) * (2 * kBlurReach + 1)];
+  float weights[(2 * kBlurReach + 1) * (2 * kBlurReach + 1)];
+  int taps = 0;
+  for (int ky = -kernel_reach; ky <= kernel_reach; ++ky)
+    for (int kx = -kernel_reach; kx <= kernel_reach; ++kx) {
+      const float weight = kernel[ky + kBlurReach][kx + kBlurReach];
+      if (weight == 0) continue;
+      offsets[taps] = ky * stride + kx;
+      weights[taps++] = weight;
+    }
+  // A register's sum over the taps in four partial sums, kept in registers: one sum would wait
+  // on each addition's latency.
   for (int y = 0; y < side; ++y)
     for (int lane = 0; lane < row_lanes; ++lane) {
-      Lanes sum = {};
-      for (int ky = -kernel_reach; ky <= kernel_reach; ++ky) {
-        const float* in = &pixels[static_cast<size_t>(pixels_reach - reach + y + ky) * stride +
-                                  pixels_reach - reach + lane * kLanes];
-        for (int kx = -kernel_reach; kx <= kernel_reach; ++kx)
-          sum += kernel[ky + kBlurReach][kx + kBlurReach] * load(in + kx);
+      const float* in = &pixels[static_cast<size_t>(pixels_reach - reach + y) * stride +
+                                pixels_reach - reach + lane * kLanes];
+      Lanes sum0 = {}, sum1 = {}, sum2 = {}, sum3 = {};
+      int t = 0;
+      for (; t + 4 <= taps; t += 4) {
+        sum0 += weights[t] * load(in + offsets[t]);
+        sum1 += weights[t + 1] * load(in + offsets[t + 1]);
+        sum2 += weights[t + 2] * load(in + offsets[t + 2]);
+        sum3 += weights[t + 3] * load(in + offsets[t + 3]);
       }
-      store(&(*square)[static_cast<size_t>(y) * *square_stride + lane * kLanes], sum);
+      for (; t < taps; ++t) sum0 += weights[t] * load(in + offsets[t]);
+      store(&(*square)[static_cast<size_t>(y) * *square_stride + lane * kLanes],
+            (sum0 + sum1) + (sum2 + sum3));
     }
 }
 
@@ -248,8 +265,10 @@ bool patch_window(const cv::Mat& image, const Eigen::Vector2d& feature, int half
 double patch_distortion(const Eigen::Matrix2d& A) {
   // A 2 x 2 matrix's singular values are half the sum and half the difference of the norms of
   // its conformal (rotation and scale) and anti-conformal parts.
-  const double conformal = std::hypot(A(0, 0) + A(1, 1), A(1, 0) - A(0, 1));
-  const double anti_conformal = std::hypot(A(0, 0) - A(1, 1), A(1, 0) + A(0, 1));
+  // (Square roots of sums of squares: std::hypot's care for overflow cost more than the rest.)
+  const auto norm = [](double x, double y) { return std::sqrt(x * x + y * y); };
+  const double conformal = norm(A(0, 0) + A(1, 1), A(1, 0) - A(0, 1));
+  const double anti_conformal = norm(A(0, 0) - A(1, 1), A(1, 0) + A(0, 1));
   const double largest = 0.5 * (conformal + anti_conformal);
   const double smallest = 0.5 * std::abs(conformal - anti_conformal);
   return std::max(std::abs(largest - 1), std::abs(smallest - 1));
@@ -402,11 +421,8 @@ bool ReferencePatch::extract_smoothed(const cv::Mat& image, const Eigen::Vector2
   solves->part_coupling[4] = coupling(centre);
   for (int h = 0; h < kParts; ++h) {
     const Eigen::Matrix2d part_hessian = solves->part_coupling[h].rightCols<2>();
-    // A symmetric 2 x 2 matrix's eigenvalues: half its trace, plus and minus the root.
-    const double half_trace = 0.5 * part_hessian.trace();
-    const double root =
-        std::hypot(0.5 * (part_hessian(0, 0) - part_hessian(1, 1)), part_hessian(0, 1));
-    const bool placeable = half_trace - root > 1e-6 * (half_trace + root);
+    const SymmetricEigen eigen(part_hessian);
+    const bool placeable = eigen.smallest() > 1e-6 * eigen.largest();
     solves->part_hessian_inverse[h] =
         placeable ? Eigen::Matrix2d(part_hessian.inverse()) : Eigen::Matrix2d::Zero();
   }
