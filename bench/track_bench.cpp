@@ -88,7 +88,6 @@ void BM_FeatureTrackerNoRefinement(benchmark::State& state) {
   track::TrackerSettings settings;
   settings.reacquire = false;
   settings.refine = false;
-  settings.max_forward_backward_px = 0.5;  // a plain tracker's guard
   run_tracker(state, settings);
 }
 

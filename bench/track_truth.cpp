@@ -41,6 +41,8 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
       {"max_misfit_px", [&](double v) { settings->max_misfit_px = v; }},
       {"max_refinement_shift_px", [&](double v) { settings->max_refinement_shift_px = v; }},
       {"max_forward_backward_px", [&](double v) { settings->max_forward_backward_px = v; }},
+      {"forward_backward_with_refinement",
+       [&](double v) { settings->forward_backward_with_refinement = v != 0; }},
       {"patch_half_size", [&](double v) { settings->patch_half_size = static_cast<int>(v); }},
       {"reacquire", [&](double v) { settings->reacquire = v != 0; }},
       {"image_blur_sigma", [&](double v) { settings->image_blur_sigma = v; }},

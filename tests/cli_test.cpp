@@ -311,9 +311,10 @@ TEST_F(CliTest, DemoRunsThePaperExperimentsEndToEnd) {
     ASSERT_NE(at, std::string::npos) << run.out;
     std::istringstream line(run.out.substr(at + 1));
     std::string name, figure, unit1, unit2, unit3, unit4;
-    double paper_value, simulated, online, batch;
+    double paper_value = 0, simulated = 0, online = 0, batch = 1e9;
     line >> name >> figure >> paper_value >> unit1 >> simulated >> unit2 >> online >> unit3 >>
         batch >> unit4;
+    ASSERT_TRUE(line) << run.out;
     EXPECT_DOUBLE_EQ(paper_value, paper) << run.out;
     EXPECT_LT(batch, paper) << scenario << "\n" << run.out;
     EXPECT_LT(batch, std::max(3 * simulated, 0.03)) << scenario << "\n" << run.out;
@@ -329,11 +330,11 @@ TEST_F(CliTest, DemoRunsThePaperExperimentsEndToEnd) {
     EXPECT_LE(numbers[3], 0.1) << scenario << "\n" << run.out;
     // The tracking table, against the truth at full size: the 95th percentile of the error at
     // most 0.3 px, at most 2 % of the tracks beyond 1 px, at most 1 % of the reacquisitions
-    // wrong, and the rover's tracks lasting 25 frames at the median (measured: lab 6, crane 41,
-    // rover 33 frames; 0.286 / 0.104 / 0.198 px; 1 / 2 / 1 tracks beyond 1 px of 420 / 236 /
-    // 467; 1 / 4 / 9 reacquisitions, none wrong; the batch 0.008 / 0.022 / 0.011 % and
-    // 0.009 / 0.034 / 0.028 deg). The file leaves out single sightings, so 2 frames is the
-    // floor of a median length.
+    // wrong (none, while there are fewer than 100), and the rover's tracks lasting 25 frames at the
+    // median (measured: lab 6, crane 41, rover 33 frames; 0.286 / 0.104 / 0.198 px; 1 / 2 / 1
+    // tracks beyond 1 px of 420 / 236 / 467; 1 / 4 / 9 reacquisitions, none wrong; the batch 0.008
+    // / 0.022 / 0.011 % and 0.009 / 0.034 / 0.028 deg). The file leaves out single sightings, so 2
+    // frames is the floor of a median length.
     const size_t tracking = run.out.find("\n" + scenario + " ", run.out.find("\ntracking "));
     ASSERT_NE(tracking, std::string::npos) << run.out;
     std::istringstream row(run.out.substr(tracking + 1));
@@ -342,6 +343,7 @@ TEST_F(CliTest, DemoRunsThePaperExperimentsEndToEnd) {
     double median = 1e9, p95 = 1e9;
     row >> name >> frames >> tracks >> length >> frames_unit >> median >> px >> p95 >> px >>
         mistracked >> reacquired >> wrong;
+    ASSERT_TRUE(row) << run.out;
     EXPECT_GE(tracks, 112) << run.out;
     EXPECT_EQ(frames_unit, "fr") << run.out;
     EXPECT_GE(length, scenario == "rover" ? 25 : 3) << run.out;
@@ -349,6 +351,7 @@ TEST_F(CliTest, DemoRunsThePaperExperimentsEndToEnd) {
     EXPECT_LE(p95, 0.3) << scenario << "\n" << run.out;
     EXPECT_GE(mistracked, 0) << run.out;
     EXPECT_LE(mistracked, 0.02 * tracks) << scenario << "\n" << run.out;
+    ASSERT_FALSE(wrong.empty()) << run.out;
     ASSERT_EQ(wrong.front(), '(') << run.out;
     EXPECT_LE(std::stoi(wrong.substr(1)), 0.01 * reacquired) << scenario << "\n" << run.out;
   }

@@ -163,8 +163,8 @@ void FeatureTracker::follow_live_tracks() {
     predicted.push_back(point(to_level * (t.position + t.velocity)));
   }
   const cv::Size window(settings_.lk_window, settings_.lk_window);
-  // Lucas-Kanade only predicts (the reference alignment measures) and checks consistency to
-  // max_forward_backward_px: a few hundredths of a pixel is enough.
+  // Lucas-Kanade only predicts (the reference alignment measures), and where asked checks
+  // consistency to max_forward_backward_px: a few hundredths of a pixel is enough.
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03);
   std::vector<uchar> forward_ok, backward_ok(live_.size(), 1);
   // No error output: OpenCV then skips computing each point's patch difference.
@@ -174,7 +174,8 @@ void FeatureTracker::follow_live_tracks() {
   // Back from where the step ends, starting where it began: a consistent step returns there
   // (within max_forward_backward_px, well inside the window) on the finest level alone, and an
   // inconsistent one ends whether it fails to converge there or converges too far away.
-  const bool check_back = settings_.max_forward_backward_px > 0;
+  const bool check_back = (!settings_.refine || settings_.forward_backward_with_refinement) &&
+                          settings_.max_forward_backward_px > 0;
   if (check_back) {
     back = previous;
     cv::calcOpticalFlowPyrLK(pyramid_, previous_pyramid_, predicted, back, backward_ok,

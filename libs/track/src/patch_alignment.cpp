@@ -66,7 +66,9 @@ double weighted_sum(const float* w, const float* v, Eigen::Index n) {
     const double value = v[k];
     partial[0] += static_cast<double>(w[k]) * (kPower == 2 ? value * value : value);
   }
-  return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+  double sum = 0;
+  for (const double p : partial) sum += p;
+  return sum;
 }
 
 // The pixels a patch of this half size about `feature` reads: those about the nearest pixel
@@ -349,8 +351,9 @@ bool ReferencePatch::extract_smoothed(const cv::Mat& image, const Eigen::Vector2
       const LaneIndices in_row = column < side;
       const Lanes u = where(in_row, load(p.offsets_x_.data() + first));
       const Lanes w = where(in_row, load(p.weights_.data() + first));
-      const Lanes gx = 0.5f * (load(row + x + 1) - load(row + x - 1));
-      const Lanes gy = 0.5f * (load(row + x + stride) - load(row + x - stride));
+      // Past the row's end, pixels the gradients never read (zeroed: they might not be finite).
+      const Lanes gx = where(in_row, 0.5f * (load(row + x + 1) - load(row + x - 1)));
+      const Lanes gy = where(in_row, 0.5f * (load(row + x + stride) - load(row + x - stride)));
       const Lanes wgx = w * gx, wgy = w * gy;
       // Past the row's end these write zeros where the next row then writes its own.
       store(p.weighted_gx_.data() + first, wgx);

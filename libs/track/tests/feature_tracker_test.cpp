@@ -350,17 +350,22 @@ TEST(FeatureTracker, EndsTracksWhoseFeatureChanges) {
   }
   EXPECT_GE(ended, 10);
   EXPECT_LT(o.worst_error, 0.1);
-  // The forward-backward check is off by default.
+  // The forward-backward check is off by default with the refinement.
   EXPECT_EQ(o.statistics.forward_backward, 0);
 }
 
-// Asked for, the forward-backward check ends tracks whose Lucas-Kanade step does not return.
+// Asked for with the refinement, and always without it, the forward-backward check ends tracks
+// whose Lucas-Kanade step does not return.
 TEST(FeatureTracker, TheForwardBackwardCheckEndsStepsThatDoNotReturn) {
   TrackerSettings settings;
-  settings.max_forward_backward_px = 0.5;
-  const Outcome o = across_a_swap(settings);
-  EXPECT_GE(o.statistics.forward_backward, 3);  // measured 14
-  EXPECT_LT(o.worst_error, 0.1);
+  settings.forward_backward_with_refinement = true;
+  const Outcome refined = across_a_swap(settings);
+  EXPECT_GE(refined.statistics.forward_backward, 3);  // measured 14
+  EXPECT_LT(refined.worst_error, 0.1);
+  settings.refine = false;
+  settings.forward_backward_with_refinement = false;
+  const Outcome plain = across_a_swap(settings);
+  EXPECT_GE(plain.statistics.forward_backward, 3);
 }
 
 // Features pass behind a bar that covers the texture; those that come out again continue

@@ -47,13 +47,14 @@ struct TrackerSettings {
   int lk_window = 11;
   int pyramid_levels = 3;
   int prediction_level = 1;
-  // The forward-backward check: tracking the new position back must land this close to the old;
-  // 0 (the default) leaves it out. With the refinement it changes nothing that was measured: the
-  // refinement's own checks end what it would (on the realistic lab, crane and rover, seeds 1-5,
-  // the same stray tracks and 95th percentiles within 0.012 px of those with it at 0.5 px, and no
-  // reacquisition wrong), and it took a sixteenth of the tracker's time. Without the refinement
-  // the check is the plain tracker's guard: 0.5 px is usual.
-  double max_forward_backward_px = 0;
+  // The forward-backward check: tracking the new position back must land this close to the old.
+  // It guards the plain tracker (refine false). With the refinement it runs only where
+  // forward_backward_with_refinement is set: it changes nothing that was measured there (the
+  // refinement's own checks end what it would: on the realistic lab, crane and rover, seeds 1-5,
+  // the same stray tracks but one and 95th percentiles within 0.012 px of those with it, and no
+  // reacquisition wrong) and took a sixteenth of the tracker's time.
+  double max_forward_backward_px = 0.5;
+  bool forward_backward_with_refinement = false;
 
   // Refinement: the track's reference patch (2 patch_half_size + 1 wide, from the image where the
   // track started, or where it was last renewed: max_renewals) aligned affinely into the frame,
