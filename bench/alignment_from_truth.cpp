@@ -9,19 +9,17 @@
 //   best point:    blur matched, the error of the reference's best located point.
 // The errors' medians and 95th percentiles are printed per band of age and per what the patch
 // covers (one surface, a crease where surfaces meet, a marker). The images are smoothed as the
-// tracker smooths them (0.5 px).
+// tracker smooths them, and the patches are the tracker's size (TrackerSettings).
 //   omnisfm simulate --scenario lab --render --imaging realistic --out /tmp/lab
 //   track_truth lab /tmp/lab/images 1 --dump=/tmp/lab.dump
-//   alignment_from_truth lab /tmp/lab/images 1 /tmp/lab.dump [CAMERA_BLUR_PX=0.66]
+//   alignment_from_truth lab /tmp/lab/images 1 /tmp/lab.dump [CAMERA_BLUR_PX=the tracker's]
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -30,20 +28,24 @@
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/sim/track_simulator.h"
 #include "omnisfm/track/patch_alignment.h"
+#include "omnisfm/track/tracker_settings.h"
+// The tracker's own smoothing, which its library keeps to itself.
+#include "../libs/track/src/gaussian_blur.h"
 
 namespace {
 
 using namespace omnisfm;
 
-constexpr int kHalfSize = 7;
-constexpr double kImageBlurSigma = 0.5;
+const track::TrackerSettings kTracker;
+const int kHalfSize = kTracker.patch_half_size;
 
+// The frame last asked for, smoothed as the tracker smooths it (the dump is in frame order, and a
+// reference patch keeps the pixels it needs).
 class Frames {
  public:
   explicit Frames(std::string folder) : folder_(std::move(folder)) {}
   const cv::Mat& operator[](int frame) {
-    auto at = images_.find(frame);
-    if (at != images_.end()) return at->second;
+    if (frame == frame_) return image_;
     char name[32];
     std::snprintf(name, sizeof name, "/%06d.png", frame);
     const cv::Mat grey = cv::imread(folder_ + name, cv::IMREAD_GRAYSCALE);
@@ -51,15 +53,15 @@ class Frames {
       std::fprintf(stderr, "alignment_from_truth: cannot read %s%s\n", folder_.c_str(), name);
       std::exit(2);
     }
-    cv::Mat image;
-    grey.convertTo(image, CV_32F);
-    cv::GaussianBlur(image, image, cv::Size(), kImageBlurSigma);
-    return images_[frame] = image;
+    image_ = track::gaussian_blurred_float(grey, kTracker.image_blur_sigma);
+    frame_ = frame;
+    return image_;
   }
 
  private:
   std::string folder_;
-  std::map<int, cv::Mat> images_;
+  int frame_ = -1;
+  cv::Mat image_;
 };
 
 // The affine map that best carries the patch's pixels about `feature` in frame `from` to where
@@ -127,8 +129,9 @@ int main(int argc, char** argv) {
   options.seed = std::strtoull(argv[3], nullptr, 10);
   const sim::Dataset dataset = sim::simulate(options);
   Frames frames(argv[2]);
-  const double camera_blur = argc > 5 ? std::atof(argv[5]) : 0.66;
-  const double image_blur = camera_blur * camera_blur + kImageBlurSigma * kImageBlurSigma;
+  track::TrackerSettings settings = kTracker;
+  if (argc > 5) settings.camera_blur_px = std::atof(argv[5]);
+  const double image_blur = settings.blur_variance();
   std::ifstream dump(argv[4]);
   if (!dump) {
     std::fprintf(stderr, "alignment_from_truth: cannot read %s\n", argv[4]);
@@ -178,12 +181,17 @@ int main(int argc, char** argv) {
       continue;
     const std::string band = age <= 2 ? "1-2" : age <= 8 ? "3-8" : "9+";
     const std::string kind = covers >= 10 ? "marker" : covers > 1 ? "crease" : "one surface";
+    const double free_error = (free.b - true_pixel).norm();
+    const double held_error =
+        (best_correlated(r.patch, image, truth, true_pixel) - true_pixel).norm();
+    const double matched_error = (matched_warp.b - true_pixel).norm();
+    const double best_point_error = (matched_warp.A * offset + matched_warp.b - point_pixel).norm();
     for (const std::string& key : {std::string("all"), band + " " + kind}) {
       Errors& e = by_kind[key];
-      e.free.push_back((free.b - true_pixel).norm());
-      e.held.push_back((best_correlated(r.patch, image, truth, true_pixel) - true_pixel).norm());
-      e.matched.push_back((matched_warp.b - true_pixel).norm());
-      e.best_point.push_back((matched_warp.A * offset + matched_warp.b - point_pixel).norm());
+      e.free.push_back(free_error);
+      e.held.push_back(held_error);
+      e.matched.push_back(matched_error);
+      e.best_point.push_back(best_point_error);
     }
   }
   std::printf(

@@ -57,10 +57,8 @@ bool set(const std::string& assignment, track::TrackerSettings* settings) {
 
 // The error's median and 95th percentile per band of track age (frames since the track's
 // first observation), over the tracks that follow their points.
-void print_errors_by_age(const sim::Dataset& dataset,
-                         const std::vector<core::TrackObservation>& observations,
-                         const eval::TrackAccuracy& accuracy) {
-  const std::vector<double> errors = eval::track_errors(dataset, observations);
+void print_errors_by_age(const std::vector<core::TrackObservation>& observations,
+                         const std::vector<double>& errors, const eval::TrackAccuracy& accuracy) {
   std::map<int, int> first_frame;
   for (const auto& o : observations)
     if (!first_frame.count(o.track)) first_frame[o.track] = o.frame;
@@ -87,10 +85,8 @@ void print_errors_by_age(const sim::Dataset& dataset,
 // Per mistracked track: where it started, its error in each frame (| where it was reacquired
 // after a gap), and its last step against
 // the median step of the tracks within 100 px (TrackerSettings::max_step_deviation_px).
-void print_mistracked(const sim::Dataset& dataset,
-                      const std::vector<core::TrackObservation>& observations,
-                      const eval::TrackAccuracy& accuracy) {
-  const std::vector<double> errors = eval::track_errors(dataset, observations);
+void print_mistracked(const std::vector<core::TrackObservation>& observations,
+                      const std::vector<double>& errors, const eval::TrackAccuracy& accuracy) {
   std::map<int, std::vector<size_t>> by_track;
   std::map<int, std::map<int, Eigen::Vector2d>> by_frame;  // frame, track: pixel
   for (size_t i = 0; i < observations.size(); ++i) {
@@ -133,8 +129,8 @@ void print_mistracked(const sim::Dataset& dataset,
 // its first patch covers: how many of the scene's surfaces (1: one wall; 2 or 3: a crease where
 // they meet), plus 10 where a marker is among them (rays through a 5 x 5 grid over the patch).
 void dump(const char* path, const sim::Dataset& dataset,
-          const std::vector<core::TrackObservation>& observations, int half_size) {
-  const std::vector<double> errors = eval::track_errors(dataset, observations);
+          const std::vector<core::TrackObservation>& observations,
+          const std::vector<double>& errors, int half_size) {
   std::map<int, size_t> first;
   for (size_t i = 0; i < observations.size(); ++i)
     if (!first.count(observations[i].track)) first[observations[i].track] = i;
@@ -167,7 +163,8 @@ void dump(const char* path, const sim::Dataset& dataset,
     const core::TrackObservation& o = observations[i];
     Eigen::Vector2d true_pixel(-1, -1);
     const auto point = truth.find(o.track);
-    if (point != truth.end()) sim::true_pixel(dataset, o.frame, point->second, &true_pixel);
+    if (point != truth.end() && !sim::true_pixel(dataset, o.frame, point->second, &true_pixel))
+      true_pixel = Eigen::Vector2d(-1, -1);  // hidden: true_pixel still says where it would be
     std::fprintf(out, "%d %d %d %.4f %.3f %.3f %.3f %.3f %d\n", o.track, o.frame,
                  o.frame - observations[first[o.track]].frame, errors[i], o.pixel.x(), o.pixel.y(),
                  true_pixel.x(), true_pixel.y(), covers[o.track]);
@@ -222,9 +219,10 @@ int main(int argc, char** argv) {
       "left region %d, duplicate %d; renewed %d, smoothed anew %d, corners too faint %d\n",
       s.lost, s.forward_backward, s.appearance, s.misfit, s.reshaped, s.jumped, s.left_region,
       s.duplicate, s.renewed, s.smoothed_anew, s.too_faint);
-  print_errors_by_age(dataset, tracked.observations, a);
-  if (list_mistracked) print_mistracked(dataset, tracked.observations, a);
+  const std::vector<double> errors = eval::track_errors(dataset, tracked.observations);
+  print_errors_by_age(tracked.observations, errors, a);
+  if (list_mistracked) print_mistracked(tracked.observations, errors, a);
   if (!dump_path.empty())
-    dump(dump_path.c_str(), dataset, tracked.observations, settings.patch_half_size);
+    dump(dump_path.c_str(), dataset, tracked.observations, errors, settings.patch_half_size);
   return 0;
 }

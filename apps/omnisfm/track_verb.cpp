@@ -190,11 +190,9 @@ void add_track_verb(CLI::App& app) {
         "frames at the median (longest %d), observations %zu, reacquired %d (%d after a gap in "
         "their track, %d in the frame that lost them; %d lost ones forgotten where their look "
         "repeats nearby); ended: %d lost by Lucas-Kanade, %d failed the appearance check, %d no "
-        "longer fitted one warp, %d changed "
-        "shape too "
-        "much, %d jumped away from their neighbours, %d left the mirror, %d duplicates; %d "
-        "references renewed; %d corners too faint to follow in the images' noise; %.1f ms per "
-        "frame\n",
+        "longer fitted one warp, %d changed shape too much, %d jumped away from their "
+        "neighbours, %d left the mirror, %d duplicates; %d references renewed; %d corners too "
+        "faint to follow in the images' noise; %.1f ms per frame\n",
         result.frames.size(), lengths.tracks, s.started, result.single_frame_tracks,
         lengths.median_frames, lengths.longest_frames, result.observations.size(), s.reacquired,
         s.reacquired - s.reacquired_at_once, s.reacquired_at_once, s.forgotten_among_twins,

@@ -83,6 +83,9 @@ bool true_pixel(const Dataset& dataset, int frame, const Eigen::Vector3d& point_
   return dataset.scene.visible(mirror_W, point_W);
 }
 
+// Farther than any surface of a scenario's scene: a ray that meets nothing within it sees none.
+constexpr double kFarthestSurfaceM = 1e4;
+
 bool scene_point(const Dataset& dataset, int frame, const Eigen::Vector2d& pixel,
                  Eigen::Vector3d* point_W, SceneHit* hit) {
   Eigen::Vector3d origin, direction;
@@ -91,7 +94,7 @@ bool scene_point(const Dataset& dataset, int frame, const Eigen::Vector2d& pixel
   const Eigen::Vector3d origin_W = world_from_cam * origin;
   const Eigen::Vector3d direction_W = world_from_cam.linear() * direction;
   SceneHit met;
-  if (!dataset.scene.intersect(origin_W, direction_W, 1e4, &met)) return false;
+  if (!dataset.scene.intersect(origin_W, direction_W, kFarthestSurfaceM, &met)) return false;
   *point_W = origin_W + met.distance * direction_W;
   if (hit) *hit = met;
   return true;

@@ -157,11 +157,6 @@ TEST(Imaging, ExposuresFollowTheRigsTurn) {
   EXPECT_LT(Eigen::Quaterniond(half.linear()).angularDistance(from.slerp(0.5, to)), 0.05 * turn);
 }
 
-TEST(Imaging, TellsTheBlurOfItsImages) {
-  EXPECT_NEAR(ImagingSettings::named("realistic").blur_px(), std::sqrt(0.36 + 1.0 / 12), 1e-12);
-  EXPECT_NEAR(ImagingSettings::clean().blur_px(), std::sqrt(1.0 / 12), 1e-12);
-}
-
 TEST(Imaging, NamesOtherThanCleanAndRealisticAreRefused) {
   EXPECT_TRUE(ImagingSettings::named("clean").is_clean());
   EXPECT_FALSE(ImagingSettings::named("realistic").is_clean());

@@ -183,9 +183,7 @@ void FeatureTracker::follow_live_tracks() {
   }
 
   std::vector<double> residuals;
-  // The images' blur: the camera's and the smoothing's.
-  const double blur_variance = settings_.camera_blur_px * settings_.camera_blur_px +
-                               settings_.image_blur_sigma * settings_.image_blur_sigma;
+  const double blur_variance = settings_.blur_variance();
   keep_live_tracks([&](size_t i) {
     // The next track's pixels are fetched while this one is aligned: the blurred image is read
     // first here, from beyond the fastest caches.

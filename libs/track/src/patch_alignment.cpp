@@ -71,6 +71,14 @@ double weighted_sum(const float* w, const float* v, Eigen::Index n) {
   return sum;
 }
 
+// Takes the weighted mean off the first n values and returns their weighted contrast (the square
+// root of sum w v^2 after): a template's norm. The weights sum to 1.
+double centre_on_weighted_mean(const float* weights, float* values, Eigen::Index n) {
+  const double mean = weighted_sum<1>(weights, values, n);
+  for (Eigen::Index k = 0; k < n; ++k) values[k] = static_cast<float>(values[k] - mean);
+  return std::sqrt(weighted_sum<2>(weights, values, n));
+}
+
 // The pixels a patch of this half size about `feature` reads: those about the nearest pixel
 // (cx, cy), one more around for central-difference gradients, and its Gaussian window (sigma: the
 // half size), separable: a weight per column and per row, which multiply to the pixel's.
@@ -315,9 +323,7 @@ bool ReferencePatch::extract_smoothed(const cv::Mat& image, const Eigen::Vector2
           static_cast<float>(column_weight(x + half_size) * row_weight(y + half_size) / weight_sum);
       p.values_(k) = smoothed[static_cast<size_t>(y + reach) * stride + x + reach];
     }
-  const double mean = weighted_sum<1>(p.weights_.data(), p.values_.data(), count);
-  p.values_.head(count) = (p.values_.head(count).cast<double>() - mean).cast<float>();
-  p.norm_ = std::sqrt(weighted_sum<2>(p.weights_.data(), p.values_.data(), count));
+  p.norm_ = centre_on_weighted_mean(p.weights_.data(), p.values_.data(), count);
   if (p.norm_ < kMinContrast) return false;
 
   // The Hessian of the six steepest-descent images (w gx u, w gx v, w gy u, w gy v, w gx, w gy)
@@ -542,9 +548,7 @@ bool ReferencePatch::retake_values(const cv::Mat& pixels, int centre, float side
   for (int y = 0, k = 0; y < side; ++y)
     for (int x = 0; x < side; ++x, ++k)
       values(k) = smoothed[static_cast<size_t>(y + 1) * smoothed_side + x + 1];
-  const double mean = weighted_sum<1>(weights_.data(), values.data(), count);
-  values -= static_cast<float>(mean);
-  const double norm = std::sqrt(weighted_sum<2>(weights_.data(), values.data(), count));
+  const double norm = centre_on_weighted_mean(weights_.data(), values.data(), count);
   if (!(norm >= kMinContrast)) return false;
   values_.head(count) = values;
   norm_ = norm;
