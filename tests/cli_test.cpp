@@ -592,6 +592,40 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir_ / "result"));
 }
 
+// A result folder is replaced whole, so only one an earlier run wrote is: a folder of other files,
+// one holding the run's inputs and the working folder itself are refused before any work, and
+// lose nothing.
+TEST_F(CliTest, ResultFoldersReplaceOnlyWhatOmnisfmWrote) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab").status, 0);
+  const Outcome into_inputs =
+      omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out lab");
+  EXPECT_EQ(into_inputs.status, 2);
+  EXPECT_NE(into_inputs.err.find("lab: holds the input lab/camera.ini"), std::string::npos)
+      << into_inputs.err;
+  EXPECT_TRUE(fs::exists(dir_ / "lab" / "tracks.vnl"));
+  EXPECT_EQ(omnisfm("run lab/tracks.vnl --out lab").status, 2);
+  EXPECT_TRUE(fs::exists(dir_ / "lab" / "tracks.vnl"));
+
+  fs::create_directories(dir_ / "photos");
+  write("photos/holiday.jpg", "jpeg");
+  const Outcome foreign =
+      omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out photos/");
+  EXPECT_EQ(foreign.status, 2);
+  EXPECT_NE(foreign.err.find("holiday.jpg"), std::string::npos) << foreign.err;
+  EXPECT_TRUE(fs::exists(dir_ / "photos" / "holiday.jpg"));
+  EXPECT_EQ(omnisfm("simulate --scenario crane --out .").status, 2);
+  EXPECT_EQ(omnisfm("simulate --scenario crane --out ''").status, 2);
+  EXPECT_TRUE(fs::exists(dir_ / "lab" / "tracks.vnl"));
+
+  // An earlier result, under any spelling of its name, is replaced.
+  ASSERT_EQ(omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result/").status, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "result" / "batch.tum"));
+  write("result/stale.txt", "from before");
+  ASSERT_EQ(omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result").status, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "result" / "stale.txt"));
+  EXPECT_TRUE(fs::exists(dir_ / "result" / "batch.tum"));
+}
+
 }  // namespace
 
 namespace {
@@ -837,6 +871,9 @@ TEST_F(CliTest, CalibrateRejectsBadInputAndWritesNoCamera) {
   write("few.vnl", few);
   write("corners.vnl", "# filename x y level\na.png 1 2 0\na.png 3 4 0\na.png 5 6 0\n");
   write("board.vnl", "# index x y z\n0 0 0 0\n1 0.1 0 0\n2 0 0.1 0\n3 0.1 0.1 0\n");
+  write("outside.vnl",
+        "# filename x y level\na.png 1 2 0\n# a comment\na.png -5000 4 0\n"
+        "a.png 5 6 0\na.png 7 8 0\n");
 
   struct Case {
     std::string args, message;
@@ -852,6 +889,11 @@ TEST_F(CliTest, CalibrateRejectsBadInputAndWritesNoCamera) {
            {"--corners corners.vnl --object-spacing 0.1 --object-width-n 2 --object-height-n 2",
             "omnisfm: corners.vnl:2: image 'a.png' has 3 corners but the board (2x2 points"},
            {"--corners corners.vnl", "omnisfm: --corners: needs --board"},
+           {"--corners outside.vnl --board board.vnl",
+            "omnisfm: outside.vnl:4: pixel (-5000, 4) lies outside the"},
+           {"--corners corners.vnl --object-spacing 0.1 --object-width-n 99999 "
+            "--object-height-n 99999",
+            "omnisfm: --object-width-n: must be a whole number from 2 to 1000"},
            {"--targets lab/targets.vnl", "omnisfm: "},
            {"--targets lab/targets.vnl --observations lab/observations.vnl --estimate shape",
             "omnisfm: --estimate: unknown parameter group 'shape'"},
@@ -861,6 +903,15 @@ TEST_F(CliTest, CalibrateRejectsBadInputAndWritesNoCamera) {
     EXPECT_EQ(run.err.rfind(c.message, 0), 0u) << c.args << ": " << run.err;
     EXPECT_FALSE(fs::exists(dir_ / "calibrated.ini")) << c.args;
   }
+  // Where the report folder cannot go, nothing is written, the camera file neither.
+  write("calibrated.report", "not a folder");
+  const Outcome blocked = omnisfm("calibrate" + camera +
+                                  " --targets lab/targets.vnl --observations lab/observations.vnl"
+                                  " --out calibrated.ini");
+  EXPECT_EQ(blocked.status, 2);
+  EXPECT_EQ(blocked.err.rfind("omnisfm: calibrated.report: exists and is not a folder", 0), 0u)
+      << blocked.err;
+  EXPECT_FALSE(fs::exists(dir_ / "calibrated.ini"));
 }
 
 // A solve that does not converge writes no camera file but keeps its report, which shows why; the

@@ -190,7 +190,9 @@ void add_demo_verb(CLI::App& app) {
       "The main job: the paper's lab, crane and rover experiments simulated and rendered through "
       "the mirror, features tracked in the images, shape-from-motion on the tracks, and the error "
       "figures next to the paper's");
-  verb->add_option("--out", *out, "Output folder (replaced whole when it exists)")
+  verb->add_option("--out", *out,
+                   "Output folder: made, or replaced whole when an earlier omnisfm run wrote it (a "
+                   "folder holding other files, or the inputs, is refused)")
       ->capture_default_str();
   verb->add_option("--seed", *seed, "Random seed of the simulations")->capture_default_str();
   verb->add_option("--imaging", *imaging,

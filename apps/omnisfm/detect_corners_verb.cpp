@@ -85,6 +85,8 @@ void run_detect_corners(const DetectCornersOptions& o) {
   const fs::path out = fs::absolute(o.out).lexically_normal();
   check_output_file(o.out, out);
   const fs::path folder = out.parent_path();
+  const std::string report = (folder / (out.stem().string() + ".report")).string();
+  if (fs::is_directory(folder)) io::check_folder_replaceable(report, {o.images, o.camera});
   std::optional<calib::MirrorImage> mirror;
   std::unique_ptr<calib::BoardDetector> detector;
   const cv::Size grid(o.width_n, o.height_n);
@@ -98,7 +100,6 @@ void run_detect_corners(const DetectCornersOptions& o) {
   } else {
     detector = std::make_unique<calib::BoardDetector>(load_camera(o.camera), grid);
   }
-  const std::string report = (folder / (out.stem().string() + ".report")).string();
   Found found;
   in_folder_made_if_missing(folder, [&] {
     io::write_folder_atomically(report, [&](const std::string& dir) {

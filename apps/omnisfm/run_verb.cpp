@@ -206,7 +206,10 @@ struct RunVerbOptions {
 void add_run_options(CLI::App* verb, RunVerbOptions* o) {
   verb->add_option("rawlog", o->rawlog, "The rawlog (either format, gzip-compressed or not)")
       ->required();
-  verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
+  verb->add_option("--out", o->out,
+                   "Output folder: made, or replaced whole when an earlier omnisfm run wrote it (a "
+                   "folder holding other files, or the inputs, is refused)")
+      ->required();
   verb->add_option("--config", o->config,
                    "Settings: an INI file with [sfm] (as the sfm verb) and [run] sections (the "
                    "shipped config/omnisfm.ini holds every key at its default)");
@@ -233,6 +236,7 @@ RunSettings run_settings_of(const RunVerbOptions& o) {
     throw io::InputError(o.slam_rawlog, 0,
                          "is inside the --out folder, which the run replaces whole: put it "
                          "beside it");
+  if (!o.slam_rawlog.empty()) require_writable_folder_of(o.slam_rawlog);
   if (!o.camera.empty()) settings.replay.camera = io::read_camera_file(o.camera);
   apply_camera_prior(o.config, o.camera,
                      settings.replay.camera ? &*settings.replay.camera : nullptr, &settings.sfm);
@@ -352,6 +356,7 @@ void add_run_verb(CLI::App& app) {
       "memory (online.tum, points, outliers and the report; GPS fixes are not used)");
   add_run_options(verb, o.get());
   verb->callback([o] {
+    io::check_folder_replaceable(o->out, {o->rawlog, o->config, o->camera, o->ground_truth});
     const RunSettings settings = run_settings_of(*o);
     std::vector<io::StampedPose> truth;
     if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);

@@ -130,13 +130,20 @@ void add_sfm_verb(CLI::App& app) {
       "(no batch.tum and no residual plots)");
   verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--tracks", o->tracks, "tracks.vnl (# frame track u v)")->required();
-  verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
+  verb->add_option("--out", o->out,
+                   "Output folder: made, or replaced whole when an earlier omnisfm run wrote it (a "
+                   "folder holding other files, or the inputs, is refused)")
+      ->required();
   verb->add_option("--config", o->config,
                    "Settings: an INI file with an [sfm] section (the shipped config/omnisfm.ini "
                    "holds every key at its default)");
   verb->add_option("--ground-truth", o->ground_truth,
                    "A TUM trajectory of the truth: adds the paper's error figures to the report");
   verb->callback([o] {
+    // frames.vnl beside the tracks is read too.
+    io::check_folder_replaceable(o->out,
+                                 {o->camera, o->tracks, o->config, o->ground_truth,
+                                  (fs::path(o->tracks).parent_path() / "frames.vnl").string()});
     const camera::CatadioptricCamera camera = load_camera(o->camera);
     sfm::SfmSettings settings =
         o->config.empty() ? sfm::SfmSettings() : sfm::read_sfm_settings(o->config);

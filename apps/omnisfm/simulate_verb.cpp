@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/sim/dataset_writer.h"
 #include "omnisfm/sim/image_file.h"
@@ -52,6 +53,7 @@ void refuse_meaningless_combinations(const SimulateOptions& o) {
 
 // The dataset, its images and its rawlog as asked, written into o.out; a line on stderr.
 void simulate_and_write(const SimulateOptions& o) {
+  io::check_folder_replaceable(o.out);
   sim::Dataset dataset = [&] {
     try {
       return sim::simulate(o.simulation);
@@ -59,7 +61,6 @@ void simulate_and_write(const SimulateOptions& o) {
       throw CLI::ValidationError("simulate", e.what());
     }
   }();
-  require_writable_folder_of(o.out);
   TerminalProgress progress("rendered", "images");
   sim::FrameImageWriter write_image;
   std::unique_ptr<sim::Renderer> renderer;
@@ -105,7 +106,10 @@ void add_simulate_verb(CLI::App& app) {
       verb->add_option("--frames", o->simulation.frames, "With --scenario drive: how many frames")
           ->capture_default_str()
           ->check(whole_number_between(2, 100000000));
-  verb->add_option("--out", o->out, "Output folder (replaced whole when it exists)")->required();
+  verb->add_option("--out", o->out,
+                   "Output folder: made, or replaced whole when an earlier omnisfm run wrote it (a "
+                   "folder holding other files, or the inputs, is refused)")
+      ->required();
   verb->add_option("--seed", o->simulation.seed,
                    "Random seed (the dataset is deterministic for it)")
       ->capture_default_str();

@@ -108,7 +108,8 @@ void require_writable_folder_of(const std::string& path) {
 namespace omnisfm::app {
 
 void check_output_file(const std::string& given, const std::filesystem::path& out) {
-  if (std::filesystem::is_directory(out))
+  if (std::filesystem::is_directory(out) || out.filename().empty() || out.filename() == "." ||
+      out.filename() == "..")
     throw io::InputError(given, 0, "is a folder; give the file's name");
   const std::filesystem::path folder = out.parent_path();
   require_writable_folder(given,

@@ -6,12 +6,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <sstream>
-
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -110,16 +110,52 @@ void write_text_atomically(const std::string& path,
   });
 }
 
-void write_folder_atomically(const std::string& dir,
-                             const std::function<void(const std::string& folder)>& write) {
-  const fs::path target = fs::absolute(dir).lexically_normal();
+fs::path folder_path(const std::string& given) {
+  fs::path path = fs::absolute(given).lexically_normal();
+  // lexically_normal keeps a trailing separator ("/a/b/" and "/a/." both end so).
+  while (path.has_relative_path() && path.filename().empty()) path = path.parent_path();
+  return path;
+}
+
+void check_folder_replaceable(const std::string& dir, const std::vector<std::string>& inputs) {
+  if (dir.empty()) throw InputError("--out", 0, "is empty; give a folder");
+  const fs::path target = folder_path(dir);
+  if (!target.has_relative_path()) throw InputError(dir, 0, "is the root folder");
   const fs::path parent = target.parent_path();
-  if (!fs::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0)
-    throw InputError(dir, 0,
-                         "cannot write here: " + parent.string() + " is not a writable folder");
   std::error_code ec;
+  if (!fs::is_directory(parent, ec))
+    throw InputError(dir, 0, "cannot write here: " + parent.string() + " is not a folder");
+  if (::access(parent.c_str(), W_OK) != 0)
+    throw InputError(dir, 0, "cannot write here: " + parent.string() + " is not a writable folder");
   if (fs::exists(target, ec) && !fs::is_directory(target, ec))
     throw InputError(dir, 0, "exists and is not a folder");
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    const fs::path file = fs::weakly_canonical(fs::absolute(input), ec);
+    const fs::path folder = fs::weakly_canonical(target, ec);
+    const auto mismatch = std::mismatch(folder.begin(), folder.end(), file.begin(), file.end());
+    if (mismatch.first == folder.end())
+      throw InputError(dir, 0,
+                       "holds the input " + input +
+                           ", which writing the folder anew would delete: give another folder");
+  }
+  if (!fs::is_directory(target, ec)) return;
+  if (fs::exists(target / kWrittenFolderMarker, ec)) return;
+  fs::directory_iterator entries(target, ec);
+  if (ec) throw InputError(dir, 0, "cannot read the folder: " + ec.message());
+  if (entries != fs::directory_iterator())
+    throw InputError(dir, 0,
+                     "holds what omnisfm did not write (" + entries->path().filename().string() +
+                         " among it), which writing the folder anew would delete: give a new or "
+                         "empty folder, or one omnisfm wrote");
+}
+
+void write_folder_atomically(const std::string& dir,
+                             const std::function<void(const std::string& folder)>& write) {
+  check_folder_replaceable(dir);
+  const fs::path target = folder_path(dir);
+  const fs::path parent = target.parent_path();
+  std::error_code ec;
   const std::string hidden = "." + target.filename().string();
   remove_abandoned_temporaries(parent, hidden + ".partial-", "");
   remove_abandoned_temporaries(parent, hidden + ".previous-", "");
@@ -129,6 +165,10 @@ void write_folder_atomically(const std::string& dir,
   fs::create_directory(partial);
   try {
     write(partial.string());
+    std::ofstream marker(partial / kWrittenFolderMarker);
+    marker << "written by omnisfm: a later run may replace this folder whole\n";
+    marker.close();
+    if (!marker) throw std::runtime_error(dir + ": cannot write " + kWrittenFolderMarker);
   } catch (...) {
     fs::remove_all(partial, ec);
     throw;

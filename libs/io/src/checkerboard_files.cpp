@@ -87,12 +87,14 @@ std::vector<ImageCorners> read_corners(const std::string& path) {
     }
     image.pixels.push_back(pixel);
     image.detected.push_back(detected);
+    image.lines.push_back(table.line(row));
   }
   // `filename - - -` alone: the image has no board at all.
   for (ImageCorners& image : images) {
     if (image.pixels.size() == 1 && !image.detected[0]) {
       image.pixels.clear();
       image.detected.clear();
+      image.lines.clear();
     }
   }
   return images;

@@ -1,7 +1,7 @@
 #include "omnisfm/io/atomic_write.h"
 
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -12,6 +12,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "omnisfm/io/input_error.h"
 
@@ -122,8 +123,10 @@ TEST_F(AtomicWriteTest, AFolderIsReplacedWholeAndAKilledWritersFolderGoes) {
   ASSERT_GT(child, 0);
   ASSERT_EQ(::waitpid(child, nullptr, 0), child);
   const fs::path folder = dir_ / "result";
-  fs::create_directories(folder);
-  std::ofstream(folder / "old.txt") << "old\n";
+  write_folder_atomically(folder.string(), [](const std::string& into) {
+    std::ofstream(fs::path(into) / "old.txt") << "old\n";
+  });
+  ASSERT_TRUE(fs::exists(folder / kWrittenFolderMarker));
   const fs::path partial = dir_ / (".result.partial-" + std::to_string(child));
   const fs::path previous = dir_ / (".result.previous-" + std::to_string(child));
   fs::create_directories(partial);
@@ -145,6 +148,56 @@ TEST_F(AtomicWriteTest, AFolderIsReplacedWholeAndAKilledWritersFolderGoes) {
   EXPECT_THROW(write_folder_atomically((dir_ / "missing" / "result").string(),
                                        [](const std::string&) {}),
                InputError);
+}
+
+// A folder is replaced whole only where nothing is lost: an earlier result, or nothing. A folder of
+// other files, one holding what the run reads, a file, an empty path and the root are refused,
+// before any work and leaving everything as it was.
+TEST_F(AtomicWriteTest, AFolderIsReplacedOnlyWhereNothingIsLost) {
+  const fs::path own = dir_ / "photos";
+  fs::create_directories(own);
+  std::ofstream(own / "holiday.jpg") << "jpeg\n";
+  const auto refused = [](const std::string& dir, const std::vector<std::string>& inputs = {}) {
+    try {
+      check_folder_replaceable(dir, inputs);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused(own.string()).find("holiday.jpg"), std::string::npos);
+  bool wrote = false;
+  EXPECT_THROW(write_folder_atomically(own.string(), [&](const std::string&) { wrote = true; }),
+               InputError);
+  EXPECT_FALSE(wrote);
+  EXPECT_TRUE(fs::exists(own / "holiday.jpg"));
+  // The same folder by other names.
+  EXPECT_NE(refused(own.string() + "/"), "");
+  EXPECT_NE(refused((own / ".").string()), "");
+  EXPECT_EQ(folder_path(own.string() + "//"), folder_path(own.string()));
+
+  const fs::path result = dir_ / "result";
+  write_folder_atomically(result.string(), [](const std::string& into) {
+    std::ofstream(fs::path(into) / "tracks.vnl") << "# frame track u v\n";
+  });
+  EXPECT_EQ(refused(result.string()), "");
+  EXPECT_EQ(refused(result.string() + "/"), "");
+  const std::string input = (result / "tracks.vnl").string();
+  EXPECT_NE(refused(result.string(), {"", input}).find("holds the input " + input),
+            std::string::npos);
+  EXPECT_NE(refused(result.string(), {result.string()}), "");
+  EXPECT_EQ(refused(result.string(), {(dir_ / "resulting.vnl").string()}), "");
+
+  const fs::path empty = dir_ / "empty";
+  fs::create_directories(empty);
+  EXPECT_EQ(refused(empty.string()), "");
+  EXPECT_EQ(refused((dir_ / "new").string()), "");
+  EXPECT_NE(refused((own / "holiday.jpg").string()).find("exists and is not a folder"),
+            std::string::npos);
+  EXPECT_NE(refused((dir_ / "missing" / "new").string()).find("is not a folder"),
+            std::string::npos);
+  EXPECT_NE(refused(""), "");
+  EXPECT_NE(refused("/"), "");
 }
 
 }  // namespace

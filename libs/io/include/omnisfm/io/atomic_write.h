@@ -7,6 +7,7 @@
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace omnisfm::io {
 
@@ -25,11 +26,26 @@ void remove_abandoned_temporaries(const std::filesystem::path& folder, const std
 void write_text_atomically(const std::string& path,
                            const std::function<void(std::ostream& out)>& write);
 
+// Marks a folder write_folder_atomically wrote, so that a later run may replace it whole.
+inline constexpr const char* kWrittenFolderMarker = ".omnisfm-output";
+
+// `given` as a folder's path: absolute, normalised, without a trailing separator ("out/" and
+// "out" are one folder; "." is the working folder by its name).
+std::filesystem::path folder_path(const std::string& given);
+
+// What write_folder_atomically(dir) would refuse or lose, checked before a verb's work (the
+// write checks the folder again): throws InputError naming `dir` when the path is empty, names a
+// file, or lies in a folder that is missing or not writable; when the folder exists holding
+// anything that write_folder_atomically did not write there (a folder of other files is not an
+// output to replace); and when one of `inputs` (files the run reads; empty entries are skipped)
+// lies inside it, where the replacement would delete it.
+void check_folder_replaceable(const std::string& dir, const std::vector<std::string>& inputs = {});
+
 // A folder written whole or not at all: `write` fills a temporary folder beside `dir` (it receives
 // its path), which then replaces `dir` in one atomic swap, so that `dir` is at every moment the
-// earlier folder or the new one; what killed writers left beside it goes first. Throws InputError
-// when the folder's parent is not a writable folder or `dir` is a file; rethrows what `write`
-// throws, after removing the temporary folder.
+// earlier folder or the new one; what killed writers left beside it goes first. The new folder
+// holds kWrittenFolderMarker. Throws InputError as check_folder_replaceable (without inputs);
+// rethrows what `write` throws, after removing the temporary folder.
 void write_folder_atomically(const std::string& dir,
                              const std::function<void(const std::string& folder)>& write);
 

@@ -18,6 +18,7 @@ struct ImageCorners {
   std::vector<Eigen::Vector2d> pixels;  // in board order
   std::vector<bool> detected;           // false for missing corners (their pixel is NaN)
   int first_line = 0;                   // the image's first row in corners.vnl
+  std::vector<int> lines;               // each corner's row in corners.vnl (read_corners only)
   int num_detected() const;
 };
 
