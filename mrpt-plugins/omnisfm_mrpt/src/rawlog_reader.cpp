@@ -20,6 +20,7 @@
 #include "bounded_object_copy.h"
 #include "copied_object_stream.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/io/number_text.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 
 namespace omnisfm::mrpt_plugin {
@@ -136,9 +137,21 @@ std::string damage_in(const mrpt::obs::CObservation& observation) {
         return "a reading is not a finite number";
   }
   if (const auto* tracked = dynamic_cast<const CObservationTrackedFeatures*>(&observation))
-    for (const TrackedFeature& feature : tracked->features)
+    for (const TrackedFeature& feature : tracked->features) {
       if (!std::isfinite(feature.u) || !std::isfinite(feature.v))
         return "a feature's pixel is not a finite number";
+      // With its camera, a pixel beyond the image is one no camera measured (a stored -1e305 had
+      // the batch diverge and the run end as if it had succeeded).
+      if (!tracked->model.has_camera()) continue;
+      const int width = tracked->model.camera().image_width();
+      const int height = tracked->model.camera().image_height();
+      if (feature.u < -0.5 || feature.v < -0.5 || feature.u > width - 0.5 ||
+          feature.v > height - 0.5)
+        return "track " + std::to_string(feature.track) + "'s pixel (" +
+               io::format_double(feature.u) + ", " + io::format_double(feature.v) +
+               ") lies outside its camera's " + std::to_string(width) + "x" +
+               std::to_string(height) + " image";
+    }
   return "";
 }
 

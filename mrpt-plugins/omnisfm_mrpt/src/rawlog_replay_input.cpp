@@ -93,6 +93,10 @@ class ReplayPass {
     if (const auto* features = dynamic_cast<const CObservationTrackedFeatures*>(observation.get())) {
       note_camera(features->sensorPose, features->model);
       if (options_.vision == ReplayVision::kImages) return;
+      if (const std::string beyond = beyond_the_image(*features); !beyond.empty()) {
+        *damage = describe_damage(index, features->GetRuntimeClass()->className, beyond);
+        return;
+      }
       const double time = mrpt::Clock::toDouble(features->timestamp);
       if (feature_times_.empty()) vision_pose_.reset();  // images tracked so far are not the vision
       require_next_frame(features->sensorPose, time, feature_times_, index);
@@ -171,6 +175,21 @@ class ReplayPass {
                            object + "the camera's pose on the robot " + pose.asString() +
                                " is not the first frame's " + pose_of(*vision_pose_).asString() +
                                ": one camera label is one camera, fixed on the robot");
+  }
+
+  // Where the features carry no camera of their own, the one the replay takes still bounds their
+  // pixels (reading checks them against their own): the first beyond its image, described.
+  std::string beyond_the_image(const CObservationTrackedFeatures& features) const {
+    const auto& camera = options_.camera ? options_.camera : first_model_;
+    if (!camera) return "";
+    const double width = camera->image_width(), height = camera->image_height();
+    for (const TrackedFeature& f : features.features)
+      if (!(f.u >= -0.5 && f.v >= -0.5 && f.u <= width - 0.5 && f.v <= height - 0.5))
+        return "track " + std::to_string(f.track) + "'s pixel (" + io::format_double(f.u) + ", " +
+               io::format_double(f.v) + ") lies outside the camera's " +
+               std::to_string(camera->image_width()) + "x" +
+               std::to_string(camera->image_height()) + " image";
+    return "";
   }
 
   void note_camera(const mrpt::poses::CPose3D& pose, const CCatadioptricCameraModel& model) {

@@ -172,6 +172,19 @@ TEST_F(DamagedRawlog, NonFiniteReadingIsDamage) {
                                   "it is corrupt: a feature's pixel is not a finite number"),
             std::string::npos)
       << reader.problem();
+  // With its camera, a pixel beyond the image is damage too.
+  features_[1].features[1].v = -1e305;
+  features_[1].model.set_camera(sim::default_rig(640, 480));
+  testing::write_plain_rawlog(path, {&comment_, &features_[1]});
+  RawlogReader outside(path);
+  while (outside.next()) {
+  }
+  EXPECT_NE(outside.problem().find("object 1 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): "
+                                   "it is corrupt: track "),
+            std::string::npos)
+      << outside.problem();
+  EXPECT_NE(outside.problem().find("lies outside its camera's 640x480 image"), std::string::npos)
+      << outside.problem();
 }
 
 // Found by fuzzing: an image whose stored size needs 10^19 bytes. OpenCV cannot allocate it,

@@ -306,7 +306,7 @@ TEST(BadReplay, FramesOutOfTimeOrderOrFromAnotherCameraPoseAreRefused) {
     features->timestamp = mrpt::Clock::fromDouble(time);
     features->sensorPose = mrpt::poses::CPose3D(0, 0, camera_height, 0, 0, 0);
     for (int track = 0; track < 8; ++track)
-      features->features.push_back({track, 100.0 + track, 200.0});
+      features->features.push_back({track, 10.0 + track, 20.0});  // inside the small camera too
     return features;
   };
   ReplayOptions options;
