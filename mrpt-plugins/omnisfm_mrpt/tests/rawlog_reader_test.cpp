@@ -162,29 +162,29 @@ TEST_F(DamagedRawlog, NonFiniteReadingIsDamage) {
   expect_damage(bytes, 3,
                 "object 3 (mrpt::obs::CObservationOdometry): it is corrupt: its odometry is not a "
                 "finite number; the 3 objects before it were read");
-  features_[1].features[1].v = nan;
-  const std::string path = testing::temporary_path("nan_pixel.rawlog");
-  testing::write_plain_rawlog(path, {&comment_, &features_[1]});
-  RawlogReader reader(path);
-  while (reader.next()) {
-  }
-  EXPECT_NE(reader.problem().find("object 1 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): "
-                                  "it is corrupt: a feature's pixel is not a finite number"),
+  // The features' frame alone, read through: what the reader says of it.
+  const auto problem_with = [&](double v) {
+    features_[1].features[1].v = v;
+    const std::string path = testing::temporary_path("bad_pixel.rawlog");
+    testing::write_plain_rawlog(path, {&comment_, &features_[1]});
+    RawlogReader reader(path);
+    while (reader.next()) {
+    }
+    return reader.problem();
+  };
+  const std::string object = "object 1 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): ";
+  const std::string not_finite = problem_with(nan);
+  EXPECT_NE(not_finite.find(object + "it is corrupt: a feature's pixel is not a finite number"),
             std::string::npos)
-      << reader.problem();
+      << not_finite;
   // With its camera, a pixel beyond the image is damage too.
-  features_[1].features[1].v = -1e305;
   features_[1].model.set_camera(sim::default_rig(640, 480));
-  testing::write_plain_rawlog(path, {&comment_, &features_[1]});
-  RawlogReader outside(path);
-  while (outside.next()) {
-  }
-  EXPECT_NE(outside.problem().find("object 1 (omnisfm::mrpt_plugin::CObservationTrackedFeatures): "
-                                   "it is corrupt: track "),
+  const std::string outside = problem_with(-1e305);
+  EXPECT_NE(outside.find(object + "it is corrupt: track 2's pixel (30, -1e+305) lies outside its "
+                                  "camera's 640x480 image"),
             std::string::npos)
-      << outside.problem();
-  EXPECT_NE(outside.problem().find("lies outside its camera's 640x480 image"), std::string::npos)
-      << outside.problem();
+      << outside;
+  EXPECT_EQ(problem_with(479.5), "");
 }
 
 // Found by fuzzing: an image whose stored size needs 10^19 bytes. OpenCV cannot allocate it,
