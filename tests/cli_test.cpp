@@ -590,6 +590,29 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
   EXPECT_EQ(start.status, 2);
   EXPECT_NE(start.err.find("start.ini:2:"), std::string::npos) << start.err;
   EXPECT_FALSE(fs::exists(dir_ / "result"));
+  // Settings, times and a truth that would be ignored, or written where nothing reads them.
+  write("loose.ini", "pixel_sigma = 0.5\n[sfm]\n");
+  const Outcome loose = omnisfm(
+      "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result --config loose.ini");
+  EXPECT_EQ(loose.status, 2);
+  EXPECT_NE(loose.err.find("loose.ini:1: key 'pixel_sigma': belongs in the [sfm] section"),
+            std::string::npos)
+      << loose.err;
+  write("empty.tum", "");
+  const Outcome no_truth = omnisfm(
+      "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result --ground-truth empty.tum");
+  EXPECT_EQ(no_truth.status, 2);
+  EXPECT_NE(no_truth.err.find("empty.tum: holds 0 poses"), std::string::npos) << no_truth.err;
+  fs::create_directories(dir_ / "late");
+  fs::copy_file(dir_ / "lab/tracks.vnl", dir_ / "late/tracks.vnl");
+  std::string frames = read_all(dir_ / "lab/frames.vnl");
+  frames.replace(frames.find("\n2 2 -"), 6, "\n2 0.5 -");
+  write("late/frames.vnl", frames);
+  const Outcome late = omnisfm("sfm --camera lab/camera.ini --tracks late/tracks.vnl --out result");
+  EXPECT_EQ(late.status, 2);
+  EXPECT_NE(late.err.find("late/frames.vnl:4: timestamps must increase"), std::string::npos)
+      << late.err;
+  EXPECT_FALSE(fs::exists(dir_ / "result"));
 }
 
 // A result folder is replaced whole, so only one an earlier run wrote is: a folder of other files,

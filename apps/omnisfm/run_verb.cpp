@@ -358,8 +358,7 @@ void add_run_verb(CLI::App& app) {
   verb->callback([o] {
     io::check_folder_replaceable(o->out, {o->rawlog, o->config, o->camera, o->ground_truth});
     const RunSettings settings = run_settings_of(*o);
-    std::vector<io::StampedPose> truth;
-    if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
+    const std::vector<io::StampedPose> truth = read_ground_truth(o->ground_truth);
     if (settings.sfm.run_batch) {
       run_with_batch(*o, settings, truth);
       return;

@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,8 +18,8 @@
 #include "omnisfm/sfm/sfm_report.h"
 #include "online_outputs.h"
 #include "sfm_outputs.h"
-#include "verb_inputs.h"
 #include "terminal_progress.h"
+#include "verb_inputs.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -44,7 +46,8 @@ class FrameClock {
 
  private:
   void advance() {
-    const double previous = row_frame_;
+    const double previous = row_frame_, previous_time = row_time_;
+    const bool first = !have_row_;
     have_row_ = reader_->next();
     if (!have_row_) return;
     row_frame_ = reader_->number(columns_[0]);
@@ -52,6 +55,12 @@ class FrameClock {
     if (!(row_frame_ > previous))
       throw io::InputError(reader_->file(), reader_->line(),
                            "frames must increase from row to row");
+    // The times go into the TUM files, which eval and MRPT read in order.
+    if (!std::isfinite(row_time_))
+      throw io::InputError(reader_->file(), reader_->line(), "the timestamp must be finite");
+    if (!first && !(row_time_ > previous_time))
+      throw io::InputError(reader_->file(), reader_->line(),
+                           "timestamps must increase from row to row");
   }
 
   std::unique_ptr<io::VnlogReader> reader_;
@@ -148,8 +157,7 @@ void add_sfm_verb(CLI::App& app) {
     sfm::SfmSettings settings =
         o->config.empty() ? sfm::SfmSettings() : sfm::read_sfm_settings(o->config);
     apply_camera_prior(o->config, o->camera, o->camera.empty() ? nullptr : &camera, &settings);
-    std::vector<io::StampedPose> truth;
-    if (!o->ground_truth.empty()) truth = io::read_tum_trajectory(o->ground_truth);
+    const std::vector<io::StampedPose> truth = read_ground_truth(o->ground_truth);
     if (!settings.run_batch) {
       std::string report;
       io::write_folder_atomically(o->out, [&](const std::string& dir) {
@@ -161,6 +169,12 @@ void add_sfm_verb(CLI::App& app) {
       return;
     }
     const auto tracks = io::read_tracks(o->tracks, camera.image_width(), camera.image_height());
+    // frames.vnl's times read, and judged, before the work.
+    int last_frame = 0;
+    for (const auto& observation : tracks) last_frame = std::max(last_frame, observation.frame);
+    FrameClock clock(o->tracks);
+    std::vector<double> times;
+    for (int f = 0; f <= last_frame; ++f) times.push_back(clock.time(f));
 
     sfm::SfmResult result;
     try {
@@ -172,9 +186,7 @@ void add_sfm_verb(CLI::App& app) {
     if (settings.run_batch && !result.batch.converged && result.batch.world_from_cam.empty())
       throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
-    FrameClock clock(o->tracks);
-    std::vector<double> times;
-    for (int f = 0; f < result.num_frames; ++f) times.push_back(clock.time(f));
+    times.resize(result.num_frames);
     std::ostringstream report;
     report << "frames " << result.num_frames << ", observations " << tracks.size()
            << ", " << sfm::outliers_phrase(result, settings.filter.pixel_sigma) << "\n"

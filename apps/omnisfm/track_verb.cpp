@@ -151,7 +151,7 @@ void add_track_verb(CLI::App& app) {
     }
     const fs::path out = fs::absolute(o->out).lexically_normal();
     check_output_file(o->out, out);
-    const auto timestamps = o->timestamps.empty() ? std::map<std::string, double>()
+    const auto timestamps = o->timestamps.empty() ? std::map<std::string, track::ImageTimestamp>()
                                                   : track::read_image_timestamps(o->timestamps);
 
     track::TrackedSequence result;

@@ -49,6 +49,16 @@ io::VnlogTable read_table_or_stdin(const std::string& path) {
   return io::VnlogTable::read(path);
 }
 
+std::vector<io::StampedPose> read_ground_truth(const std::string& path) {
+  if (path.empty()) return {};
+  std::vector<io::StampedPose> truth = io::read_tum_trajectory(path);
+  if (truth.size() < 3)
+    throw io::InputError(path, 0,
+                         "holds " + std::to_string(truth.size()) +
+                             " poses: comparing with the truth needs at least 3");
+  return truth;
+}
+
 void finish_stdout() {
   std::cout.flush();
   if (!std::cout) throw std::runtime_error("cannot write to standard output");

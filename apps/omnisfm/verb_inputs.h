@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
 #include "omnisfm/sfm/pipeline.h"
 
@@ -23,6 +25,10 @@ camera::CatadioptricCamera load_camera(const std::string& path);
 // given (`camera` null).
 void apply_camera_prior(const std::string& config_file, const std::string& camera_file,
                         const camera::CatadioptricCamera* camera, sfm::SfmSettings* settings);
+
+// The truth `--ground-truth` names (none when `path` is empty). Throws io::InputError naming it
+// when it holds fewer than 3 poses: no alignment, so no figure, would come of it.
+std::vector<io::StampedPose> read_ground_truth(const std::string& path);
 
 // The vnlog table in `path`, or standard input when `path` is empty or "-".
 io::VnlogTable read_table_or_stdin(const std::string& path);

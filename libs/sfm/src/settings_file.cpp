@@ -5,11 +5,25 @@
 #include <stdexcept>
 
 #include "omnisfm/io/ini_file.h"
+#include "omnisfm/io/input_error.h"
 
 namespace omnisfm::sfm {
 SfmSettings read_sfm_settings(const std::string& path) {
   const io::IniFile ini = io::IniFile::read(path);
-  return ini.has_section("sfm") ? read_sfm_settings(ini.section("sfm")) : SfmSettings();
+  SfmSettings settings;
+  for (const io::IniSection& section : ini.sections()) {
+    if (section.name() == "sfm") {
+      settings = read_sfm_settings(section);
+    } else if (section.name().empty()) {
+      // A key before any section would otherwise be silently ignored.
+      if (!section.entries().empty())
+        section.fail(section.entries().front().key, "belongs in the [sfm] section");
+    } else if (section.name() != "run") {  // the run verb's, as in the shipped omnisfm.ini
+      throw io::InputError(path, section.line(),
+                           "unknown section [" + section.name() + "]: expected [sfm] (or [run])");
+    }
+  }
+  return settings;
 }
 
 SfmSettings read_sfm_settings(const io::IniSection& s) {

@@ -4,8 +4,11 @@
 #include "omnisfm/sfm/settings_file.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 #include "omnisfm/io/ini_file.h"
@@ -106,6 +109,31 @@ TEST(SfmSettings, MeaninglessNoiseAndDistancesAreRefusedAtTheirLine) {
   const std::string no_batch = error_of("[sfm]\nbatch = 0\nrefine_camera = 1\n");
   EXPECT_EQ(no_batch.rfind("test.ini:3:", 0), 0u) << no_batch;
   EXPECT_NE(no_batch.find("batch = false"), std::string::npos) << no_batch;
+}
+
+// A setting the file does not put in [sfm] would be silently ignored: a key before any section
+// and a section of another name are refused at their line; [run], the run verb's, is left to it
+// (the shipped omnisfm.ini holds both).
+TEST(SfmSettings, SettingsOutsideTheSfmSectionAreRefused) {
+  const std::string path =
+      testing::TempDir() + "/omnisfm-settings-" + std::to_string(::getpid()) + ".ini";
+  const auto error_in = [&](const std::string& text) {
+    std::ofstream(path) << text;
+    try {
+      read_sfm_settings(path);
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_in("pixel_sigma = 1\n[sfm]\nbatch = 0\n"),
+            path + ":1: key 'pixel_sigma': belongs in the [sfm] section");
+  EXPECT_EQ(error_in("[sfm]\nbatch = 0\n[sfn]\npixel_sigma = 1\n"),
+            path + ":3: unknown section [sfn]: expected [sfm] (or [run])");
+  EXPECT_EQ(error_in("# comment\n[sfm]\nbatch = 0\n[run]\nodometry_label = ODO\n"), "");
+  std::ofstream(path) << "[run]\nodometry_label = ODO\n[sfm]\npixel_sigma = 0.7\n";
+  EXPECT_EQ(read_sfm_settings(path).filter.pixel_sigma, 0.7);
+  std::remove(path.c_str());
 }
 
 TEST(SfmSettings, CameraPriorFromTheCalibrationsCovariance) {

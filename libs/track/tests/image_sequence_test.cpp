@@ -183,6 +183,18 @@ TEST_F(ImageSequenceTest, FramesFileNamesImagesBesideItAndTakesTimesByName) {
   EXPECT_EQ(named[0].timestamp, 10.75);
   std::vector<TrackedFrame> unknown{{0, "c.png", std::nan("")}};
   EXPECT_THROW(apply_timestamps(times, "times.vnl", &unknown), io::InputError);
+  // The images' times must increase in their order.
+  std::vector<TrackedFrame> backwards{{0, "b.png", std::nan("")}, {1, "a.png", std::nan("")}};
+  try {
+    apply_timestamps(times, "times.vnl", &backwards);
+    ADD_FAILURE() << "times out of order were taken";
+  } catch (const io::InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(e.message().find("image a.png's time 10.25 is not after that of the image before it, "
+                               "b.png at 10.75"),
+              std::string::npos)
+        << e.what();
+  }
   std::ofstream(dir_ / "twice.vnl") << "# timestamp image\n1 a.png\n2 y/a.png\n";
   EXPECT_THROW(read_image_timestamps((dir_ / "twice.vnl").string()), io::InputError);
 }

@@ -20,7 +20,8 @@
 namespace omnisfm::sfm {
 
 // Throws io::InputError naming the file, the key and its line for an unknown key, a non-number or
-// a value out of range.
+// a value out of range, a key before any section, or a section other than [sfm] and [run] (the
+// run verb's, which a file may hold for both verbs).
 SfmSettings read_sfm_settings(const std::string& path);
 // The same from a section already read (its name is not checked).
 SfmSettings read_sfm_settings(const io::IniSection& section);
