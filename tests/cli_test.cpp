@@ -1223,6 +1223,16 @@ TEST_F(CliTest, DetectCornersRejectsBadInputAndWritesNothing) {
                                   "--object-height-n 7 --out corners.vnl");
   EXPECT_EQ(missing.status, 2);
   EXPECT_EQ(missing.err.rfind("omnisfm: nowhere", 0), 0u) << missing.err;
+  EXPECT_EQ(missing.err.find("--camera"), std::string::npos) << missing.err;  // it would not help
+  // A camera file of another camera: said, before any search.
+  const Outcome other = omnisfm(
+      "detect-corners --images flat --object-width-n 6 "
+      "--object-height-n 7 --out corners.vnl --camera " +
+      quoted(shipped_camera("equiangular.ini")));
+  EXPECT_EQ(other.status, 2);
+  EXPECT_NE(other.err.find("a.png: the image is 320x240 but the camera's is"), std::string::npos)
+      << other.err;
+  EXPECT_FALSE(fs::exists(dir_ / "corners.report"));
 
   // Images of mixed sizes: the odd one named.
   cv::imwrite((dir_ / "flat" / "c.png").string(), cv::Mat(100, 100, CV_8UC1, cv::Scalar(128)));

@@ -47,12 +47,19 @@ cv::Size image_size_of(const std::string& images) {
 
 std::vector<io::ImageCorners> detect_boards(const std::string& images,
                                             calib::BoardDetector* detector,
-                                            const std::function<void(const BoardImage&)>& each) {
+                                            const std::function<void(const BoardImage&)>& each,
+                                            std::optional<cv::Size> camera_size) {
   track::ImageSequence sequence(images);
   TerminalProgress progress("searched", "images");
   std::vector<io::ImageCorners> found;
   track::SequenceFrame frame;
   while (sequence.next(&frame)) {
+    if (camera_size && frame.image.size() != *camera_size)
+      throw io::InputError(frame.file.empty() ? images : frame.file, 0,
+                           "the image is " + std::to_string(frame.image.cols) + "x" +
+                               std::to_string(frame.image.rows) + " but the camera's is " +
+                               std::to_string(camera_size->width) + "x" +
+                               std::to_string(camera_size->height));
     BoardImage image{image_name(sequence, frame), frame.image, std::nullopt};
     if (image.name.find_first_of(" \t\r\n\v\f") != std::string::npos)
       throw io::InputError(frame.file, 0,

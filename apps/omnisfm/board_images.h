@@ -26,9 +26,12 @@ struct BoardImage {
   cv::Mat grey;
   std::optional<calib::DetectedBoard> board;
 };
+// With `camera_size`, an image of another size is refused (io::InputError naming it), as the
+// tracker refuses it: the camera file is for another camera, and no board would be found.
 std::vector<io::ImageCorners> detect_boards(const std::string& images,
                                             calib::BoardDetector* detector,
-                                            const std::function<void(const BoardImage&)>& each);
+                                            const std::function<void(const BoardImage&)>& each,
+                                            std::optional<cv::Size> camera_size = std::nullopt);
 
 // The size of the images in `images` (its first), throwing io::InputError naming it when none
 // can be read.

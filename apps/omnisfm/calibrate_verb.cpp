@@ -310,7 +310,11 @@ std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
   std::unique_ptr<calib::BoardDetector> detector =
       start.mirror ? std::make_unique<calib::BoardDetector>(*start.mirror, grid)
                    : std::make_unique<calib::BoardDetector>(*start.camera, grid);
-  const std::vector<io::ImageCorners> corners = detect_boards(o.images, detector.get(), nullptr);
+  std::optional<cv::Size> camera_size;
+  if (!start.mirror)
+    camera_size = cv::Size(start.camera->image_width(), start.camera->image_height());
+  const std::vector<io::ImageCorners> corners =
+      detect_boards(o.images, detector.get(), nullptr, camera_size);
   int boards = 0;
   for (const io::ImageCorners& image : corners) boards += image.num_detected() > 0;
   // Fewer views than the staged solve's groups can be told apart from.

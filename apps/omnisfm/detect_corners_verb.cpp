@@ -56,26 +56,30 @@ struct Found {
 
 // Each image searched, its overlay written into `report` as it goes, and the summary last.
 Found detect_all(const DetectCornersOptions& o, const std::optional<calib::MirrorImage>& mirror,
-                 calib::BoardDetector* detector, const std::string& report) {
+                 calib::BoardDetector* detector, std::optional<cv::Size> camera_size,
+                 const std::string& report) {
   const cv::Size grid(o.width_n, o.height_n);
   std::string summary = "# filename found view_azimuth_deg view_elevation_deg view_fov_deg\n";
   Found found;
-  found.corners = detect_boards(o.images, detector, [&](const BoardImage& image) {
-    char line[160];
-    if (image.board) {
-      ++found.boards;
-      constexpr double kDeg = 180 / M_PI;
-      const calib::ViewDirection& view = image.board->view;
-      std::snprintf(line, sizeof line, " 1 %.0f %.0f %.0f\n", view.azimuth * kDeg,
-                    view.elevation * kDeg, view.field_of_view * kDeg);
-    } else {
-      std::snprintf(line, sizeof line, " 0 - - -\n");
-    }
-    summary += image.name + line;
-    const std::string file = (fs::path(report) / (image.name + ".png")).string();
-    if (!cv::imwrite(file, overlay(image.grey, mirror, image.board, grid)))
-      throw std::runtime_error("cannot write " + file);
-  });
+  found.corners = detect_boards(
+      o.images, detector,
+      [&](const BoardImage& image) {
+        char line[160];
+        if (image.board) {
+          ++found.boards;
+          constexpr double kDeg = 180 / M_PI;
+          const calib::ViewDirection& view = image.board->view;
+          std::snprintf(line, sizeof line, " 1 %.0f %.0f %.0f\n", view.azimuth * kDeg,
+                        view.elevation * kDeg, view.field_of_view * kDeg);
+        } else {
+          std::snprintf(line, sizeof line, " 0 - - -\n");
+        }
+        summary += image.name + line;
+        const std::string file = (fs::path(report) / (image.name + ".png")).string();
+        if (!cv::imwrite(file, overlay(image.grey, mirror, image.board, grid)))
+          throw std::runtime_error("cannot write " + file);
+      },
+      camera_size);
   io::write_text_atomically((fs::path(report) / "summary.vnl").string(),
                             [&](std::ostream& out) { out << summary; });
   return found;
@@ -89,21 +93,26 @@ void run_detect_corners(const DetectCornersOptions& o) {
   if (fs::is_directory(folder)) io::check_folder_replaceable(report, {o.images, o.camera});
   std::optional<calib::MirrorImage> mirror;
   std::unique_ptr<calib::BoardDetector> detector;
+  std::optional<cv::Size> camera_size;
   const cv::Size grid(o.width_n, o.height_n);
   if (o.camera.empty()) {
     try {
       mirror = mirror_of(o.images);
     } catch (const io::InputError& e) {
+      // Where the mirror was not found in readable images, a camera file stands in for it.
+      if (e.message().find("was not found") == std::string::npos) throw;
       throw io::InputError(e.file(), e.line(), e.message() + " (give --camera instead)");
     }
     detector = std::make_unique<calib::BoardDetector>(*mirror, grid);
   } else {
-    detector = std::make_unique<calib::BoardDetector>(load_camera(o.camera), grid);
+    const camera::CatadioptricCamera camera = load_camera(o.camera);
+    camera_size = cv::Size(camera.image_width(), camera.image_height());
+    detector = std::make_unique<calib::BoardDetector>(camera, grid);
   }
   Found found;
   in_folder_made_if_missing(folder, [&] {
     io::write_folder_atomically(report, [&](const std::string& dir) {
-      found = detect_all(o, mirror, detector.get(), dir);
+      found = detect_all(o, mirror, detector.get(), camera_size, dir);
     });
     io::write_corners(out.string(), found.corners);
   });

@@ -135,8 +135,8 @@ class ReplayPass {
   }
 
   void track(mrpt::obs::CObservationImage& observation, std::size_t index, std::string* damage) {
+    const auto& camera = options_.camera ? options_.camera : first_model_;
     if (!tracker_) {
-      const auto& camera = options_.camera ? options_.camera : first_model_;
       if (!camera) {
         // An error only if the images turn out to be the vision.
         if (untracked_.empty())
@@ -151,6 +151,16 @@ class ReplayPass {
     }
     const std::optional<RawlogImage> image = load_rawlog_image(observation, index, models_, damage);
     if (!image) return;
+    if (const cv::Size size(camera->image_width(), camera->image_height());
+        image->grey.size() != size) {
+      // The wrong camera for these images, not damage: an error if they are the vision.
+      untracked_ = "object " + std::to_string(index) + "'s image is " +
+                   std::to_string(image->grey.cols) + "x" + std::to_string(image->grey.rows) +
+                   " but the camera's is " + std::to_string(size.width) + "x" +
+                   std::to_string(size.height) +
+                   (options_.camera ? " (--camera): give these images' camera" : "");
+      return;
+    }
     track::SequenceFrame frame;
     frame.index = tracker_->frames();
     frame.image = image->grey;
@@ -194,7 +204,18 @@ class ReplayPass {
 
   void note_camera(const mrpt::poses::CPose3D& pose, const CCatadioptricCameraModel& model) {
     if (!body_from_cam_) body_from_cam_ = isometry_of(pose);
-    if (!first_model_ && model.has_camera()) first_model_ = model.camera();
+    if (first_model_ || !model.has_camera()) return;
+    first_model_ = model.camera();
+    // A camera given to replace the rawlog's must be one of the same images.
+    if (options_.camera && (options_.camera->image_width() != first_model_->image_width() ||
+                            options_.camera->image_height() != first_model_->image_height()))
+      throw io::InputError(path_, 0,
+                           "its camera is " + std::to_string(first_model_->image_width()) + "x" +
+                               std::to_string(first_model_->image_height()) +
+                               " pixels but the one given (--camera) is " +
+                               std::to_string(options_.camera->image_width()) + "x" +
+                               std::to_string(options_.camera->image_height()) +
+                               ": give the camera of these images");
   }
 
   const std::string& path_;

@@ -344,6 +344,20 @@ TEST(BadReplay, FramesOutOfTimeOrderOrFromAnotherCameraPoseAreRefused) {
     observation->image = mrpt::img::CImage(64, 48, mrpt::img::CH_GRAY);
     return observation;
   };
+  // A camera given for the rawlog's of other images: refused, naming the sizes.
+  auto modelled = frame(10, 1);
+  modelled->model.set_camera(sim::default_rig(320, 240));
+  testing::write_plain_rawlog(path, {modelled.get()});
+  try {
+    read_replay_input(path, options);
+    ADD_FAILURE() << "a 1024x768 camera was taken for 320x240 features";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("its camera is 320x240 pixels but the one given "
+                                         "(--camera) is 1024x768"),
+              std::string::npos)
+        << e.what();
+  }
+
   const auto late = image(11), early = image(10);
   const auto first = frame(12, 0), second = frame(13, 0);
   testing::write_plain_rawlog(path, {late.get(), early.get(), first.get(), second.get()});
