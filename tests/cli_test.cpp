@@ -378,7 +378,8 @@ TEST_F(CliTest, SimulateRejectsBadInputAndWritesNothing) {
   for (const char* args :
        {"simulate --scenario moon --out x", "simulate --scenario lab --out x --noise -1",
         "simulate --scenario lab --out x --width 0", "simulate --scenario lab --out no/such/x",
-        "simulate --scenario lab"}) {
+        "simulate --scenario lab", "simulate --scenario lab --out x --seed -1",
+        "simulate --scenario lab --out x --seed 18446744073709551616"}) {
     const Outcome run = omnisfm(args);
     EXPECT_EQ(run.status, 2) << args;
     EXPECT_EQ(run.err.rfind("omnisfm: ", 0), 0u) << args << ": " << run.err;

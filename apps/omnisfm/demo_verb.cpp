@@ -30,8 +30,9 @@
 #include "omnisfm/track/track_lengths.h"
 #include "residual_plots.h"
 #include "sfm_outputs.h"
-#include "trajectory_plots.h"
 #include "terminal_progress.h"
+#include "trajectory_plots.h"
+#include "verb_inputs.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -194,7 +195,9 @@ void add_demo_verb(CLI::App& app) {
                    "Output folder: made, or replaced whole when an earlier omnisfm run wrote it (a "
                    "folder holding other files, or the inputs, is refused)")
       ->capture_default_str();
-  verb->add_option("--seed", *seed, "Random seed of the simulations")->capture_default_str();
+  verb->add_option("--seed", *seed, "Random seed of the simulations")
+      ->capture_default_str()
+      ->check(seed_number());
   verb->add_option("--imaging", *imaging,
                    "How the images are made: realistic (real photographs on the surfaces, motion "
                    "blur, defocus, vignetting, automatic exposure, sensor noise) or clean (the "

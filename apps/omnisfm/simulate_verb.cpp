@@ -112,7 +112,8 @@ void add_simulate_verb(CLI::App& app) {
       ->required();
   verb->add_option("--seed", o->simulation.seed,
                    "Random seed (the dataset is deterministic for it)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(seed_number());
   verb->add_option("--noise", o->simulation.tracking_noise_px,
                    "Gaussian tracking noise, pixels per coordinate")
       ->capture_default_str()

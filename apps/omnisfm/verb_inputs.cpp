@@ -103,6 +103,17 @@ CLI::Validator whole_number_between(int min, int max) {
   });
 }
 
+CLI::Validator seed_number() {
+  return text_check("SEED", "a whole number from 0 to 18446744073709551615",
+                    [](const std::string& text) {
+                      if (text.empty() || text.size() > 20 ||
+                          text.find_first_not_of("0123456789") != std::string::npos)
+                        return false;
+                      // 20 digits may still pass 2^64 - 1: compare as text of equal length.
+                      return text.size() < 20 || text <= "18446744073709551615";
+                    });
+}
+
 void require_writable_folder(const std::string& path, const std::filesystem::path& folder) {
   if (!std::filesystem::is_directory(folder) || ::access(folder.c_str(), W_OK) != 0)
     throw io::InputError(path, 0,

@@ -56,5 +56,7 @@ CLI::Validator number_between(double min, double max);
 CLI::Validator positive_number();  // finite and > 0
 // max = INT_MAX: no upper bound ("must be a whole number, at least 0").
 CLI::Validator whole_number_between(int min, int max = INT_MAX);
+// A random seed: digits only, within 64 bits (CLI11 wraps "-1" and 2^64 into a valid seed).
+CLI::Validator seed_number();
 
 }  // namespace omnisfm::app

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 
@@ -167,6 +168,12 @@ std::unique_ptr<InnerCamera> read_inner(const IniSection& section, InnerKind kin
   }
   const double fx = positive(section, "fx");
   const double fy = positive(section, "fy");
+  // Pixels are near square in every camera; a factor beyond 10 is a slip (1e308 for 800 left a
+  // camera that sees one line of the world).
+  constexpr double kMaxAspect = 10;
+  if (!(fx <= kMaxAspect * fy && fy <= kMaxAspect * fx))
+    section.fail("fy", "must be within a factor " + format_double(kMaxAspect) +
+                           " of fx = " + format_double(fx) + ", not " + format_double(fy));
   const double cx = finite(section, "cx");
   const double cy = finite(section, "cy");
   try {
@@ -285,6 +292,43 @@ std::unique_ptr<MirrorProfile> read_mirror(const IniSection& section, MirrorKind
 
 }  // namespace
 
+namespace {
+
+// A mirror angle, radians: finite, and within +-pi (beyond it the same pose is meant another way,
+// or a unit was mistaken).
+double angle_or(const IniSection& section, const std::string& key, double fallback) {
+  const double value = finite_or(section, key, fallback);
+  if (std::abs(value) > M_PI)
+    section.fail(key, "must be an angle within -pi and pi (radians), not " + format_double(value));
+  return value;
+}
+
+// Whether the image sees the world through the mirror: some pixels of a coarse grid over it
+// unproject, and their rays span more than a degree. A camera that passes every parameter's own
+// check can still see nothing, or one direction only (a mirror 1e10 m away, a focal length of
+// 1e308), and the estimators then fail far from the file's line.
+bool sees_through_its_mirror(const CatadioptricCamera& camera) {
+  constexpr int kColumns = 64, kRows = 48;
+  const double min_cos = std::cos(M_PI / 180);
+  std::optional<Eigen::Vector3d> first;
+  Eigen::Vector3d origin, direction;
+  for (int j = 0; j < kRows; ++j)
+    for (int i = 0; i < kColumns; ++i) {
+      const Eigen::Vector2d pixel((i + 0.5) * camera.image_width() / kColumns - 0.5,
+                                  (j + 0.5) * camera.image_height() / kRows - 0.5);
+      if (!camera.unproject(pixel, &origin, &direction) || !origin.allFinite() ||
+          !direction.allFinite() || !(direction.norm() > 0))
+        continue;
+      if (!first)
+        first = direction.normalized();
+      else if (first->dot(direction.normalized()) < min_cos)
+        return true;
+    }
+  return false;
+}
+
+}  // namespace
+
 CatadioptricCamera camera_from_ini(const IniFile& ini) {
   reject_unknown_sections(ini);
   const IniSection& section = ini.section(kCameraSection);
@@ -299,16 +343,24 @@ CatadioptricCamera camera_from_ini(const IniFile& ini) {
   std::unique_ptr<InnerCamera> inner = read_inner(section, inner_kind, width, height);
   std::unique_ptr<MirrorProfile> mirror = read_mirror(section, mirror_kind);
   camera::MirrorPose pose;
-  pose.rx = finite_or(section, "mirror_rx", 0);
-  pose.ry = finite_or(section, "mirror_ry", 0);
+  pose.rx = angle_or(section, "mirror_rx", 0);
+  pose.ry = angle_or(section, "mirror_ry", 0);
   pose.tx = finite_or(section, "mirror_tx", 0);
   pose.ty = finite_or(section, "mirror_ty", 0);
   pose.tz = finite_or(section, "mirror_tz", 0);
+  std::optional<CatadioptricCamera> camera;
   try {
-    return CatadioptricCamera(std::move(inner), std::move(mirror), pose, width, height);
+    camera.emplace(std::move(inner), std::move(mirror), pose, width, height);
   } catch (const std::invalid_argument& error) {
     throw InputError(ini.file(), section.line(), error.what());
   }
+  if (!sees_through_its_mirror(*camera))
+    throw InputError(ini.file(), section.line(),
+                     "the " + std::to_string(width) + "x" + std::to_string(height) +
+                         " image sees less than a degree of the world through the mirror: the "
+                         "parameters place the mirror's picture off the image, or shrink it to a "
+                         "point");
+  return std::move(*camera);
 }
 
 CatadioptricCamera read_camera_file(const std::string& path) {

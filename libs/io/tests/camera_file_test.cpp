@@ -60,7 +60,11 @@ void expect_same_camera(const CatadioptricCamera& a, const CatadioptricCamera& b
   }
 }
 
-camera::MirrorPose awkward_pose() { return {0.01, -0.02, 0.1 + 0.2, -1.0 / 3.0, 1e-3 / 7.0}; }
+// Digits that round-trip only when written in full, in a pose whose camera still sees its mirror
+// (a file of a camera that sees nothing is refused).
+camera::MirrorPose awkward_pose() {
+  return {0.01, -0.02, (0.1 + 0.2) * 1e-3, -1e-3 / 3.0, 1e-3 / 7.0};
+}
 
 TEST_F(CameraFileTest, EquiangularPinholeRoundTrip) {
   const CatadioptricCamera original(
@@ -314,6 +318,31 @@ TEST_F(MalformedCameraFile, MissingSection) {
               std::string::npos)
         << error.what();
   }
+}
+
+// Values each finite and in range can still make a camera that sees nothing, or one line of the
+// world: refused at the file, not where an estimator fails on it.
+TEST_F(MalformedCameraFile, ACameraThatSeesNothingIsRefused) {
+  IniText ini = equiangular_pinhole();
+  ini.set("mirror_rx", "1e10");
+  expect_error(ini, "mirror_rx", ini.line_of("mirror_rx"), "within -pi and pi");
+  ini = equiangular_pinhole();
+  ini.set("fx", "1e308");
+  expect_error(ini, "fy", ini.line_of("fy"), "within a factor 10 of fx");
+  for (const char* far : {"mirror_tz = 1e10", "mirror_tx = 50"}) {
+    ini = equiangular_pinhole();
+    const std::string line = far;
+    ini.set(line.substr(0, line.find(" =")), line.substr(line.find("= ") + 2));
+    const InputError error = error_reading(ini);
+    EXPECT_EQ(error.line(), ini.line_of("[omni_camera]")) << far;
+    EXPECT_NE(std::string(error.what()).find("sees less than a degree of the world"),
+              std::string::npos)
+        << error.what();
+  }
+  ini = equiangular_pinhole();
+  ini.set("mirror_rx", "-0.05").set("mirror_tx", "0.001");  // tilted and off the axis, it sees
+  write("good.ini", ini.text());
+  EXPECT_NO_THROW(read_camera_file(path("good.ini")));
 }
 
 TEST_F(MalformedCameraFile, UnknownKey) {
