@@ -117,6 +117,7 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
          << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
          << sfm::considered_camera_line(camera, settings.filter)
          << "online only ([sfm] batch = false): tracks read and results written frame by frame\n";
+  filter.finish_start();
   out.take_what_is_held(filter);
   out.finish(report.str());
   return report.str();

@@ -740,6 +740,10 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   return updated;
 }
 
+void OnlineFilter::finish_start() {
+  if (smoothing_start_ && start_frames_.size() >= 2) smooth_start();
+}
+
 void OnlineFilter::smooth_start() {
   solve_start();
   std::map<int, Eigen::Vector3d> held;

@@ -66,6 +66,7 @@ std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& came
     cam_from_world.push_back(filter.cam_from_world());
     if (progress) progress(f + 1, num_frames);
   }
+  filter.finish_start();
   result->online_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   for (const auto& [frame, T] : filter.smoothed_start()) cam_from_world[frame] = T;

@@ -84,6 +84,28 @@ TEST(SimulatedAccuracy, Lab) {
   EXPECT_LT(r.online.translation_error_percent, 2 * r.batch.translation_error_percent);
 }
 
+// A sequence shorter than the smoothed start asked for is smoothed whole at its end: the lab's 41
+// frames asked for 42 are estimated as when asked for 41 (without it, 1.3 % off for 0.03 %).
+TEST(SimulatedAccuracy, ASequenceShorterThanItsSmoothedStartIsSmoothedWhole) {
+  sim::SimulationOptions options;
+  options.scenario = "lab";
+  const sim::Dataset d = sim::simulate(options);
+  const int frames = static_cast<int>(d.world_from_cam.size());
+  SfmSettings settings;
+  settings.run_batch = false;
+  settings.filter.smoothed_start_frames = frames;
+  const SfmResult whole = run_sfm(d.camera, d.observations, settings);
+  settings.filter.smoothed_start_frames = frames + 1;
+  const SfmResult longer = run_sfm(d.camera, d.observations, settings);
+  ASSERT_EQ(longer.online_world_from_cam.size(), whole.online_world_from_cam.size());
+  for (int f = 0; f < frames; ++f)
+    EXPECT_TRUE(longer.online_world_from_cam[f].isApprox(whole.online_world_from_cam[f], 1e-9))
+        << f;
+  const eval::TrajectoryErrors e =
+      eval::trajectory_errors(longer.online_world_from_cam, d.world_from_cam, true);
+  EXPECT_LT(e.translation_error_percent, 0.1);
+}
+
 // The filter alone rejects exactly the outlier tracks, none of the good tracks that enter
 // mid-sequence with a depth known only to the prior (seeds where undamped Gauss-Newton steps on
 // such tracks oscillated by tens of pixels).

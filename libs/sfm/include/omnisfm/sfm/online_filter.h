@@ -338,6 +338,10 @@ class OnlineFilter {
   // The poses of the first frames as the smoothed start revised them (frame -> cam_from_world);
   // empty until it has run.
   const std::map<int, Eigen::Isometry3d>& smoothed_start() const { return smoothed_start_; }
+  // At a sequence's end: where it was shorter than smoothed_start_frames, the smoothed start over
+  // the frames it had (without it the lab's 41 frames, asked for 42, were 1.3 % off where they are
+  // 0.03 %); nothing otherwise.
+  void finish_start();
   int num_live_points() const { return state_.num_slots(); }
   // Linearisations of the measurements (each a P H^T, S and its factor) over all updates so far,
   // outlier re-runs included: the measure of the iterated update's work.
