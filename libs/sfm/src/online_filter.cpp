@@ -690,7 +690,13 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
 
   if (!started_) {
     started_ = true;
-    for (const auto& [track, pixel] : seen) add_point(track, pixel);
+    for (const auto& [track, pixel] : seen) {
+      if (state_.num_slots() >= settings_.max_live_points) {
+        ++not_admitted_;
+        continue;
+      }
+      add_point(track, pixel);
+    }
     record_start_frame(frame, observations, nullptr, state_.mean.sensors);
     return true;
   }
@@ -732,6 +738,10 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
 
   for (const auto& [track, pixel] : seen)
     if (state_.slot_of(track) < 0 && !excluded_.count(track)) {
+      if (state_.num_slots() >= settings_.max_live_points) {
+        ++not_admitted_;
+        continue;
+      }
       add_point(track, pixel);
       if (window_open_) window_tracks.insert(track);
     }

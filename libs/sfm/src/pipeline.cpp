@@ -111,8 +111,8 @@ std::vector<Eigen::Isometry3d> cam_from_world_of(const std::vector<core::PoseVec
   return poses;
 }
 
-// The tracks the filter rejected that the batch's solution explains: triangulated from its poses,
-// every pixel within `threshold` px. Track -> its point.
+// Of the tracks `rejected` (the filter's rejections, or those it never held), those the poses
+// explain: triangulated from them, every pixel within `threshold` px. Track -> its point.
 std::map<int, Eigen::Vector3d> explained_rejections(
     const camera::CatadioptricCamera& optimised, const std::vector<core::TrackObservation>& tracks,
     const std::set<int>& rejected, const std::vector<Eigen::Isometry3d>& batch_cam_from_world,
@@ -252,8 +252,32 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   const double noise_px = result->online_noise_px;
   BatchSettings batch = settings.batch;
   batch.pixel_sigma = noise_px;
+  // Tracks the filter had no room for: placed from its poses, as rejected ones are re-tested.
+  std::set<int> unplaced;
+  for (const auto& o : tracks)
+    if (!rejected.count(o.track) && !result->online_points.count(o.track)) unplaced.insert(o.track);
+  std::map<int, Eigen::Vector3d> online_start = result->online_points;
+  result->not_in_filter = static_cast<int>(unplaced.size());
+  if (const double limit =
+          settings.batch_residual_limit_px() * noise_px / settings.filter.pixel_sigma;
+      !unplaced.empty() && limit > 0) {
+    const std::map<int, Eigen::Vector3d> placed =
+        explained_rejections(batch_camera(camera), tracks, unplaced, online_cam_from_world, limit);
+    for (const auto& [track, point] : placed) {
+      online_start[track] = point;
+      kept.insert(track);
+    }
+    result->placed_by_triangulation = static_cast<int>(placed.size());
+    // The rest no pose explains: outliers, named at their first frame.
+    for (const auto& o : tracks)
+      if (unplaced.count(o.track) && !placed.count(o.track)) {
+        result->outliers.push_back({o.track, o.frame});
+        rejected.insert(o.track);
+        unplaced.erase(o.track);
+      }
+  }
   result->batch = batch_adjust_with_terms(camera, observations_of(kept), online_cam_from_world,
-                                          result->online_points, batch, extra);
+                                          online_start, batch, extra);
   // Under the chi-square rule the limit is in sigmas of that noise (the filter measures only
   // there; under the pixels rule it is the stated one and the limit stays as set).
   const bool follows_noise = settings.filter.outlier_test == OutlierTest::kChiSquare &&

@@ -51,6 +51,7 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   if (f.smoothed_start_frames == 1) s.fail("smoothed_start_frames", "must be 0 (off) or at least 2");
   f.smoothing_window_frames =
       s.get_positive_int("smoothing_window_frames", f.smoothing_window_frames, true);
+  f.max_live_points = s.get_positive_int("max_live_points", f.max_live_points);
   settings.run_batch = s.get_flag("batch", settings.run_batch);
   settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
   settings.batch_outlier_threshold_px =

@@ -44,6 +44,10 @@ std::string outliers_phrase(const SfmResult& result, double stated_noise_px) {
               " that the filter had rejected)";
   if (!result.retest_skipped.empty())
     phrase += " (the filter's; not re-tested by the batch: " + result.retest_skipped + ")";
+  if (result.not_in_filter > 0)
+    phrase += "; " + std::to_string(result.not_in_filter) +
+              " tracks the filter had no room for (max_live_points), of which the batch placed " +
+              std::to_string(result.placed_by_triangulation) + " from its poses";
   return phrase + measured_noise_phrase(result.online_noise_px, stated_noise_px);
 }
 

@@ -64,6 +64,24 @@ TEST(OnlineFilter, RoverSequenceTakesFewLinearisations) {
                                           << ", kept";
 }
 
+// The state never holds more than max_live_points: new tracks beyond them wait for room.
+TEST(OnlineFilter, HoldsNoMorePointsThanItsRoom) {
+  sim::SimulationOptions options;
+  options.scenario = "rover";
+  const sim::Dataset d = sim::simulate(options);
+  const auto frames = observations_by_frame(d.observations);
+  FilterSettings settings;
+  settings.max_live_points = 25;
+  OnlineFilter filter(d.camera, settings);
+  int most = 0;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    filter.process_frame(static_cast<int>(f), frames[f]);
+    most = std::max(most, filter.num_live_points());
+  }
+  EXPECT_EQ(most, 25);  // the rover sees about 110 at once
+  EXPECT_GT(filter.not_admitted(), 1000);
+}
+
 // Vision alone on the endless drive, the mean angle between the filter's and the true direction of
 // travel over 30-frame spans (0.9 m), each in its camera's frame at the span's start.
 double mean_travel_direction_error_deg(const FilterSettings& settings, int frames) {

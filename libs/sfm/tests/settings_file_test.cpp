@@ -38,8 +38,10 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
       "[sfm]\npixel_sigma = 0.5\nupdate_iterations = 3\nsmoothed_start_frames = 0\n"
       "batch = 1\nbatch_outlier_threshold_px = 3\nhuber_px = 1.5\ncovariances = 0\n"
       "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n"
-      "refine_camera = 1\nconsider_camera = 1\nbatch_track_false_alarm = 0.001\n");
+      "refine_camera = 1\nconsider_camera = 1\nbatch_track_false_alarm = 0.001\n"
+      "max_live_points = 40\n");
   EXPECT_EQ(s.filter.pixel_sigma, 0.5);
+  EXPECT_EQ(s.filter.max_live_points, 40);
   EXPECT_EQ(s.batch_track_false_alarm, 0.001);
   EXPECT_EQ(s.filter.update_iterations, 3);
   EXPECT_EQ(s.filter.smoothed_start_frames, 0);
@@ -158,14 +160,30 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   const io::IniFile ini =
       io::IniFile::read(std::string(source) + "/share/omnisfm/config/omnisfm.ini");
   const io::IniSection& section = ini.section("sfm");
-  for (const char* key :
-       {"pixel_sigma", "rotation_walk_sigma", "translation_walk_sigma", "initial_depth",
-        "inverse_depth_sigma", "outlier_test", "outlier_chi2", "outlier_threshold_px",
-        "innovation_gate_chi2", "update_iterations", "smoothed_start_frames",
-        "smoothing_window_frames", "batch",
-        "batch_outliers", "batch_outlier_threshold_px", "batch_track_false_alarm", "huber_px",
-        "covariances", "max_iterations", "batch_scale_start", "known_distance_m",
-        "refine_camera", "consider_camera"})
+  for (const char* key : {"pixel_sigma",
+                          "rotation_walk_sigma",
+                          "translation_walk_sigma",
+                          "initial_depth",
+                          "inverse_depth_sigma",
+                          "outlier_test",
+                          "outlier_chi2",
+                          "outlier_threshold_px",
+                          "innovation_gate_chi2",
+                          "update_iterations",
+                          "smoothed_start_frames",
+                          "smoothing_window_frames",
+                          "max_live_points",
+                          "batch",
+                          "batch_outliers",
+                          "batch_outlier_threshold_px",
+                          "batch_track_false_alarm",
+                          "huber_px",
+                          "covariances",
+                          "max_iterations",
+                          "batch_scale_start",
+                          "known_distance_m",
+                          "refine_camera",
+                          "consider_camera"})
     EXPECT_TRUE(section.has(key)) << key;
   const SfmSettings read = read_sfm_settings(section);
   const SfmSettings defaults;
@@ -182,6 +200,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(f.update_iterations, defaults.filter.update_iterations);
   EXPECT_EQ(f.smoothed_start_frames, defaults.filter.smoothed_start_frames);
   EXPECT_EQ(f.smoothing_window_frames, defaults.filter.smoothing_window_frames);
+  EXPECT_EQ(f.max_live_points, defaults.filter.max_live_points);
   EXPECT_EQ(read.run_batch, defaults.run_batch);
   EXPECT_EQ(read.batch_outliers, defaults.batch_outliers);
   EXPECT_EQ(read.batch_outlier_threshold_px, defaults.batch_outlier_threshold_px);

@@ -225,6 +225,11 @@ struct FilterSettings {
   // How many of the latest ended points and rejected tracks points() and rejected() keep; the
   // callbacks (OnlineFilter::on_point_ended, on_track_rejected) are handed every one.
   int kept_history = 10000;
+  // The most points the state holds at once: each adds six columns to the covariance, whose
+  // update grows with their square (4 ms a frame at 112 points; 3,000 tracks at once took minutes
+  // a frame and gigabytes). A new track beyond it waits until a point leaves (not_admitted()
+  // counts its frames), and the batch places such tracks by triangulation from the filter's poses.
+  int max_live_points = 300;
 };
 
 // The camera's motion since the previous frame as the vehicle's sensors predict it:
@@ -343,6 +348,8 @@ class OnlineFilter {
   // 0.03 %); nothing otherwise.
   void finish_start();
   int num_live_points() const { return state_.num_slots(); }
+  // Observations of new tracks that waited for room (FilterSettings::max_live_points).
+  long not_admitted() const { return not_admitted_; }
   // Linearisations of the measurements (each a P H^T, S and its factor) over all updates so far,
   // outlier re-runs included: the measure of the iterated update's work.
   long linearisations() const { return linearisations_; }
@@ -578,6 +585,7 @@ class OnlineFilter {
   LinearisationPoints linearisation_points_;
   int frame_ = 0;           // the frame being processed
   int previous_frame_ = 0;  // and the one before
+  long not_admitted_ = 0;
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro

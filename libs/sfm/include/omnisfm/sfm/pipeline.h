@@ -49,6 +49,9 @@ struct SfmResult {
   // The filter's, less those the batch took back, then the batch's.
   std::vector<RejectedTrack> outliers;
   int taken_back = 0;  // tracks the filter rejected that the batch's solution explains
+  // Tracks the filter had no room for (FilterSettings::max_live_points), and of them those the
+  // batch placed by triangulation from the filter's poses and took.
+  int not_in_filter = 0, placed_by_triangulation = 0;
   // Why the batch did not re-test the tracks against its solution (empty when it did, or when
   // batch_outliers is off): a solution that does not fit the tracks would reject good ones.
   std::string retest_skipped;
