@@ -40,6 +40,20 @@ int main(int argc, char** argv) {
   omnisfm::app::add_run_verb(app);
 #endif
 
+  // CLI11 takes an unknown first word for a missing verb ("A subcommand is required").
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string verbs;
+    bool known = false;
+    for (const CLI::App* verb : app.get_subcommands({})) {
+      known = known || verb->get_name() == argv[1];
+      verbs += (verbs.empty() ? "" : ", ") + verb->get_name();
+    }
+    if (!known) {
+      std::cerr << "omnisfm: unknown verb '" << printable_text(argv[1]) << "' (the verbs: " << verbs
+                << ")\nRun 'omnisfm --help' or 'omnisfm VERB --help' for usage.\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
     return 0;

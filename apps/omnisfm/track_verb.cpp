@@ -164,7 +164,12 @@ void add_track_verb(CLI::App& app) {
       result = track::track_images(camera, images, o->settings, progress.callback());
     }
     if (result.frames.size() < 2)
-      throw io::InputError(o->images, 0, "holds a single image: there is nothing to track");
+      throw io::InputError(o->images, 0,
+                           "holds " + std::to_string(result.frames.size()) +
+                               (rawlog ? " camera images (CObservationImage or "
+                                         "CObservationOmniImage)"
+                                       : " image") +
+                               ": tracking needs at least 2");
     if (!o->timestamps.empty()) track::apply_timestamps(timestamps, o->timestamps, &result.frames);
 
     constexpr int kTrail = 10;

@@ -1,12 +1,13 @@
 #include "omnisfm/io/checkerboard_files.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
-#include <ostream>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
+#include <ostream>
 #include <stdexcept>
 
 #include "omnisfm/io/atomic_write.h"
@@ -126,6 +127,18 @@ std::vector<Eigen::Vector3d> read_board(const std::string& path) {
     throw InputError(path, 0, "a board needs at least 4 points, found " +
                                   std::to_string(points.size()));
   }
+  // A board spans a plane: points on one line (or one point) place no view, and the corners
+  // would be blamed for it.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) mean += p / static_cast<double>(points.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::Vector3d spread =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();  // ascending
+  if (!(spread[1] > 1e-12 * spread[2]) || !(spread[2] > 0))
+    throw InputError(path, 0,
+                     "the board's points lie on one line or at one point: a board spans "
+                     "a plane");
   return points;
 }
 

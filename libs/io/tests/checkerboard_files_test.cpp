@@ -78,6 +78,15 @@ TEST_F(CheckerboardFiles, ReadsBoards) {
             std::string::npos);
   const std::string tiny = write("t.vnl", "# index x y z\n0 0 0 0\n");
   EXPECT_NE(input_error_of([&] { read_board(tiny); }).find("at least 4 points"), std::string::npos);
+  for (const char* flat : {"# index x y z\n0 0 0 0\n1 0 0 0\n2 0 0 0\n3 0 0 0\n",
+                           "# index x y z\n0 0 0 0\n1 0.1 0 0\n2 0.2 0 0\n3 0.3 0 0\n"}) {
+    const std::string line = write("l.vnl", flat);
+    EXPECT_NE(input_error_of([&] { read_board(line); })
+                  .find("l.vnl: the board's points lie on one "
+                        "line or at one point"),
+              std::string::npos)
+        << flat;
+  }
 }
 
 TEST(RegularBoard, FollowsMrcalsPointOrder) {
