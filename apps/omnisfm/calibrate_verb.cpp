@@ -5,11 +5,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <iostream>
-#include <cmath>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -17,18 +17,19 @@
 #include <string>
 #include <vector>
 
+#include "board_images.h"
 #include "omnisfm/calib/calibration_report.h"
 #include "omnisfm/calib/calibration_views.h"
 #include "omnisfm/calib/cross_validation.h"
 #include "omnisfm/calib/projection_uncertainty.h"
-#include "omnisfm/calib/starting_camera.h"
 #include "omnisfm/calib/staged_calibration.h"
+#include "omnisfm/calib/starting_camera.h"
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/checkerboard_files.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/io/number_text.h"
 #include "omnisfm/io/target_files.h"
-#include "board_images.h"
 #include "verb_inputs.h"
 #include "verbs.h"
 
@@ -226,11 +227,16 @@ void print_written(const CalibrateOptions& o, const calib::CalibrationOutcome& o
 
 // --image-size's "WxH".
 cv::Size parse_image_size(const std::string& text) {
+  // Each side a whole number of pixels, 2 to 100,000 (sscanf's %d overflowed on 99999999999).
+  constexpr int kMaxSide = 100000;
+  const std::size_t x = text.find('x');
   int width = 0, height = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' ||
-      width < 2 || height < 2)
-    throw CLI::ValidationError("--image-size", "must be WIDTHxHEIGHT in pixels, not '" + text + "'");
+  if (x == std::string::npos || !io::parse_int(text.substr(0, x), &width) ||
+      !io::parse_int(text.substr(x + 1), &height) || width < 2 || height < 2 || width > kMaxSide ||
+      height > kMaxSide)
+    throw CLI::ValidationError("--image-size", "must be WIDTHxHEIGHT in pixels (2 to " +
+                                                   std::to_string(kMaxSide) + " each), not '" +
+                                                   text + "'");
   return {width, height};
 }
 

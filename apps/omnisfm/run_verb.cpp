@@ -356,6 +356,9 @@ void add_run_verb(CLI::App& app) {
       "memory (online.tum, points, outliers and the report; GPS fixes are not used)");
   add_run_options(verb, o.get());
   verb->callback([o] {
+    // MRPT's own error for a folder is a stack trace.
+    if (std::filesystem::is_directory(o->rawlog))
+      throw io::InputError(o->rawlog, 0, "is a folder; give the rawlog file");
     io::check_folder_replaceable(o->out, {o->rawlog, o->config, o->camera, o->ground_truth});
     const RunSettings settings = run_settings_of(*o);
     const std::vector<io::StampedPose> truth = read_ground_truth(o->ground_truth);
