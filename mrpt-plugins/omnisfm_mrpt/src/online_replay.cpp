@@ -98,6 +98,7 @@ OnlineReplaySummary replay_online(const std::string& path, const OnlineReplaySet
   summary.read.problem = damage.empty() ? reader.problem() : damage;
   summary.frames = estimator.framesProcessed();
   if (estimator.filter()) summary.noise_px = estimator.filter()->pixel_sigma();
+  estimator.finishStart();
   if (outputs.end && estimator.filter()) outputs.end(*estimator.filter());
   summary.read.used = static_cast<std::size_t>(summary.frames);
   summary.vision = vision == CameraKind::kTrackedFeatures ? "tracked features"

@@ -143,6 +143,12 @@ class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
   // The filter in the camera's terms (cam_from_world, the world the first camera's frame), once
   // the first camera frame has started it; null before.
   const sfm::OnlineFilter* filter() const { return filter_.get(); }
+  // At a sequence's end (a replay's last object): a sequence shorter than the filter's
+  // smoothed_start_frames gets its smoothed start over the frames it had
+  // (sfm::OnlineFilter::finish_start). The estimator may go on after it.
+  void finishStart() {
+    if (filter_) filter_->finish_start();
+  }
   // The points of the live tracks and of the latest ended ones the filter keeps
   // (FilterSettings::kept_history), in the map frame; onPointEnded gets every one as it ends.
   std::map<int, Eigen::Vector3d> points() const;
