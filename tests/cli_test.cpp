@@ -613,6 +613,14 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
   EXPECT_EQ(late.status, 2);
   EXPECT_NE(late.err.find("late/frames.vnl:4: timestamps must increase"), std::string::npos)
       << late.err;
+  std::string gap = read_all(dir_ / "lab/frames.vnl");
+  gap.erase(gap.find("\n2 2 -"), 6);
+  write("late/frames.vnl", gap);
+  const Outcome missing =
+      omnisfm("sfm --camera lab/camera.ini --tracks late/tracks.vnl --out result");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("late/frames.vnl:4: has no row for frame 2"), std::string::npos)
+      << missing.err;
   EXPECT_FALSE(fs::exists(dir_ / "result"));
 }
 
@@ -627,8 +635,22 @@ TEST_F(CliTest, ResultFoldersReplaceOnlyWhatOmnisfmWrote) {
   EXPECT_NE(into_inputs.err.find("lab: holds the input lab/camera.ini"), std::string::npos)
       << into_inputs.err;
   EXPECT_TRUE(fs::exists(dir_ / "lab" / "tracks.vnl"));
-  EXPECT_EQ(omnisfm("run lab/tracks.vnl --out lab").status, 2);
-  EXPECT_TRUE(fs::exists(dir_ / "lab" / "tracks.vnl"));
+  ASSERT_EQ(omnisfm("simulate --scenario lab --rawlog --out rawlog").status, 0);
+  const Outcome over_rawlog = omnisfm("run rawlog/dataset.rawlog --out rawlog");
+  EXPECT_EQ(over_rawlog.status, 2);
+  EXPECT_NE(over_rawlog.err.find("rawlog: holds the input rawlog/dataset.rawlog"),
+            std::string::npos)
+      << over_rawlog.err;
+  EXPECT_TRUE(fs::exists(dir_ / "rawlog" / "dataset.rawlog"));
+  // Nor is a file written over an input.
+  const Outcome slam_over_input =
+      omnisfm("run rawlog/dataset.rawlog --out run --slam-rawlog rawlog/dataset.rawlog");
+  EXPECT_EQ(slam_over_input.status, 2);
+  EXPECT_NE(slam_over_input.err.find("is also an input"), std::string::npos) << slam_over_input.err;
+  const Outcome mrcal_over_camera =
+      omnisfm("export-mrcal --camera lab/camera.ini --distance 2 --out lab/camera.ini");
+  EXPECT_EQ(mrcal_over_camera.status, 2);
+  EXPECT_NE(read_all(dir_ / "lab" / "camera.ini").find("[omni_camera]"), std::string::npos);
 
   fs::create_directories(dir_ / "photos");
   write("photos/holiday.jpg", "jpeg");
@@ -637,7 +659,14 @@ TEST_F(CliTest, ResultFoldersReplaceOnlyWhatOmnisfmWrote) {
   EXPECT_EQ(foreign.status, 2);
   EXPECT_NE(foreign.err.find("holiday.jpg"), std::string::npos) << foreign.err;
   EXPECT_TRUE(fs::exists(dir_ / "photos" / "holiday.jpg"));
-  EXPECT_EQ(omnisfm("simulate --scenario crane --out .").status, 2);
+  const Outcome here = omnisfm("simulate --scenario crane --out .");
+  EXPECT_EQ(here.status, 2);
+  EXPECT_NE(here.err.find(".: is the working folder"), std::string::npos) << here.err;
+  fs::create_directories(dir_ / "empty");
+  fs::create_symlink(dir_ / "empty", dir_ / "link");
+  const Outcome link = omnisfm("simulate --scenario crane --out link");
+  EXPECT_EQ(link.status, 2);
+  EXPECT_NE(link.err.find("link: is a symbolic link"), std::string::npos) << link.err;
   EXPECT_EQ(omnisfm("simulate --scenario crane --out ''").status, 2);
   EXPECT_TRUE(fs::exists(dir_ / "lab" / "tracks.vnl"));
 

@@ -145,6 +145,12 @@ std::function<void(const std::string&, int, double)> terminal_progress() {
   };
 }
 
+// Where calibrate --images writes the corners it found: beside the camera file.
+std::string detected_corners_file(const std::string& camera_file) {
+  const fs::path out(camera_file);
+  return (out.parent_path() / (out.stem().string() + ".corners.vnl")).string();
+}
+
 std::string report_folder_for(const std::string& camera_file) {
   fs::path path(camera_file);
   return (path.parent_path() / (path.stem().string() + ".report")).string();
@@ -313,6 +319,12 @@ Start starting_camera(const CalibrateOptions& o) {
 // written as OUT-stem.corners.vnl beside the camera file, which the calibration then reads.
 std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
   const cv::Size grid(o.object_width_n, o.object_height_n);
+  // OpenCV's detector finds no board narrower than 3 points (detect-corners' bound).
+  if (grid.width < 3 || grid.height < 3)
+    throw CLI::ValidationError("--object-width-n/--object-height-n",
+                               "with --images must each be at least 3, not " +
+                                   std::to_string(grid.width) + " and " +
+                                   std::to_string(grid.height));
   std::unique_ptr<calib::BoardDetector> detector =
       start.mirror ? std::make_unique<calib::BoardDetector>(*start.mirror, grid)
                    : std::make_unique<calib::BoardDetector>(*start.camera, grid);
@@ -332,8 +344,7 @@ std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
                              std::to_string(boards) + " of " + std::to_string(corners.size()) +
                              " images; calibrating needs at least " +
                              std::to_string(kMinBoards) + " (is the board's size right?)");
-  const fs::path out(o.out);
-  const std::string file = (out.parent_path() / (out.stem().string() + ".corners.vnl")).string();
+  const std::string file = detected_corners_file(o.out);
   io::write_corners(file, corners);
   std::cerr << "omnisfm: found a " << grid.width << "x" << grid.height << " board in " << boards
             << " of " << corners.size() << " images; their corners are in " << file << "\n";
@@ -347,6 +358,8 @@ void run_calibrate(CalibrateOptions o) {
     throw io::InputError(o.out, 0, "is a folder; give the camera file's name");
   io::check_folder_replaceable(report_folder_for(o.out),
                                {o.camera, o.targets, o.observations, o.corners, o.board, o.images});
+  require_not_an_input(o.out, {o.camera, o.targets, o.observations, o.corners, o.board});
+  if (!o.images.empty()) require_not_an_input(detected_corners_file(o.out), {o.camera, o.board});
   const Start start_camera = starting_camera(o);
   camera::CatadioptricCamera camera = *start_camera.camera;
   if (!o.images.empty()) o.corners = detect_corners_for(o, start_camera);

@@ -88,6 +88,7 @@ Found detect_all(const DetectCornersOptions& o, const std::optional<calib::Mirro
 void run_detect_corners(const DetectCornersOptions& o) {
   const fs::path out = fs::absolute(o.out).lexically_normal();
   check_output_file(o.out, out);
+  require_not_an_input(o.out, {o.camera, o.images});
   const fs::path folder = out.parent_path();
   const std::string report = (folder / (out.stem().string() + ".report")).string();
   if (fs::is_directory(folder)) io::check_folder_replaceable(report, {o.images, o.camera});

@@ -76,6 +76,7 @@ void add_export_mrcal_verb(CLI::App& app) {
         options->camera.empty() ? io::default_camera_file() : options->camera;
     const camera::CatadioptricCamera camera = load_camera(camera_file);
     require_writable_file(options->out);
+    require_not_an_input(options->out, {options->camera});
 
     const double step_px =
         options->grid_step_px > 0

@@ -130,8 +130,10 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   };
   // The filter lives only as long as the replay: what it holds, and its bias, are taken at its end.
   std::optional<Eigen::Vector3d> bias, bias_sigma;
+  long not_admitted = 0;
   outputs.end = [&](const sfm::OnlineFilter& f) {
     out.take_what_is_held(f);
+    not_admitted = f.not_admitted();
     bias = f.gyro_bias();
     bias_sigma = f.gyro_bias_covariance().diagonal().cwiseSqrt();
   };
@@ -146,10 +148,12 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   report << "rawlog " << rawlog << ": " << summary.read.objects << " objects; vision from "
          << summary.vision << "\n"
          << "frames " << summary.frames << ", outlier tracks " << out.outliers()
+         << sfm::not_admitted_phrase(not_admitted)
          << sfm::measured_noise_phrase(summary.noise_px, settings.sfm.filter.pixel_sigma) << "\n"
          << "motion sensors: " << summary.odometry << " odometry, " << summary.gyro << " gyro, "
-         << summary.gps << " GPS readings (GPS needs the batch: the filter takes odometry and "
-                           "gyro)\n"
+         << summary.gps
+         << " GPS readings (GPS needs the batch: the filter takes odometry and "
+            "gyro)\n"
          << "online only ([sfm] batch = false): the rawlog read and results written object by "
             "object (no scene.3Dscene, geodetic.vnl or residual plots)\n";
   if (settings.replay.camera)
@@ -236,7 +240,10 @@ RunSettings run_settings_of(const RunVerbOptions& o) {
     throw io::InputError(o.slam_rawlog, 0,
                          "is inside the --out folder, which the run replaces whole: put it "
                          "beside it");
-  if (!o.slam_rawlog.empty()) require_writable_folder_of(o.slam_rawlog);
+  if (!o.slam_rawlog.empty()) {
+    require_writable_folder_of(o.slam_rawlog);
+    require_not_an_input(o.slam_rawlog, {o.rawlog, o.config, o.camera, o.ground_truth});
+  }
   if (!o.camera.empty()) settings.replay.camera = io::read_camera_file(o.camera);
   apply_camera_prior(o.config, o.camera,
                      settings.replay.camera ? &*settings.replay.camera : nullptr, &settings.sfm);

@@ -40,8 +40,14 @@ class FrameClock {
   }
 
   double time(int frame) {
+    if (!reader_) return frame;
     while (have_row_ && row_frame_ < frame) advance();
-    return have_row_ && row_frame_ == frame ? row_time_ : frame;
+    // A frame without its row would take its index as its time, out of step with the rest.
+    if (!(have_row_ && row_frame_ == frame))
+      throw io::InputError(reader_->file(), have_row_ ? reader_->line() : 0,
+                           "has no row for frame " + std::to_string(frame) +
+                               " of the tracks: every frame needs its time");
+    return row_time_;
   }
 
  private:
@@ -112,7 +118,7 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
   if (next < 2) throw io::InputError(tracks_path, 0, "the tracks span fewer than 2 frames");
   std::ostringstream report;
   report << "frames " << next << ", observations " << observations << ", outlier tracks "
-         << out.outliers()
+         << out.outliers() << sfm::not_admitted_phrase(filter.not_admitted())
          << sfm::measured_noise_phrase(filter.pixel_sigma(), settings.filter.pixel_sigma) << "\n"
          << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
          << sfm::considered_camera_line(camera, settings.filter)

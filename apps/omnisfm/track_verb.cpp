@@ -151,6 +151,10 @@ void add_track_verb(CLI::App& app) {
     }
     const fs::path out = fs::absolute(o->out).lexically_normal();
     check_output_file(o->out, out);
+    // frames.vnl is written beside the tracks.
+    const std::string frames_file = (out.parent_path() / "frames.vnl").string();
+    for (const std::string& written : {o->out, frames_file})
+      require_not_an_input(written, {o->camera, o->images, o->timestamps});
     const auto timestamps = o->timestamps.empty() ? std::map<std::string, track::ImageTimestamp>()
                                                   : track::read_image_timestamps(o->timestamps);
 

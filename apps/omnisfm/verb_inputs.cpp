@@ -137,6 +137,18 @@ void check_output_file(const std::string& given, const std::filesystem::path& ou
                           std::filesystem::exists(folder) ? folder : folder.parent_path());
 }
 
+void require_not_an_input(const std::string& output, const std::vector<std::string>& inputs) {
+  std::error_code ignored;
+  const std::filesystem::path out =
+      std::filesystem::weakly_canonical(std::filesystem::absolute(output), ignored);
+  for (const std::string& input : inputs)
+    if (!input.empty() &&
+        std::filesystem::weakly_canonical(std::filesystem::absolute(input), ignored) == out)
+      throw io::InputError(
+          output, 0,
+          "is also an input (" + input + "), which writing it would destroy: give another name");
+}
+
 void in_folder_made_if_missing(const std::filesystem::path& folder,
                                const std::function<void()>& write) {
   const bool made = std::filesystem::create_directory(folder);

@@ -46,6 +46,9 @@ void require_writable_folder_of(const std::string& path);
 // throws io::InputError naming `given` when `out` is a folder, or when the folder's (or, when it
 // is missing, its parent's) is not a writable folder.
 void check_output_file(const std::string& given, const std::filesystem::path& out);
+// Throws io::InputError naming `output` when it is one of `inputs` (the same file by any path;
+// empty entries are skipped): writing it would destroy what the run reads.
+void require_not_an_input(const std::string& output, const std::vector<std::string>& inputs);
 // Runs `write` with `folder` made when missing; a folder made here goes again when `write` throws.
 void in_folder_made_if_missing(const std::filesystem::path& folder,
                                const std::function<void()>& write);

@@ -127,8 +127,18 @@ void check_folder_replaceable(const std::string& dir, const std::vector<std::str
     throw InputError(dir, 0, "cannot write here: " + parent.string() + " is not a folder");
   if (::access(parent.c_str(), W_OK) != 0)
     throw InputError(dir, 0, "cannot write here: " + parent.string() + " is not a writable folder");
+  // A link would be replaced by a folder of its own, its target left as it was.
+  if (fs::is_symlink(fs::symlink_status(target, ec)))
+    throw InputError(dir, 0, "is a symbolic link: give the folder it names");
   if (fs::exists(target, ec) && !fs::is_directory(target, ec))
     throw InputError(dir, 0, "exists and is not a folder");
+  // Swapped away, the working folder would be deleted from under the shell that is in it.
+  const fs::path working = fs::weakly_canonical(fs::current_path(ec), ec);
+  const fs::path canonical_target = fs::weakly_canonical(target, ec);
+  if (std::mismatch(canonical_target.begin(), canonical_target.end(), working.begin(),
+                    working.end())
+          .first == canonical_target.end())
+    throw InputError(dir, 0, "is the working folder, or holds it: give a folder inside it");
   for (const std::string& input : inputs) {
     if (input.empty()) continue;
     const fs::path file = fs::weakly_canonical(fs::absolute(input), ec);

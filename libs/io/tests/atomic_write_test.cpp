@@ -198,6 +198,15 @@ TEST_F(AtomicWriteTest, AFolderIsReplacedOnlyWhereNothingIsLost) {
             std::string::npos);
   EXPECT_NE(refused(""), "");
   EXPECT_NE(refused("/"), "");
+  // The working folder, empty or not, would be swapped from under the shell in it; a link would
+  // be replaced by a folder of its own.
+  const fs::path working = fs::current_path();
+  fs::current_path(empty);
+  EXPECT_NE(refused(".").find("is the working folder"), std::string::npos);
+  EXPECT_NE(refused("..").find("is the working folder"), std::string::npos);
+  fs::current_path(working);
+  fs::create_directory_symlink(empty, dir_ / "link");
+  EXPECT_NE(refused((dir_ / "link").string()).find("is a symbolic link"), std::string::npos);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -258,11 +259,13 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
     if (!rejected.count(o.track) && !result->online_points.count(o.track)) unplaced.insert(o.track);
   std::map<int, Eigen::Vector3d> online_start = result->online_points;
   result->not_in_filter = static_cast<int>(unplaced.size());
-  if (const double limit =
-          settings.batch_residual_limit_px() * noise_px / settings.filter.pixel_sigma;
-      !unplaced.empty() && limit > 0) {
+  if (!unplaced.empty()) {
+    // Without the batch's outlier test (a limit of 0) every track that triangulates is taken.
+    const double limit =
+        settings.batch_residual_limit_px() * noise_px / settings.filter.pixel_sigma;
     const std::map<int, Eigen::Vector3d> placed =
-        explained_rejections(batch_camera(camera), tracks, unplaced, online_cam_from_world, limit);
+        explained_rejections(batch_camera(camera), tracks, unplaced, online_cam_from_world,
+                             limit > 0 ? limit : std::numeric_limits<double>::infinity());
     for (const auto& [track, point] : placed) {
       online_start[track] = point;
       kept.insert(track);

@@ -52,6 +52,8 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   f.smoothing_window_frames =
       s.get_positive_int("smoothing_window_frames", f.smoothing_window_frames, true);
   f.max_live_points = s.get_positive_int("max_live_points", f.max_live_points);
+  if (f.max_live_points < 6)
+    s.fail("max_live_points", "must be at least 6: the filter starts from 6 points");
   settings.run_batch = s.get_flag("batch", settings.run_batch);
   settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
   settings.batch_outlier_threshold_px =

@@ -37,6 +37,12 @@ std::string measured_noise_phrase(double taken_px, double stated_px) {
   return phrase;
 }
 
+std::string not_admitted_phrase(long observations) {
+  if (observations <= 0) return "";
+  return "; " + std::to_string(observations) +
+         " observations of new tracks left out for want of room (max_live_points)";
+}
+
 std::string outliers_phrase(const SfmResult& result, double stated_noise_px) {
   std::string phrase = "outlier tracks " + std::to_string(result.outliers.size());
   if (result.taken_back > 0)

@@ -91,6 +91,11 @@ TEST(SfmSettings, BadValuesAndUnknownKeysNameTheirLine) {
   EXPECT_NE(error_of("[sfm]\nbatch_track_false_alarm = -0.1\n").find("test.ini:2:"),
             std::string::npos);
   EXPECT_EQ(settings_of("[sfm]\nbatch_track_false_alarm = 0\n").batch_track_false_alarm, 0);
+  EXPECT_NE(error_of("[sfm]\nmax_live_points = 5\n")
+                .find("test.ini:2: key 'max_live_points': "
+                      "must be at least 6"),
+            std::string::npos)
+      << error_of("[sfm]\nmax_live_points = 5\n");
 }
 
 // Settings that make the problem meaningless: a noise of 0 (every residual infinitely sure), a

@@ -169,6 +169,8 @@ bool OmniSfmEstimator::is_camera(const mrpt::obs::CObservation& observation) con
 void OmniSfmEstimator::start(const camera::CatadioptricCamera& camera,
                              const mrpt::poses::CPose3D& camera_pose) {
   body_from_cam_ = isometry_of(camera_pose);
+  image_width_ = camera.image_width();
+  image_height_ = camera.image_height();
   collector_.sensors().body_from_cam = body_from_cam_;
   filter_ = std::make_unique<sfm::OnlineFilter>(camera, options_.filter);
   if (point_ended_) filter_->on_point_ended(point_ended_);
@@ -242,9 +244,27 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
         throw std::invalid_argument("tracked features without a camera model: give the camera");
       start(options_.camera ? *options_.camera : features->model.camera(), features->sensorPose);
     }
+    // Features of other images than the camera's are refused, as the batch replay refuses them.
+    const auto size_text = [](int width, int height) {
+      return std::to_string(width) + "x" + std::to_string(height);
+    };
+    if (features->model.has_camera() && (features->model.camera().image_width() != image_width_ ||
+                                         features->model.camera().image_height() != image_height_))
+      throw std::invalid_argument("the features' camera is " +
+                                  size_text(features->model.camera().image_width(),
+                                            features->model.camera().image_height()) +
+                                  " pixels but the estimator's is " +
+                                  size_text(image_width_, image_height_) +
+                                  ": give the camera of these images");
     std::vector<sfm::TrackPixel> pixels;
-    for (const TrackedFeature& f : features->features)
+    for (const TrackedFeature& f : features->features) {
+      if (!(f.u >= -0.5 && f.v >= -0.5 && f.u <= image_width_ - 0.5 && f.v <= image_height_ - 0.5))
+        throw std::invalid_argument("track " + std::to_string(f.track) + "'s pixel (" +
+                                    io::format_double(f.u) + ", " + io::format_double(f.v) +
+                                    ") lies outside the camera's " +
+                                    size_text(image_width_, image_height_) + " image");
       pixels.push_back({f.track, Eigen::Vector2d(f.u, f.v)});
+    }
     process_frame(pixels, mrpt::Clock::toDouble(features->timestamp), observation);
   } else if (const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation)) {
     if (filter_ && !tracker_) return;  // tracked features came first: they are the vision

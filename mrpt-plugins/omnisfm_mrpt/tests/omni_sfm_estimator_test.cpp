@@ -339,6 +339,28 @@ TEST(OmniSfmEstimator, RefusesFramesOutOfTimeOrderOrFromAnotherCameraPose) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("is not the first frame's"), std::string::npos) << e.what();
   }
+  // Features of another camera's images, or beyond this camera's image, are refused.
+  auto other_camera = std::make_shared<CObservationTrackedFeatures>(*last);
+  other_camera->timestamp = last->timestamp + std::chrono::milliseconds(100);
+  other_camera->model.set_camera(sim::default_rig(320, 240));
+  try {
+    estimator.processObservation(other_camera);
+    ADD_FAILURE() << "features of a 320x240 camera were taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("the features' camera is 320x240 pixels"),
+              std::string::npos)
+        << e.what();
+  }
+  auto beyond = std::make_shared<CObservationTrackedFeatures>(*last);
+  beyond->timestamp = last->timestamp + std::chrono::milliseconds(100);
+  beyond->features.front().u = -1e305;
+  try {
+    estimator.processObservation(beyond);
+    ADD_FAILURE() << "a pixel beyond the image was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("lies outside the camera's"), std::string::npos)
+        << e.what();
+  }
   EXPECT_EQ(estimator.framesProcessed(), 5);
   mrpt::poses::CPose3DPDFGaussian after;
   estimator.getCurrentPoseEstimation(after);

@@ -13,6 +13,10 @@ namespace omnisfm::sfm {
 // they were judged at where the filter measured more than `stated_noise_px` (pixel_sigma).
 std::string outliers_phrase(const SfmResult& result, double stated_noise_px);
 
+// The filter alone: "; N observations of new tracks left out for want of room (max_live_points)"
+// where it left any out (OnlineFilter::not_admitted), else "".
+std::string not_admitted_phrase(long observations);
+
 // " (judged at the tracks' measured noise, ...)" where `taken_px` is beyond `stated_px`, else "".
 std::string measured_noise_phrase(double taken_px, double stated_px);
 
