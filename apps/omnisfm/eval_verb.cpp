@@ -10,6 +10,7 @@
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "sfm_outputs.h"
+#include "verb_inputs.h"
 #include "verbs.h"
 
 namespace omnisfm::app {
@@ -48,6 +49,7 @@ void add_eval_verb(CLI::App& app) {
         eval::trajectory_errors(paired.estimate, paired.truth, !o->rigid);
     std::cout << "poses " << paired.estimate.size() << "\n"
               << eval::figures_line(o->rigid ? "rigid" : "similar", e);
+    finish_stdout();
   });
 }
 

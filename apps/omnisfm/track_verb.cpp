@@ -105,8 +105,10 @@ void add_track_verb(CLI::App& app) {
                    "an MRPT rawlog (X.rawlog: its camera images, with the model they carry unless "
                    "--camera is given; a damaged rawlog is tracked up to the damaged object)")
       ->required();
-  verb->add_option("--out", o->out,
-                   "The tracks file to write (# frame track u v); its folder is made when missing")
+  verb->add_option(
+          "--out", o->out,
+          "The tracks file to write (# frame track u v); its folder is made when missing (not its "
+          "parent)")
       ->required();
   verb->add_option("--timestamps", o->timestamps,
                    "A table with image and timestamp columns (such as a simulated dataset's "

@@ -82,6 +82,14 @@ void remove_abandoned_temporaries(const fs::path& folder, const std::string& pre
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& temporary_path)>& write) {
   const fs::path target(path);
+  // The rename would put a regular file in place of a device, a pipe or a link (as root, of
+  // /dev/null itself).
+  std::error_code status_error;
+  const fs::file_status status = fs::symlink_status(target, status_error);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError(path, 0,
+                     "is not a regular file (a folder, device, pipe or link): give a "
+                     "file's name");
   // The process id keeps concurrent writers of the same file apart, and tells a killed one's.
   const std::string prefix = target.stem().string() + ".tmp-";
   remove_abandoned_temporaries(target.parent_path(), prefix, target.extension().string());
@@ -120,6 +128,13 @@ fs::path folder_path(const std::string& given) {
 void check_folder_replaceable(const std::string& dir, const std::vector<std::string>& inputs) {
   if (dir.empty()) throw InputError("--out", 0, "is empty; give a folder");
   const fs::path target = folder_path(dir);
+  // The temporary folder beside it adds to the name (".NAME.partial-PID"), which the file system
+  // limits to 255 bytes.
+  constexpr std::size_t kMaxName = 200;
+  if (target.filename().string().size() > kMaxName)
+    throw InputError(dir, 0,
+                     "its name is " + std::to_string(target.filename().string().size()) +
+                         " bytes long; at most " + std::to_string(kMaxName));
   if (!target.has_relative_path()) throw InputError(dir, 0, "is the root folder");
   const fs::path parent = target.parent_path();
   std::error_code ec;

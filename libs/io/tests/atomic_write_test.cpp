@@ -207,6 +207,26 @@ TEST_F(AtomicWriteTest, AFolderIsReplacedOnlyWhereNothingIsLost) {
   fs::current_path(working);
   fs::create_directory_symlink(empty, dir_ / "link");
   EXPECT_NE(refused((dir_ / "link").string()).find("is a symbolic link"), std::string::npos);
+  // A name the temporary beside it could not extend.
+  EXPECT_NE(refused((dir_ / std::string(201, 'a')).string()).find("bytes long; at most 200"),
+            std::string::npos);
+  EXPECT_EQ(refused((dir_ / std::string(200, 'a')).string()), "");
+}
+
+// A file written over is a regular file: a pipe, a device or a link would be replaced by one.
+TEST_F(AtomicWriteTest, OnlyARegularFileIsWrittenOver) {
+  const fs::path pipe = dir_ / "pipe";
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  fs::create_symlink(target_, dir_ / "link.ini");
+  for (const fs::path& special : {pipe, dir_ / "link.ini", dir_})
+    EXPECT_THROW(write_text_atomically(special.string(), [](std::ostream& out) { out << "x"; }),
+                 InputError)
+        << special;
+  EXPECT_TRUE(fs::is_fifo(pipe));
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.ini"));
+  write_text_atomically(target_, [](std::ostream& out) { out << "x\n"; });
+  write_text_atomically(target_, [](std::ostream& out) { out << "y\n"; });
+  EXPECT_EQ(contents(), "y\n");
 }
 
 }  // namespace
