@@ -53,8 +53,12 @@ void read_run_options(const io::IniSection& s, RunOptions* options) {
   g.bias_sigma = s.get_positive("gyro_bias_sigma", g.bias_sigma);
   g.bias_walk = s.get_positive("gyro_bias_walk", g.bias_walk);
   r.tracker.max_tracks = s.get_positive_int("max_tracks", r.tracker.max_tracks);
+  // As track's --max-tracks: the filter starts from 6 tracks.
+  if (r.tracker.max_tracks < 6 || r.tracker.max_tracks > 100000)
+    s.fail("max_tracks", "must be a whole number from 6 to 100000");
   r.tracker.min_ncc = s.get_positive("min_ncc", r.tracker.min_ncc);
-  if (r.tracker.min_ncc > 1) s.fail("min_ncc", "must be at most 1");
+  // A correlation of 1 is never reached: every track would end at once.
+  if (!(r.tracker.min_ncc < 1)) s.fail("min_ncc", "must be below 1");
   options->keyframe_distance_m =
       s.get_positive("keyframe_distance_m", options->keyframe_distance_m, true);
   options->keyframe_angle_rad =

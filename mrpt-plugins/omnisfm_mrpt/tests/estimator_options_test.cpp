@@ -121,6 +121,15 @@ TEST(EstimatorOptions, AKeyTheLoaderDoesNotKnowIsRefusedNamingTheFile) {
   }
   const std::string bad = written("bad", "[slam]\nodometry_scale = -1\n");
   EXPECT_THROW(o.loadFromConfigFile(mrpt::config::CConfigFile(bad), "slam"), io::InputError);
+  // The tracker's settings, bounded as track's options are: refused here, not blamed on the
+  // rawlog later.
+  for (const char* tracker :
+       {"[slam]\nmax_tracks = 1\n", "[slam]\nmax_tracks = 100000000\n", "[slam]\nmin_ncc = 1\n"}) {
+    const std::string wrong = written("tracker", tracker);
+    EXPECT_THROW(o.loadFromConfigFile(mrpt::config::CConfigFile(wrong), "slam"), io::InputError)
+        << tracker;
+    std::filesystem::remove(wrong);
+  }
   // [sfm] consider_camera names a covariance the config cannot carry: refused, not ignored.
   const std::string consider = written("consider", "[slam]\n[sfm]\nconsider_camera = 1\n");
   try {
