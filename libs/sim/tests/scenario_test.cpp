@@ -4,6 +4,7 @@
 #include "omnisfm/sim/scenario.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <map>
@@ -124,7 +125,10 @@ TEST_P(WrittenDataset, GroundTruthFilesReproduceNoiseFreeTracks) {
   options.scenario = GetParam();
   options.tracking_noise_px = 0;
   const Dataset d = simulate(options);
-  const std::string dir = ::testing::TempDir() + "/dataset-" + GetParam();
+  // Its own folder: one left by another run (or build) would be refused as not this run's.
+  const std::string dir =
+      ::testing::TempDir() + "/dataset-" + GetParam() + "-" + std::to_string(::getpid());
+  fs::remove_all(dir);
   write_dataset(d, dir);
 
   // Read back only from the files, as another program would.
@@ -179,6 +183,7 @@ TEST_P(WrittenDataset, GroundTruthFilesReproduceNoiseFreeTracks) {
     EXPECT_EQ(targets.num_rows(), 44u);
     EXPECT_GE(observations.num_rows(), 4 * 40u);
   }
+  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllScenarios, WrittenDataset, ::testing::Values("lab", "crane", "rover"));
