@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "io_test_folder.h"
 #include "omnisfm/io/gnuplot.h"
@@ -39,6 +40,19 @@ TEST_F(ResidualVectorsPlotTest, GnuplotDrawsInliersOutliersAndObservationsFromTh
   write("residuals.gp", script);
   ASSERT_TRUE(run_gnuplot(path(""), "residuals.gp"));
   EXPECT_GT(std::filesystem::file_size(path("residuals.png")), 1000u);
+}
+
+// A folder whose name holds quotes and the shell's own characters is one word to the shell.
+TEST_F(ResidualVectorsPlotTest, GnuplotRunsInAFolderOfAnyName) {
+  const std::filesystem::path odd = path("it's a \"$(odd)\" name;");
+  std::filesystem::create_directories(odd);
+  {
+    std::ofstream script(odd / "plot.gp");
+    script << "set terminal pngcairo size 200,100\nset output 'plot.png'\nplot x\n";
+  }
+  ASSERT_TRUE(run_gnuplot(odd.string(), "plot.gp"));
+  EXPECT_GT(std::filesystem::file_size(odd / "plot.png"), 100u);
+  EXPECT_FALSE(std::filesystem::exists(odd / "plot.gp.log"));
 }
 
 TEST_F(ResidualVectorsPlotTest, LeavesOutliersOutWithoutTheirLabel) {
