@@ -72,19 +72,18 @@ struct Inputs {
 
 // A pixel beyond the image is a slip of the file, not a measurement: one corner thousands of
 // pixels out had the solve converge at an RMS of 34 px. Bounds as the tracks' (tracks_file.h).
-void require_inside_image(const Eigen::Vector2d& pixel, cv::Size image, const std::string& file,
-                          int line, const std::string& size_source) {
-  if (pixel.x() >= -0.5 && pixel.y() >= -0.5 && pixel.x() <= image.width - 0.5 &&
-      pixel.y() <= image.height - 0.5)
-    return;
+void require_inside_image(const Eigen::Vector2d& pixel, const camera::CatadioptricCamera& camera,
+                          const std::string& file, int line, const std::string& size_source) {
+  if (camera.in_image(pixel)) return;
   std::ostringstream message;
-  message << "pixel (" << pixel.x() << ", " << pixel.y() << ") lies outside the " << image.width
-          << "x" << image.height << " image (" << size_source << ")";
+  message << "pixel (" << pixel.x() << ", " << pixel.y() << ") lies outside the "
+          << camera.image_width() << "x" << camera.image_height() << " image (" << size_source
+          << ")";
   throw io::InputError(file, line, message.str());
 }
 
 Inputs read_inputs(const CalibrateOptions& o, const std::string& camera_description,
-                   cv::Size image) {
+                   const camera::CatadioptricCamera& camera) {
   const std::string size_source =
       o.camera.empty() ? "--image-size, or the images'" : "the size in " + o.camera;
   Inputs inputs;
@@ -93,7 +92,7 @@ Inputs read_inputs(const CalibrateOptions& o, const std::string& camera_descript
     const auto targets = io::read_targets(o.targets);
     const auto rows = io::read_target_observations(o.observations);
     for (const auto& row : rows)
-      require_inside_image(row.pixel, image, o.observations, row.line, size_source);
+      require_inside_image(row.pixel, camera, o.observations, row.line, size_source);
     inputs.views = calib::target_views(targets, rows, o.observations);
     inputs.observations_file = o.observations;
     inputs.description.push_back("targets " + o.targets + " (" + std::to_string(targets.size()) +
@@ -123,7 +122,7 @@ Inputs read_inputs(const CalibrateOptions& o, const std::string& camera_descript
   for (const io::ImageCorners& corners : images)
     for (std::size_t k = 0; k < corners.pixels.size(); ++k)
       if (corners.detected[k])
-        require_inside_image(corners.pixels[k], image, o.corners, corners.lines[k], size_source);
+        require_inside_image(corners.pixels[k], camera, o.corners, corners.lines[k], size_source);
   inputs.views = calib::board_views(images, board, o.corners, board_source);
   inputs.observations_file = o.corners;
   int observations = 0;
@@ -365,8 +364,7 @@ void run_calibrate(CalibrateOptions o) {
   if (!o.images.empty()) o.corners = detect_corners_for(o, start_camera);
   // A generic start is far from the camera: its lens and mirror are freed too.
   if (o.camera.empty() && !o.estimate_given) o.estimate = "mirror-pose,intrinsics,mirror-shape";
-  Inputs inputs = read_inputs(o, start_camera.description,
-                              cv::Size(camera.image_width(), camera.image_height()));
+  Inputs inputs = read_inputs(o, start_camera.description, camera);
   if (inputs.views.empty()) {
     throw io::InputError(inputs.observations_file, 0, "no observations to calibrate from");
   }

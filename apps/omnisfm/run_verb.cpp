@@ -169,14 +169,6 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   return report.str();
 }
 
-bool is_inside(const std::string& file, const std::string& folder) {
-  const std::filesystem::path f = std::filesystem::weakly_canonical(std::filesystem::absolute(file));
-  const std::filesystem::path d =
-      std::filesystem::weakly_canonical(std::filesystem::absolute(folder));
-  const auto mismatch = std::mismatch(d.begin(), d.end(), f.begin(), f.end());
-  return mismatch.first == d.end();
-}
-
 // `--slam-rawlog`: the batch's estimate for stock SLAM apps, into `file` (the rawlog `path` once
 // renamed). Returns the report's line.
 std::string write_slam_rawlog(const std::string& file, const std::string& path,
@@ -236,7 +228,7 @@ void add_run_options(CLI::App* verb, RunVerbOptions* o) {
 // for, and what --slam-rawlog needs; refused combinations name the file.
 RunSettings run_settings_of(const RunVerbOptions& o) {
   RunSettings settings = read_run_settings(o.config);
-  if (!o.slam_rawlog.empty() && is_inside(o.slam_rawlog, o.out))
+  if (!o.slam_rawlog.empty() && io::lies_within(o.slam_rawlog, o.out))
     throw io::InputError(o.slam_rawlog, 0,
                          "is inside the --out folder, which the run replaces whole: put it "
                          "beside it");

@@ -125,6 +125,13 @@ fs::path folder_path(const std::string& given) {
   return path;
 }
 
+bool lies_within(const fs::path& path, const fs::path& folder) {
+  std::error_code ignored;
+  const fs::path inner = fs::weakly_canonical(fs::absolute(path), ignored);
+  const fs::path outer = fs::weakly_canonical(fs::absolute(folder), ignored);
+  return std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end()).first == outer.end();
+}
+
 void check_folder_replaceable(const std::string& dir, const std::vector<std::string>& inputs) {
   if (dir.empty()) throw InputError("--out", 0, "is empty; give a folder");
   const fs::path target = folder_path(dir);
@@ -148,22 +155,13 @@ void check_folder_replaceable(const std::string& dir, const std::vector<std::str
   if (fs::exists(target, ec) && !fs::is_directory(target, ec))
     throw InputError(dir, 0, "exists and is not a folder");
   // Swapped away, the working folder would be deleted from under the shell that is in it.
-  const fs::path working = fs::weakly_canonical(fs::current_path(ec), ec);
-  const fs::path canonical_target = fs::weakly_canonical(target, ec);
-  if (std::mismatch(canonical_target.begin(), canonical_target.end(), working.begin(),
-                    working.end())
-          .first == canonical_target.end())
+  if (lies_within(fs::current_path(ec), target))
     throw InputError(dir, 0, "is the working folder, or holds it: give a folder inside it");
-  for (const std::string& input : inputs) {
-    if (input.empty()) continue;
-    const fs::path file = fs::weakly_canonical(fs::absolute(input), ec);
-    const fs::path folder = fs::weakly_canonical(target, ec);
-    const auto mismatch = std::mismatch(folder.begin(), folder.end(), file.begin(), file.end());
-    if (mismatch.first == folder.end())
+  for (const std::string& input : inputs)
+    if (!input.empty() && lies_within(input, target))
       throw InputError(dir, 0,
                        "holds the input " + input +
                            ", which writing the folder anew would delete: give another folder");
-  }
   if (!fs::is_directory(target, ec)) return;
   if (fs::exists(target / kWrittenFolderMarker, ec)) return;
   fs::directory_iterator entries(target, ec);

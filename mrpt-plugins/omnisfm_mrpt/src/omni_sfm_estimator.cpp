@@ -169,8 +169,6 @@ bool OmniSfmEstimator::is_camera(const mrpt::obs::CObservation& observation) con
 void OmniSfmEstimator::start(const camera::CatadioptricCamera& camera,
                              const mrpt::poses::CPose3D& camera_pose) {
   body_from_cam_ = isometry_of(camera_pose);
-  image_width_ = camera.image_width();
-  image_height_ = camera.image_height();
   collector_.sensors().body_from_cam = body_from_cam_;
   filter_ = std::make_unique<sfm::OnlineFilter>(camera, options_.filter);
   if (point_ended_) filter_->on_point_ended(point_ended_);
@@ -245,25 +243,24 @@ void OmniSfmEstimator::processObservation(const mrpt::obs::CObservation::Ptr& ob
       start(options_.camera ? *options_.camera : features->model.camera(), features->sensorPose);
     }
     // Features of other images than the camera's are refused, as the batch replay refuses them.
-    const auto size_text = [](int width, int height) {
-      return std::to_string(width) + "x" + std::to_string(height);
+    const camera::CatadioptricCamera& camera = filter_->camera();
+    const auto size_text = [](const camera::CatadioptricCamera& c) {
+      return std::to_string(c.image_width()) + "x" + std::to_string(c.image_height());
     };
-    if (features->model.has_camera() && (features->model.camera().image_width() != image_width_ ||
-                                         features->model.camera().image_height() != image_height_))
-      throw std::invalid_argument("the features' camera is " +
-                                  size_text(features->model.camera().image_width(),
-                                            features->model.camera().image_height()) +
-                                  " pixels but the estimator's is " +
-                                  size_text(image_width_, image_height_) +
+    if (features->model.has_camera() &&
+        (features->model.camera().image_width() != camera.image_width() ||
+         features->model.camera().image_height() != camera.image_height()))
+      throw std::invalid_argument("the features' camera is " + size_text(features->model.camera()) +
+                                  " pixels but the estimator's is " + size_text(camera) +
                                   ": give the camera of these images");
     std::vector<sfm::TrackPixel> pixels;
     for (const TrackedFeature& f : features->features) {
-      if (!(f.u >= -0.5 && f.v >= -0.5 && f.u <= image_width_ - 0.5 && f.v <= image_height_ - 0.5))
+      const Eigen::Vector2d pixel(f.u, f.v);
+      if (!camera.in_image(pixel))
         throw std::invalid_argument("track " + std::to_string(f.track) + "'s pixel (" +
                                     io::format_double(f.u) + ", " + io::format_double(f.v) +
-                                    ") lies outside the camera's " +
-                                    size_text(image_width_, image_height_) + " image");
-      pixels.push_back({f.track, Eigen::Vector2d(f.u, f.v)});
+                                    ") lies outside the camera's " + size_text(camera) + " image");
+      pixels.push_back({f.track, pixel});
     }
     process_frame(pixels, mrpt::Clock::toDouble(features->timestamp), observation);
   } else if (const auto image = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(observation)) {

@@ -143,14 +143,12 @@ std::string damage_in(const mrpt::obs::CObservation& observation) {
       // With its camera, a pixel beyond the image is one no camera measured (a stored -1e305 had
       // the batch diverge and the run end as if it had succeeded).
       if (!tracked->model.has_camera()) continue;
-      const int width = tracked->model.camera().image_width();
-      const int height = tracked->model.camera().image_height();
-      if (feature.u < -0.5 || feature.v < -0.5 || feature.u > width - 0.5 ||
-          feature.v > height - 0.5)
+      const camera::CatadioptricCamera& camera = tracked->model.camera();
+      if (!camera.in_image(Eigen::Vector2d(feature.u, feature.v)))
         return "track " + std::to_string(feature.track) + "'s pixel (" +
                io::format_double(feature.u) + ", " + io::format_double(feature.v) +
-               ") lies outside its camera's " + std::to_string(width) + "x" +
-               std::to_string(height) + " image";
+               ") lies outside its camera's " + std::to_string(camera.image_width()) + "x" +
+               std::to_string(camera.image_height()) + " image";
     }
   return "";
 }

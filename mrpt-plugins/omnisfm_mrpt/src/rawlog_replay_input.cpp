@@ -192,9 +192,8 @@ class ReplayPass {
   std::string beyond_the_image(const CObservationTrackedFeatures& features) const {
     const auto& camera = options_.camera ? options_.camera : first_model_;
     if (!camera) return "";
-    const double width = camera->image_width(), height = camera->image_height();
     for (const TrackedFeature& f : features.features)
-      if (!(f.u >= -0.5 && f.v >= -0.5 && f.u <= width - 0.5 && f.v <= height - 0.5))
+      if (!camera->in_image(Eigen::Vector2d(f.u, f.v)))
         return "track " + std::to_string(f.track) + "'s pixel (" + io::format_double(f.u) + ", " +
                io::format_double(f.v) + ") lies outside the camera's " +
                std::to_string(camera->image_width()) + "x" +

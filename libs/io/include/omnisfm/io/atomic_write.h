@@ -33,6 +33,10 @@ inline constexpr const char* kWrittenFolderMarker = ".omnisfm-output";
 // "out" are one folder; "." is the working folder by its name).
 std::filesystem::path folder_path(const std::string& given);
 
+// Whether `path` is `folder` or lies inside it, links resolved (weakly_canonical: either may be
+// missing).
+bool lies_within(const std::filesystem::path& path, const std::filesystem::path& folder);
+
 // What write_folder_atomically(dir) would refuse or lose, checked before a verb's work (the
 // write checks the folder again): throws InputError naming `dir` when the path is empty, names a
 // file, or lies in a folder that is missing or not writable; when the folder exists holding

@@ -300,6 +300,7 @@ class OnlineFilter {
   // from sensor_states()), and a measurement whose given point does not project.
   void linearise_at(LinearisationPoints points) { linearisation_points_ = std::move(points); }
 
+  const camera::CatadioptricCamera& camera() const { return camera_; }
   Eigen::Isometry3d cam_from_world() const { return state_.world_cam_from_world(); }
   // The 6x6 covariance of the pose error (rotation, then translation) in the first frame's gauge.
   // Without odometry it holds the map's scale too (vision_scale_log_sigma()), along the direction

@@ -179,7 +179,6 @@ class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
   std::unique_ptr<track::SequenceTracker> tracker_;
   ImageCameraModels image_models_;
   Eigen::Isometry3d body_from_cam_ = Eigen::Isometry3d::Identity();
-  int image_width_ = 0, image_height_ = 0;  // the camera's, once started: features lie inside
   Eigen::Isometry3d map_from_start_ = Eigen::Isometry3d::Identity();  // initialize's x0
   mrpt::maps::CSimpleMap keyframes_;
   mrpt::poses::CPose3D last_keyframe_pose_;
