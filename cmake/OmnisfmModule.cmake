@@ -22,7 +22,9 @@ function(omnisfm_warnings target)
 endfunction()
 
 # omnisfm_add_test(NAME SOURCES ... DEPS ... [LABELS ...])
-# Labels: unit by default; sanitize for the tests the sanitizer build runs in CI (scripts/test.sh).
+# Labels: unit by default; sanitize for the tests the sanitizer build runs in CI (scripts/test.sh);
+# long for the seed sweeps and long drives, which are given a cost so that a first run, with no
+# timings yet, starts them before the short tests and two cores finish together.
 function(omnisfm_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
   if(NOT ARG_LABELS)
@@ -40,11 +42,15 @@ function(omnisfm_add_test name)
   # OpenBLAS on one thread, as the programs set it (omnisfm::sfm::use_one_blas_thread).
   set(environment "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" "OPENBLAS_NUM_THREADS=1"
       ${OMNISFM_SANITIZER_ENVIRONMENT})
+  set(cost 0)
+  if("long" IN_LIST ARG_LABELS)
+    set(cost 100)
+  endif()
   set(properties_file "${CMAKE_CURRENT_BINARY_DIR}/${name}_properties.cmake")
   file(WRITE "${properties_file}"
        "if(${name}_tests)\n"
        "  set_tests_properties(\${${name}_tests} PROPERTIES\n"
-       "    LABELS \"${ARG_LABELS}\" ENVIRONMENT \"${environment}\")\n"
+       "    LABELS \"${ARG_LABELS}\" COST ${cost} ENVIRONMENT \"${environment}\")\n"
        "endif()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${properties_file}")
 endfunction()
