@@ -36,11 +36,29 @@ std::string sensors_line(const mrpt_plugin::ReplayInput& in) {
   if (in.gps_origin)
     line << " (ENU origin " << in.gps_origin->latitude_deg << " " << in.gps_origin->longitude_deg
          << " " << in.gps_origin->height_m << ")";
-  if (in.out_of_order > 0) line << "; " << in.out_of_order << " dropped, out of time order";
+  if (in.out_of_order > 0)
+    line << "; " << in.out_of_order
+         << " dropped, out of time order or dated ahead of their neighbours";
   line << "\n"
        << "fusion: " << (in.sensors.empty() ? "none: vision alone" : "the sensors with vision")
        << "\n";
   return line.str();
+}
+
+// "; N fixes refused, at odds with the rest (at t1, t2 ... s)" where the fusion left GPS fixes
+// out (SfmResult::refused_gps_fixes), else "".
+std::string refused_fixes_phrase(const sfm::MotionSensors& sensors,
+                                 const std::vector<int>& refused) {
+  if (refused.empty()) return "";
+  constexpr size_t kListed = 10;
+  std::ostringstream phrase;
+  phrase << std::setprecision(15) << "; " << refused.size()
+         << (refused.size() == 1 ? " fix" : " fixes")
+         << " refused, at odds with the rest as the filter's trajectory places them (at ";
+  for (size_t i = 0; i < std::min(refused.size(), kListed); ++i)
+    phrase << (i > 0 ? ", " : "") << sensors.gps[refused[i]].timestamp;
+  phrase << (refused.size() > kListed ? ", ..." : "") << " s)";
+  return phrase.str();
 }
 
 // Whether the stated noise models fit the fused batch's residuals.
@@ -130,10 +148,11 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   };
   // The filter lives only as long as the replay: what it holds, and its bias, are taken at its end.
   std::optional<Eigen::Vector3d> bias, bias_sigma;
-  long not_admitted = 0;
+  long not_admitted = 0, refused_motions = 0;
   outputs.end = [&](const sfm::OnlineFilter& f) {
     out.take_what_is_held(f);
     not_admitted = f.not_admitted();
+    refused_motions = f.refused_motions();
     bias = f.gyro_bias();
     bias_sigma = f.gyro_bias_covariance().diagonal().cwiseSqrt();
   };
@@ -143,6 +162,8 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   const mrpt_plugin::OnlineReplaySummary summary =
       mrpt_plugin::replay_online(rawlog, replay, outputs, progress.callback());
   check_replayed(rawlog, summary.read.problem, bias ? summary.frames : 0, strict, "replayed");
+  if (refused_motions > 0)
+    std::cerr << "omnisfm: warning: " << sfm::refused_motion_line(refused_motions, {}, false);
   std::ostringstream report;
   if (!summary.read.complete()) report << "rawlog damaged: " << summary.read.problem << "\n";
   report << "rawlog " << rawlog << ": " << summary.read.objects << " objects; vision from "
@@ -154,6 +175,7 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
          << summary.gps
          << " GPS readings (GPS needs the batch: the filter takes odometry and "
             "gyro)\n"
+         << sfm::refused_motion_line(refused_motions, {}, false)
          << "online only ([sfm] batch = false): the rawlog read and results written object by "
             "object (no scene.3Dscene, geodetic.vnl or residual plots)\n";
   if (settings.replay.camera)
@@ -262,7 +284,10 @@ std::string batch_run_report(const RunVerbOptions& o, const RunSettings& setting
          << in.vision << "\n"
          << "frames " << result.num_frames << ", observations " << in.tracks.size() << ", "
          << sfm::outliers_phrase(result, settings.sfm.filter.pixel_sigma) << "\n"
-         << sensors_line(in) << sfm::considered_camera_line(*in.camera, settings.sfm.filter)
+         << sensors_line(in)
+         << sfm::refused_motion_line(static_cast<long>(result.refused_motion_frames.size()),
+                                     result.refused_motion_frames, settings.sfm.run_batch)
+         << sfm::considered_camera_line(*in.camera, settings.sfm.filter)
          << sfm::batch_line(result.batch) << sfm::scale_line(result, settings.sfm.batch)
          << sfm::camera_line(*in.camera, result.batch, settings.sfm.batch)
          << (in.sensors.empty() ? "" : noise_check_line(result.batch))
@@ -295,6 +320,13 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
   }
   // Camera frames after the last one with tracks have no pose: their times go too.
   in.frame_times.resize(result.num_frames);
+  if (!result.refused_gps_fixes.empty())
+    std::cerr << "omnisfm: warning: GPS"
+              << refused_fixes_phrase(in.sensors, result.refused_gps_fixes) << "\n";
+  if (!result.refused_motion_frames.empty())
+    std::cerr << "omnisfm: warning: "
+              << sfm::refused_motion_line(static_cast<long>(result.refused_motion_frames.size()),
+                                          result.refused_motion_frames, true);
   if (!result.batch.converged && result.batch.world_from_cam.empty())
     throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
@@ -304,10 +336,10 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
   // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
   const bool geodetic = in.gps_origin && result.world_is_enu;
   if (geodetic) {
-    const sfm::GpsResiduals gps =
-        sfm::gps_residuals(result.batch.world_from_cam, in.frame_times, in.sensors);
+    const sfm::GpsResiduals gps = sfm::gps_residuals(result.batch.world_from_cam, in.frame_times,
+                                                     in.sensors, result.refused_gps_fixes);
     report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
-           << " m against it\n";
+           << " m against it" << refused_fixes_phrase(in.sensors, result.refused_gps_fixes) << "\n";
   }
   eval::TruthComparison comparison;
   if (!truth.empty()) {

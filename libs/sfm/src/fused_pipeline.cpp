@@ -5,8 +5,10 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
+#include "omnisfm/core/percentile.h"
 #include "omnisfm/core/pose_direction.h"
 #include "omnisfm/sfm/frame_motion.h"
 #include "omnisfm/sfm/motion_prediction.h"
@@ -17,24 +19,38 @@
 namespace omnisfm::sfm {
 namespace {
 
-// A GPS fix placed between two frames: alpha of the way from frame k to frame k + 1.
+// A GPS fix placed between two frames: alpha of the way from frame k to frame k + 1; `index` is
+// its place in MotionSensors::gps.
 struct FixPlacement {
   const GpsSample* fix;
+  int index;
   int k;
   double alpha;
 };
 
+// The fixes within the frames' time span, but those in `refused` (indices into gps).
 std::vector<FixPlacement> place_fixes(const std::vector<GpsSample>& gps,
-                                      const std::vector<double>& times) {
+                                      const std::vector<double>& times,
+                                      const std::vector<int>& refused = {}) {
   std::vector<FixPlacement> placed;
-  for (const auto& fix : gps) {
+  for (size_t i = 0; i < gps.size(); ++i) {
+    const GpsSample& fix = gps[i];
     if (fix.timestamp < times.front() || fix.timestamp > times.back()) continue;
+    if (std::find(refused.begin(), refused.end(), static_cast<int>(i)) != refused.end()) continue;
     const auto after = std::upper_bound(times.begin(), times.end(), fix.timestamp);
     const int k = std::min(static_cast<int>(after - times.begin()) - 1,
                            static_cast<int>(times.size()) - 2);
-    placed.push_back({&fix, k, (fix.timestamp - times[k]) / (times[k + 1] - times[k])});
+    placed.push_back(
+        {&fix, static_cast<int>(i), k, (fix.timestamp - times[k]) / (times[k + 1] - times[k])});
   }
   return placed;
+}
+
+// A fix's misfit in its own sigmas (horizontal, horizontal, vertical).
+double fix_sigmas(const GpsSample& fix, const Eigen::Vector3d& misfit) {
+  return std::sqrt(std::pow(misfit.x() / fix.horizontal_sigma, 2) +
+                   std::pow(misfit.y() / fix.horizontal_sigma, 2) +
+                   std::pow(misfit.z() / fix.vertical_sigma, 2));
 }
 
 Eigen::Vector3d antenna_in_cam(const MotionSensors& sensors) {
@@ -56,9 +72,19 @@ Eigen::Vector3d antenna_at(const std::vector<Eigen::Isometry3d>& cam_from_world,
 // and the gyro's bias, which it re-integrates the gyro about each time it enters a problem.
 class MotionTerms : public ExtraTerms {
  public:
+  // `refused_frames`: those whose interval from the previous frame the images showed the
+  // odometry and gyro mispredicted (SfmResult::refused_motion_frames), left out.
+  // `refused_fixes`: the GPS fixes at odds with the rest (SfmResult::refused_gps_fixes), left
+  // out.
   MotionTerms(const MotionSensors& sensors, const std::vector<double>& times,
-              const Eigen::Vector3d& gyro_bias)
-      : sensors_(sensors), times_(times), scale_(sensors.odometry_scale), bias_(gyro_bias) {}
+              const Eigen::Vector3d& gyro_bias, const std::vector<int>& refused_frames,
+              const std::vector<int>& refused_fixes)
+      : sensors_(sensors),
+        times_(times),
+        refused_(refused_frames.begin(), refused_frames.end()),
+        refused_fixes_(refused_fixes),
+        scale_(sensors.odometry_scale),
+        bias_(gyro_bias) {}
 
   bool add(ceres::Problem* problem, std::vector<PoseVector>* poses) override {
     scale_sigma_ = NAN;
@@ -66,6 +92,7 @@ class MotionTerms : public ExtraTerms {
     const std::vector<FrameMotion> motions = frame_motions(sensors_, times_, bias_);
     bool odometry = false, gyro = false;
     for (size_t k = 0; k < motions.size(); ++k) {
+      if (refused_.count(static_cast<int>(k) + 1)) continue;
       double* from = (*poses)[k].data();
       double* to = (*poses)[k + 1].data();
       if (motions[k].odometry.valid) {
@@ -100,7 +127,7 @@ class MotionTerms : public ExtraTerms {
     }
     const Eigen::Vector3d antenna = antenna_in_cam(sensors_);
     int fixes = 0;
-    for (const auto& p : place_fixes(sensors_.gps, times_)) {
+    for (const auto& p : place_fixes(sensors_.gps, times_, refused_fixes_)) {
       const Eigen::Matrix3d covariance =
           Eigen::Vector3d(std::pow(p.fix->horizontal_sigma, 2), std::pow(p.fix->horizontal_sigma, 2),
                           std::pow(p.fix->vertical_sigma, 2))
@@ -131,6 +158,8 @@ class MotionTerms : public ExtraTerms {
  private:
   const MotionSensors& sensors_;
   const std::vector<double>& times_;
+  const std::set<int> refused_;
+  const std::vector<int> refused_fixes_;
   double scale_;
   Eigen::Vector3d bias_;
   bool fixes_scale_ = false;
@@ -142,13 +171,15 @@ class MotionTerms : public ExtraTerms {
 // least squares on the gyro residual about zero bias: a starting point for the batch.
 Eigen::Vector3d bias_from_filter(const std::vector<FrameMotion>& motions,
                                  const std::vector<Eigen::Isometry3d>& cam_from_world,
-                                 const Eigen::Isometry3d& body_from_cam) {
+                                 const Eigen::Isometry3d& body_from_cam,
+                                 const std::vector<int>& refused_frames) {
+  const std::set<int> refused(refused_frames.begin(), refused_frames.end());
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   const Eigen::Matrix3d R_bc = body_from_cam.linear();
   for (size_t k = 0; k < motions.size(); ++k) {
     const GyroIncrement& g = motions[k].gyro;
-    if (!g.valid) continue;
+    if (!g.valid || refused.count(static_cast<int>(k) + 1)) continue;
     // r(b) = Log((dR Exp(J b))^T Q) ~= r(0) - J b for the small rotations between frames.
     const Eigen::Matrix3d Q = R_bc * cam_from_world[k].linear() *
                               cam_from_world[k + 1].linear().transpose() * R_bc.transpose();
@@ -164,25 +195,70 @@ Eigen::Vector3d bias_from_filter(const std::vector<FrameMotion>& motions,
 // metric already) that best maps its antenna positions at the fixes' times onto the fixes. Its
 // poses are moved as the filter held them (online_cam_from_world, the batch's start), and
 // result's world_from_cam made from those.
-void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
-                   std::vector<Eigen::Isometry3d>* online_cam_from_world, SfmResult* result) {
-  const std::vector<FixPlacement> placed = place_fixes(sensors.gps, times);
-  const Eigen::Vector3d antenna = antenna_in_cam(sensors);
+// The similarity (rigid when `metric`) that best maps the filter's antenna positions at the
+// placed fixes onto them.
+Eigen::Matrix4d enu_from_filter(const std::vector<FixPlacement>& placed,
+                                const std::vector<Eigen::Isometry3d>& online_cam_from_world,
+                                const Eigen::Vector3d& antenna, bool metric) {
   Eigen::Matrix3Xd from(3, placed.size()), to(3, placed.size());
   for (size_t i = 0; i < placed.size(); ++i) {
-    from.col(i) = antenna_at(*online_cam_from_world, placed[i], antenna);
+    from.col(i) = antenna_at(online_cam_from_world, placed[i], antenna);
     to.col(i) = placed[i].fix->enu;
   }
+  return Eigen::umeyama(from, to, !metric);
+}
+
+// The fixes at odds with the rest, as the filter's trajectory (which no fix has moved) places
+// them: the worst one taken out and the fit redone while it is beyond kFixOutlierSigmas of its
+// own noise and beyond kFixOutlierSpreads times the fixes' robust spread about the fit (the
+// filter's drift over a long run leaves good fixes metres off), keeping at least half of them.
+std::vector<int> fixes_at_odds(const std::vector<FixPlacement>& all,
+                               const std::vector<Eigen::Isometry3d>& online_cam_from_world,
+                               const Eigen::Vector3d& antenna, bool metric) {
+  // chi-square(3)'s 1 - 1e-6 quantile, as a distance; the robust spread from the median misfit.
+  constexpr double kFixOutlierSigmas = 5.54;
+  constexpr double kFixOutlierSpreads = 5;
+  std::vector<FixPlacement> kept = all;
+  std::vector<int> refused;
+  while (2 * (kept.size() - 1) >= all.size() && kept.size() > 3) {
+    const Eigen::Matrix4d S = enu_from_filter(kept, online_cam_from_world, antenna, metric);
+    std::vector<double> misfit_m, sigmas;
+    for (const FixPlacement& p : kept) {
+      const Eigen::Vector3d from = antenna_at(online_cam_from_world, p, antenna);
+      const Eigen::Vector3d misfit =
+          S.topLeftCorner<3, 3>() * from + S.topRightCorner<3, 1>() - p.fix->enu;
+      misfit_m.push_back(misfit.norm());
+      sigmas.push_back(fix_sigmas(*p.fix, misfit));
+    }
+    const double spread = 1.4826 * core::percentile(misfit_m, 0.5);
+    const size_t worst = std::max_element(sigmas.begin(), sigmas.end()) - sigmas.begin();
+    if (!(sigmas[worst] > kFixOutlierSigmas && misfit_m[worst] > kFixOutlierSpreads * spread))
+      break;
+    refused.push_back(kept[worst].index);
+    kept.erase(kept.begin() + static_cast<long>(worst));
+  }
+  std::sort(refused.begin(), refused.end());
+  return refused;
+}
+
+void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
+                   std::vector<Eigen::Isometry3d>* online_cam_from_world, SfmResult* result) {
+  const Eigen::Vector3d antenna = antenna_in_cam(sensors);
+  std::vector<FixPlacement> placed = place_fixes(sensors.gps, times);
   if (placed.size() < 3)
     throw std::invalid_argument("GPS: " + std::to_string(placed.size()) +
                                 " fixes within the frames' time span; at least 3 are needed");
+  Eigen::Matrix3Xd to(3, placed.size());
+  for (size_t i = 0; i < placed.size(); ++i) to.col(i) = placed[i].fix->enu;
   const Eigen::Matrix3Xd centred = to.colwise() - to.rowwise().mean();
   const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
   const double sigma = sensors.gps.front().horizontal_sigma;
   if (!(spread[1] > 3 * sigma * std::sqrt(static_cast<double>(placed.size()))))
     throw std::invalid_argument(
         "GPS: the fixes lie on a line (within their noise); the heading about it cannot be fixed");
-  const Eigen::Matrix4d S = Eigen::umeyama(from, to, !metric);
+  result->refused_gps_fixes = fixes_at_odds(placed, *online_cam_from_world, antenna, metric);
+  placed = place_fixes(sensors.gps, times, result->refused_gps_fixes);
+  const Eigen::Matrix4d S = enu_from_filter(placed, *online_cam_from_world, antenna, metric);
   const double scale = S.topLeftCorner<3, 3>().col(0).norm();
   const Eigen::Matrix3d R = S.topLeftCorner<3, 3>() / scale;
   const Eigen::Vector3d t = S.topRightCorner<3, 1>();
@@ -240,7 +316,9 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   if (!settings.run_batch) return result;
 
   MotionTerms terms(sensors, times,
-                    bias_from_filter(motions, online_cam_from_world, sensors.body_from_cam));
+                    bias_from_filter(motions, online_cam_from_world, sensors.body_from_cam,
+                                     result.refused_motion_frames),
+                    result.refused_motion_frames, result.refused_gps_fixes);
   adjust_on_inliers(camera, tracks, settings, online_cam_from_world, &terms, &result);
   result.odometry_scale = terms.scale();
   result.gyro_bias = terms.bias();
@@ -250,14 +328,14 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
 }
 
 GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& world_from_cam,
-                          const std::vector<double>& frame_timestamps,
-                          const MotionSensors& sensors) {
+                           const std::vector<double>& frame_timestamps,
+                           const MotionSensors& sensors, const std::vector<int>& refused_fixes) {
   GpsResiduals r;
   if (frame_timestamps.size() < 2) return r;
   const Eigen::Vector3d antenna = antenna_in_cam(sensors);
   const std::vector<Eigen::Isometry3d> cam_from_world = core::inverted(world_from_cam);
   double sum = 0;
-  for (const auto& p : place_fixes(sensors.gps, frame_timestamps)) {
+  for (const auto& p : place_fixes(sensors.gps, frame_timestamps, refused_fixes)) {
     sum += (antenna_at(cam_from_world, p, antenna) - p.fix->enu).squaredNorm();
     ++r.fixes;
   }

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -25,6 +26,9 @@ constexpr double kPredictionPatchMargin = 0.05;
 
 // Updates after which a point's depth counts as established (see update()).
 constexpr int kEstablishedUpdates = 2;
+// Fewer established points than this do not judge a predicted motion (OnlineFilter::
+// on_motion_refused): a handful of mistracks could outvote the sensors.
+constexpr int kMinPointsToJudgeMotion = 8;
 // The outlier scores the noise is measured over (FilterSettings::measure_noise), and how many it
 // needs first.
 constexpr std::size_t kNoiseWindow = 400;
@@ -508,6 +512,39 @@ void OnlineFilter::accept(Candidate* c) {
   state_.restore_considered_covariance(considered);
 }
 
+bool OnlineFilter::motion_misfits(const std::map<int, Eigen::Vector2d>& seen,
+                                  const std::vector<Measurement>& measurements) const {
+  std::vector<double> scores;
+  for (const auto& [track, pixel] : seen) {
+    const int slot = state_.slot_of(track);
+    // Those that do not project at the propagated state count as beyond any bound.
+    if (slot >= 0 && state_.anchor(slot).updates >= kEstablishedUpdates)
+      scores.push_back(std::numeric_limits<double>::infinity());
+  }
+  if (static_cast<int>(scores.size()) < kMinPointsToJudgeMotion) return false;
+  size_t k = 0;
+  for (const Measurement& m : measurements)
+    if (state_.anchor(m.slot).updates >= kEstablishedUpdates) scores[k++] = prior_chi2(m);
+  return !(core::percentile(scores, 0.5) <= settings_.outlier_chi2);
+}
+
+bool OnlineFilter::fits_after_update(const std::vector<Measurement>& measurements) const {
+  std::vector<int> established;
+  for (size_t k = 0; k < measurements.size(); ++k)
+    if (state_.anchor(measurements[k].slot).updates >= kEstablishedUpdates)
+      established.push_back(static_cast<int>(k));
+  if (static_cast<int>(established.size()) < kMinPointsToJudgeMotion) return false;
+  Candidate candidate;
+  update(measurements, false, &candidate);
+  if (candidate.PHt.size() == 0) return false;
+  const std::vector<double> all =
+      posterior_chi2(candidate.S_factor, candidate.residual, pixel_sigma() * pixel_sigma(),
+                     candidate.unestimated.size() > 0 ? &candidate.unestimated : nullptr);
+  std::vector<double> scores;
+  for (int k : established) scores.push_back(all[k]);
+  return core::percentile(scores, 0.5) <= settings_.outlier_chi2;
+}
+
 double OnlineFilter::prior_chi2(const Measurement& m) const {
   constexpr int kSize = FilterState::kPointSize;
   const int c = state_.point_column(m.slot);
@@ -698,6 +735,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
       add_point(track, pixel);
     }
     record_start_frame(frame, observations, nullptr, state_.mean.sensors);
+    last_pose_ = state_.world_cam_from_world();
     return true;
   }
 
@@ -716,13 +754,19 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     if (window) open_window();
   }
   const SensorStates predicted_at = state_.mean.sensors;
-  if (motion)
-    propagate(*motion);
-  else
+  const MotionPrediction* given = motion;
+  std::vector<Measurement> measurements;
+  if (motion) {
+    measurements = propagate_checked(seen, &motion);
+  } else {
     propagate();
+    measurements = measurements_of(seen);
+  }
+  // A refused motion's constant-velocity prediction is as loose as the random walk, and updated
+  // as under it.
+  const bool sensors_predicted = motion != nullptr && motion == given;
 
   std::set<int> rejected_slots;
-  std::vector<Measurement> measurements = measurements_of(seen);
   // The window's pixels, while one is open: those measured (the rejected leave it) and the new
   // points' first.
   std::set<int> window_tracks;
@@ -730,7 +774,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     for (const Measurement& m : measurements) window_tracks.insert(state_.track_of(m.slot));
   if (motion) predicted_ = true;
   const bool updated =
-      update_rejecting_outliers(std::move(measurements), motion != nullptr, &rejected_slots);
+      update_rejecting_outliers(std::move(measurements), sensors_predicted, &rejected_slots);
   // Named by track: removing a slot moves another into its place.
   std::vector<int> rejected_tracks;
   for (int slot : rejected_slots) rejected_tracks.push_back(state_.track_of(slot));
@@ -747,7 +791,18 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     }
   record_start_frame(frame, observations, motion, predicted_at);
   record_window_frame(seen, window_tracks);
+  note_pose();
   return updated;
+}
+
+void OnlineFilter::note_pose() {
+  const Eigen::Isometry3d pose = state_.world_cam_from_world();
+  // The smoothed start may just have revised the previous frame.
+  const auto smoothed = smoothed_start_.find(previous_frame_);
+  const Eigen::Isometry3d& previous =
+      smoothed != smoothed_start_.end() ? smoothed->second : last_pose_;
+  last_motion_ = pose * previous.inverse();
+  last_pose_ = pose;
 }
 
 void OnlineFilter::finish_start() {

@@ -64,4 +64,63 @@ void OnlineFilter::propagate(const MotionPrediction& motion) {
   P.block<3, 3>(kBiasColumn, kBiasColumn).diagonal().array() += motion.bias_walk_variance;
 }
 
+OnlineFilter::BeforePropagation OnlineFilter::before_propagation() const {
+  constexpr int kBiasColumn = FilterState::kBiasColumn;
+  return {state_.mean, state_.P.topRows<6>(), state_.P.block<3, 3>(kBiasColumn, kBiasColumn)};
+}
+
+void OnlineFilter::restore(const BeforePropagation& before) {
+  state_.mean = before.mean;
+  state_.P.topRows<6>() = before.pose_rows;
+  state_.P.leftCols<6>() = before.pose_rows.transpose();
+  state_.P.block<3, 3>(FilterState::kBiasColumn, FilterState::kBiasColumn) = before.bias_block;
+}
+
+MotionPrediction OnlineFilter::constant_velocity() const {
+  MotionPrediction prediction;
+  prediction.cam_from_previous_cam = last_motion_;
+  prediction.covariance.topLeftCorner<3, 3>().diagonal().setConstant(settings_.rotation_walk_sigma *
+                                                                     settings_.rotation_walk_sigma);
+  prediction.covariance.bottomRightCorner<3, 3>().diagonal().setConstant(
+      settings_.translation_walk_sigma * settings_.translation_walk_sigma);
+  return prediction;
+}
+
+std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
+    const std::map<int, Eigen::Vector2d>& seen, const MotionPrediction** motion) {
+  const MotionPrediction& given = **motion;
+  // A prediction that starts a sensor's state is not taken back (the first frames have no
+  // established points to judge it by anyway), nor one a consistency study linearises.
+  const bool starts_a_state = (!bias_started_ && given.bias_prior_variance > 0) ||
+                              (!scale_started_ && given.wheel_scale_prior_variance > 0);
+  if (starts_a_state || at_given_points()) {
+    propagate(given);
+    return measurements_of(seen);
+  }
+  const BeforePropagation before = before_propagation();
+  const bool distance_measured = distance_measured_;
+  propagate(given);
+  std::vector<Measurement> measurements = measurements_of(seen);
+  if (!motion_misfits(seen, measurements)) return measurements;
+
+  restore(before);
+  distance_measured_ = distance_measured;
+  const MotionPrediction fallback = constant_velocity();
+  propagate(fallback);
+  std::vector<Measurement> alternative = measurements_of(seen);
+  // The prediction, as loose as the random walk, fits each measurement alone; the images must
+  // also agree on one pose.
+  if (motion_misfits(seen, alternative) || !fits_after_update(alternative)) {
+    // The images agree with neither: they are the suspects, and the sensors' motion stands.
+    restore(before);
+    propagate(given);
+    return measurements;
+  }
+  ++refused_motions_;
+  if (motion_refused_) motion_refused_(frame_);
+  fallback_motion_ = fallback;
+  *motion = &fallback_motion_;
+  return alternative;
+}
+
 }  // namespace omnisfm::sfm

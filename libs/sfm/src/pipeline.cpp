@@ -57,6 +57,7 @@ std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& came
     result->outliers.push_back(rejected);
     result->online_points.erase(rejected.track);
   });
+  filter.on_motion_refused([result](int frame) { result->refused_motion_frames.push_back(frame); });
   const int num_frames = static_cast<int>(by_frame.size());
   std::vector<Eigen::Isometry3d> cam_from_world;
   for (int f = 0; f < num_frames; ++f) {

@@ -1,10 +1,12 @@
 #include "omnisfm/sfm/sfm_report.h"
 
-#include "omnisfm/core/mahalanobis.h"
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
+
+#include "omnisfm/core/mahalanobis.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -35,6 +37,24 @@ std::string measured_noise_phrase(double taken_px, double stated_px) {
                 "pixel_sigma says %.3g)",
                 taken_px, stated_px);
   return phrase;
+}
+
+std::string refused_motion_line(long count, const std::vector<int>& frames, bool batch) {
+  if (count <= 0) return "";
+  constexpr size_t kListed = 10;
+  std::ostringstream line;
+  line << "motion sensors refused: in " << count << (count == 1 ? " frame" : " frames")
+       << " the images showed the odometry and gyro's motion grossly wrong (a jump, a spike, a "
+          "misdated reading)";
+  if (!frames.empty()) {
+    line << ": frame" << (frames.size() == 1 ? " " : "s ");
+    for (size_t i = 0; i < std::min(frames.size(), kListed); ++i)
+      line << (i > 0 ? ", " : "") << frames[i];
+    if (frames.size() > kListed) line << ", ...";
+  }
+  line << "; the filter took its own constant-velocity prediction there"
+       << (batch ? " and the batch left those readings out" : "") << "\n";
+  return line.str();
 }
 
 std::string not_admitted_phrase(long observations) {

@@ -229,6 +229,7 @@ TEST(FusedAccuracy, CraneWithGyroOnly) {
               similarity.mean_rotation_error_deg);
   EXPECT_LT(similarity.translation_error_percent, 0.79);
   EXPECT_LT(similarity.mean_rotation_error_deg, 1.61);
+  EXPECT_TRUE(r.refused_motion_frames.empty()) << "a good gyro refused";
   EXPECT_LT((r.gyro_bias - s.dead_reckoning.gyro_bias_at_start).cwiseAbs().maxCoeff(), 3e-4);
   EXPECT_EQ(r.batch.scale_source, BatchScale::kHeldAtStart);
   EXPECT_GT(r.batch.scale_sigma_relative, kMaxFreeScaleSigma);

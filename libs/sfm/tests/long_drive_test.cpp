@@ -47,6 +47,8 @@ TEST(LongDrive, OdometryAndGyroHoldOnePercentOverSixHundredMetres) {
     // 11.5-12.6 deg before each point's anchor was a state and the priors were taken back.
     EXPECT_LT(rigid.translation_error_percent, 1.0) << "seed " << seed;
     EXPECT_TRUE(r.outliers.empty()) << r.outliers.size() << " good tracks rejected";
+    EXPECT_TRUE(r.refused_motion_frames.empty())
+        << r.refused_motion_frames.size() << " good predictions refused";
   }
 }
 

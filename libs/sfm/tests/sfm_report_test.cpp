@@ -67,6 +67,24 @@ TEST(SfmReport, OutliersPhraseCountsWhatTheBatchTookBack) {
             "tracks' measured noise, 0.52 px per coordinate, where pixel_sigma says 0.3)");
 }
 
+TEST(SfmReport, RefusedMotionLineListsTheFramesAndWhatWasDone) {
+  EXPECT_EQ(refused_motion_line(0, {}, true), "");
+  EXPECT_EQ(refused_motion_line(1, {75}, true),
+            "motion sensors refused: in 1 frame the images showed the odometry and gyro's motion "
+            "grossly wrong (a jump, a spike, a misdated reading): frame 75; the filter took its "
+            "own constant-velocity prediction there and the batch left those readings out\n");
+  std::vector<int> many;
+  for (int f = 1; f <= 12; ++f) many.push_back(10 * f);
+  const std::string listed = refused_motion_line(12, many, true);
+  EXPECT_NE(listed.find("in 12 frames"), std::string::npos) << listed;
+  EXPECT_NE(listed.find("frames 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, ...;"), std::string::npos)
+      << listed;
+  const std::string streamed = refused_motion_line(3, {}, false);
+  EXPECT_NE(streamed.find("in 3 frames"), std::string::npos) << streamed;
+  EXPECT_EQ(streamed.find("batch"), std::string::npos) << streamed;
+  EXPECT_EQ(streamed.find("frame "), std::string::npos) << streamed;
+}
+
 TEST(SfmReport, BatchLineGivesTheSolveAndItsResiduals) {
   BatchResult batch;
   batch.converged = true;

@@ -23,9 +23,20 @@ double unwrapped(double from, double to) {
   return to - 2 * M_PI * std::round((to - from) / (2 * M_PI));
 }
 
+// Whether a reading at `timestamp` may join `samples` in time order. One earlier than the last
+// but not than the one before is taken as the last's successor, and the last, dated ahead of
+// both its neighbours, is dropped (a single misdated reading would otherwise hold its
+// predecessor's rate over every later frame and refuse every later reading); it counts in
+// `dropped`, as does a reading refused.
 template <typename T>
-bool in_time_order(const std::vector<T>& samples, double timestamp) {
-  return samples.empty() || timestamp >= samples.back().timestamp;
+bool make_room_in_time_order(std::vector<T>* samples, double timestamp, std::size_t* dropped) {
+  if (samples->empty() || timestamp >= samples->back().timestamp) return true;
+  ++*dropped;
+  if (samples->size() >= 2 && timestamp >= (*samples)[samples->size() - 2].timestamp) {
+    samples->pop_back();
+    return true;
+  }
+  return false;
 }
 
 // Erases the samples before the last one at or before `timestamp`.
@@ -78,10 +89,7 @@ void MotionSensorCollector::note_time(double timestamp) {
 
 bool MotionSensorCollector::add_odometry(double timestamp, Eigen::Vector3d pose) {
   std::vector<sfm::OdometrySample>& odometry = sensors_.odometry;
-  if (!in_time_order(odometry, timestamp)) {
-    ++out_of_order_;
-    return false;
-  }
+  if (!make_room_in_time_order(&odometry, timestamp, &out_of_order_)) return false;
   if (!odometry.empty()) pose.z() = unwrapped(odometry.back().pose.z(), pose.z());
   odometry.push_back({timestamp, pose});
   return true;
@@ -131,10 +139,7 @@ bool MotionSensorCollector::add_gyro(const mrpt::obs::CObservation& observation,
   const auto& imu = dynamic_cast<const mrpt::obs::CObservationIMU&>(observation);
   if (!imu.has(mrpt::obs::IMU_WX) || !imu.has(mrpt::obs::IMU_WY) || !imu.has(mrpt::obs::IMU_WZ))
     return false;
-  if (!in_time_order(sensors_.gyro, timestamp)) {
-    ++out_of_order_;
-    return false;
-  }
+  if (!make_room_in_time_order(&sensors_.gyro, timestamp, &out_of_order_)) return false;
   const Eigen::Vector3d rate_in_sensor(imu.get(mrpt::obs::IMU_WX), imu.get(mrpt::obs::IMU_WY),
                                        imu.get(mrpt::obs::IMU_WZ));
   const Eigen::Matrix3d body_from_sensor = imu.sensorPose.getRotationMatrix().asEigen();
@@ -149,10 +154,7 @@ bool MotionSensorCollector::add_gps(const mrpt::obs::CObservation& observation,
   if (!gps.hasMsgClass<mrpt::obs::gnss::Message_NMEA_GGA>()) return false;
   const auto* gga = &gps.getMsgByClass<mrpt::obs::gnss::Message_NMEA_GGA>();
   if (gga->fields.fix_quality == 0) return false;
-  if (!in_time_order(sensors_.gps, timestamp)) {
-    ++out_of_order_;
-    return false;
-  }
+  if (!make_room_in_time_order(&sensors_.gps, timestamp, &out_of_order_)) return false;
   const GeodeticPoint where{gga->fields.latitude_degrees, gga->fields.longitude_degrees,
                             gga->fields.altitude_meters + gga->fields.geoidal_distance};
   if (!enu_) enu_.emplace(where);

@@ -192,11 +192,17 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
                                      double timestamp,
                                      const mrpt::obs::CObservation::Ptr& observation) {
   const sfm::MotionSensors& sensors = collector_.sensors();
-  if (frames_ > 0 && (!sensors.odometry.empty() || !sensors.gyro.empty()))
+  if (frames_ > 0 && (!sensors.odometry.empty() || !sensors.gyro.empty())) {
+    const long refused = filter_->refused_motions();
     filter_->process_frame(frames_, pixels,
                            sfm::predict_camera_motion(sensors, previous_frame_time_, timestamp,
                                                       options_.filter, filter_->sensor_states()));
-  else
+    if (filter_->refused_motions() > refused)
+      MRPT_LOG_WARN_STREAM("frame at " << io::format_double(timestamp)
+                                       << " s: the images showed the odometry and gyro's motion "
+                                          "grossly wrong; the filter took its own "
+                                          "constant-velocity prediction");
+  } else
     filter_->process_frame(frames_, pixels);
   previous_frame_time_ = timestamp;
   collector_.forget_before(timestamp);  // an endless run keeps no sensor history
@@ -306,6 +312,15 @@ std::map<int, Eigen::Vector3d> OmniSfmEstimator::points() const {
   if (!filter_) return in_map;
   const Eigen::Isometry3d map_from_world = mapFromWorld();
   for (const auto& [track, p] : filter_->points()) in_map[track] = map_from_world * p;
+  return in_map;
+}
+
+std::map<int, mrpt::poses::CPose3D> OmniSfmEstimator::smoothedStartPoses() const {
+  std::map<int, mrpt::poses::CPose3D> in_map;
+  if (!filter_) return in_map;
+  const Eigen::Isometry3d map_from_world = mapFromWorld();
+  for (const auto& [frame, cam_from_world] : filter_->smoothed_start())
+    in_map[frame] = pose_of(map_from_world * cam_from_world.inverse() * body_from_cam_.inverse());
   return in_map;
 }
 

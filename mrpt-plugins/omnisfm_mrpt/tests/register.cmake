@@ -17,6 +17,7 @@ omnisfm_add_test(omnisfm_mrpt_tests
     tests/pose_graph_file_test.cpp
     tests/slam_rawlog_test.cpp
     tests/estimator_options_test.cpp
+    tests/motion_sensor_collector_test.cpp
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io omnisfm::sfm mrpt::obs mrpt::img mrpt::io
        mrpt::poses mrpt::serialization mrpt::opengl mrpt::graphs mrpt::slam mrpt::maps
        opencv_imgcodecs

@@ -9,7 +9,10 @@
 //     in the first camera's frame; its estimate is then moved into ENU by the similarity (rigid,
 //     with odometry) that best fits its antenna positions to the fixes, and the batch holds no
 //     pose: the fixes fix the gauge. They must span at least 3 non-collinear positions (the
-//     rotation about a straight path is not observable otherwise).
+//     rotation about a straight path is not observable otherwise). A fix at odds with the rest
+//     as the filter's trajectory places them (beyond its own noise's 1 - 1e-6 bound, and five
+//     times the fixes' robust spread about the fit) is left out of both, and listed in
+//     result.refused_gps_fixes.
 //   - otherwise: the first camera's frame, its pose the identity, as run_sfm's. With odometry the
 //     scale is metric (the odometry's, times its estimated scale: see MotionSensors::
 //     odometry_scale); with a gyro alone it is only as good as the noncentral camera makes it.
@@ -35,14 +38,16 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
                         const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
                         const SfmSettings& settings, const Progress& progress = nullptr);
 
-// The GPS fixes within the frames' time span against an estimate in their ENU frame: each fix
-// against the antenna's position between the frames around it, as the batch's GPS terms see it.
+// The GPS fixes within the frames' time span (but the `refused_fixes`, indices into
+// sensors.gps) against an estimate in their ENU frame: each fix against the antenna's position
+// between the frames around it, as the batch's GPS terms see it.
 struct GpsResiduals {
   int fixes = 0;
   double rms_m = 0;
 };
 GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& world_from_cam,
-                          const std::vector<double>& frame_timestamps,
-                          const MotionSensors& sensors);
+                           const std::vector<double>& frame_timestamps,
+                           const MotionSensors& sensors,
+                           const std::vector<int>& refused_fixes = {});
 
 }  // namespace omnisfm::sfm

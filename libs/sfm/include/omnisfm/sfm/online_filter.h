@@ -291,6 +291,14 @@ class OnlineFilter {
   // Called as a track is rejected as an outlier.
   using TrackRejected = std::function<void(const RejectedTrack&)>;
   void on_track_rejected(TrackRejected callback) { track_rejected_ = std::move(callback); }
+  // Called with a frame whose predicted motion (process_frame's `motion`) the images refused:
+  // under it the established points' median innovation score was beyond any noise's, and under
+  // the filter's own constant-velocity prediction, which the frame then took, within (an
+  // odometry that jumps, a gyro's spike, a reading misdated). The sensors' readings over that
+  // interval are wrong, and the batch leaves them out. Where the images fit neither, the
+  // sensors' motion stands.
+  using MotionRefused = std::function<void(int frame)>;
+  void on_motion_refused(MotionRefused callback) { motion_refused_ = std::move(callback); }
 
   // From now on the measurements, a new point's start (the pose its anchor hangs on) and the
   // vehicle's motion are linearised at `points`, once per update (update_iterations is taken as
@@ -351,6 +359,8 @@ class OnlineFilter {
   int num_live_points() const { return state_.num_slots(); }
   // Observations of new tracks that waited for room (FilterSettings::max_live_points).
   long not_admitted() const { return not_admitted_; }
+  // Frames whose predicted motion the images refused (on_motion_refused).
+  long refused_motions() const { return refused_motions_; }
   // Linearisations of the measurements (each a P H^T, S and its factor) over all updates so far,
   // outlier re-runs included: the measure of the iterated update's work.
   long linearisations() const { return linearisations_; }
@@ -426,6 +436,34 @@ class OnlineFilter {
                                  std::set<int>* rejected_slots);
   void propagate();
   void propagate(const MotionPrediction& motion);
+  // What propagate(motion) changes, to try another prediction instead: the mean, the pose's rows
+  // of the covariance (its columns are their transpose) and the gyro bias's block.
+  struct BeforePropagation {
+    FilterMean mean;
+    Eigen::MatrixXd pose_rows;
+    Eigen::Matrix3d bias_block;
+  };
+  BeforePropagation before_propagation() const;
+  void restore(const BeforePropagation& before);
+  // Propagated by `motion`, the frame's measurements at the propagated state; where the images
+  // refuse it (on_motion_refused), by the constant-velocity prediction instead, which `motion`
+  // then points to.
+  std::vector<Measurement> propagate_checked(const std::map<int, Eigen::Vector2d>& seen,
+                                             const MotionPrediction** motion);
+  // Whether the established points' median innovation score lies beyond the outlier bound
+  // (FilterSettings::outlier_chi2): a prediction under which most good tracks would be rejected
+  // is gross error, not noise. Not judged with fewer than kMinPointsToJudgeMotion of them
+  // (online_filter.cpp).
+  bool motion_misfits(const std::map<int, Eigen::Vector2d>& seen,
+                      const std::vector<Measurement>& measurements) const;
+  // Whether, updated by `measurements`, the established points' median score after the update
+  // lies within the outlier bound: the images agree on one pose.
+  bool fits_after_update(const std::vector<Measurement>& measurements) const;
+  // The motion between the last two frames as the filter estimated them, with the random walk's
+  // covariance.
+  MotionPrediction constant_velocity() const;
+  // The frame's estimated pose and motion since the previous, for constant_velocity().
+  void note_pose();
   // A track's point leaves the state: held while the smoothed start is pending, else handed over.
   void end_point(int slot);
   // The ended point to the callback and into the kept history.
@@ -587,6 +625,11 @@ class OnlineFilter {
   int frame_ = 0;           // the frame being processed
   int previous_frame_ = 0;  // and the one before
   long not_admitted_ = 0;
+  long refused_motions_ = 0;
+  // The last two frames' estimated poses in the world (constant_velocity()).
+  Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
+  MotionPrediction fallback_motion_;  // the refused frame's prediction
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
@@ -609,6 +652,7 @@ class OnlineFilter {
   std::deque<RejectedTrack> rejected_;
   PointEnded point_ended_;
   TrackRejected track_rejected_;
+  MotionRefused motion_refused_;
   long linearisations_ = 0;
   bool smoothing_start_ = false;           // until the smoothed start has run
   std::vector<StartFrame> start_frames_;

@@ -55,6 +55,13 @@ struct SfmResult {
   // Why the batch did not re-test the tracks against its solution (empty when it did, or when
   // batch_outliers is off): a solution that does not fit the tracks would reject good ones.
   std::string retest_skipped;
+  // Frames whose motion from the previous frame the vehicle's sensors mispredicted, as the
+  // images showed (OnlineFilter::on_motion_refused): the batch leaves those intervals' odometry
+  // and gyro out.
+  std::vector<int> refused_motion_frames;
+  // GPS fixes at odds with the rest as the filter's trajectory places them (a multipath jump),
+  // indices into MotionSensors::gps: left out of the move into ENU and of the batch.
+  std::vector<int> refused_gps_fixes;
   double online_seconds = 0;
   // The tracks' noise the filter took at the last frame, pixels per coordinate: pixel_sigma, or
   // what it measured where well beyond (FilterSettings::measure_noise).

@@ -3,6 +3,7 @@
 // write (as calib/calibration_report.h holds a calibration's).
 
 #include <string>
+#include <vector>
 
 #include "omnisfm/sfm/batch_adjustment.h"
 #include "omnisfm/sfm/pipeline.h"
@@ -16,6 +17,12 @@ std::string outliers_phrase(const SfmResult& result, double stated_noise_px);
 // The filter alone: "; N observations of new tracks left out for want of room (max_live_points)"
 // where it left any out (OnlineFilter::not_admitted), else "".
 std::string not_admitted_phrase(long observations);
+
+// Where the images refused the vehicle's sensors' motion into `count` frames
+// (OnlineFilter::on_motion_refused), the line beginning "motion sensors refused:" and ending in a
+// newline, listing the first of `frames` (none for the filter alone, which counts them only),
+// and what was done instead; else "".
+std::string refused_motion_line(long count, const std::vector<int>& frames, bool batch);
 
 // " (judged at the tracks' measured noise, ...)" where `taken_px` is beyond `stated_px`, else "".
 std::string measured_noise_phrase(double taken_px, double stated_px);

@@ -9,12 +9,14 @@
 //     (its sensorPose) into the body's;
 //   - mrpt::obs::CObservationGPS with a valid NMEA GGA fix: into the local ENU frame about the
 //     configured origin, or about the first fix (GeographicLib's LocalCartesian); the height is
-//     GGA's altitude plus the geoid separation, the height above the ellipsoid. The noise comes from
-//     the fix quality, HDOP and (from a GSA message) VDOP, see gps_fix_quality.h; the antenna's
-//     place on the robot from its sensorPose.
+//     GGA's altitude plus the geoid separation, the height above the ellipsoid. The noise comes
+//     from the fix quality, HDOP and (from a GSA message) VDOP, see gps_fix_quality.h; the
+//     antenna's place on the robot from its sensorPose.
 // Odometry comes from one kind only, the first seen (a rawlog holding both would count the motion
 // twice); its yaw is unwrapped, continuous across +-pi. Labels filter each kind when not empty.
-// Readings are kept in time order: one earlier than the last of its kind is dropped and counted.
+// Readings are kept in time order: one earlier than the last of its kind is dropped and counted,
+// unless only the last, dated ahead of both its neighbours, stands in its way: that one is
+// dropped instead.
 //
 // MRPT headers: the including target must link MRPT (mrpt::obs) itself.
 
@@ -54,6 +56,7 @@ class MotionSensorCollector {
   const sfm::MotionSensors& sensors() const { return sensors_; }
   // The ENU origin in use: the configured one, the first fix's, or none yet.
   const std::optional<LocalEnuFrame>& enu_frame() const { return enu_; }
+  // Readings dropped for coming back in time, or dated ahead of both their neighbours.
   std::size_t out_of_order() const { return out_of_order_; }
 
  private:

@@ -149,6 +149,10 @@ class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
   void finishStart() {
     if (filter_) filter_->finish_start();
   }
+  // The robot's poses (map frame) at the first frames, numbered as framesProcessed() counts them,
+  // as the smoothed start revised them after getCurrentPoseEstimation() had given them; empty
+  // until it has run.
+  std::map<int, mrpt::poses::CPose3D> smoothedStartPoses() const;
   // The points of the live tracks and of the latest ended ones the filter keeps
   // (FilterSettings::kept_history), in the map frame; onPointEnded gets every one as it ends.
   std::map<int, Eigen::Vector3d> points() const;
