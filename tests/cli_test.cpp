@@ -604,6 +604,12 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
       "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result --ground-truth empty.tum");
   EXPECT_EQ(no_truth.status, 2);
   EXPECT_NE(no_truth.err.find("empty.tum: holds 0 poses"), std::string::npos) << no_truth.err;
+  write("line.tum", "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n2 2 0 0 0 0 0 1\n3 3 0 0 0 0 0 1\n");
+  const Outcome line_truth = omnisfm(
+      "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result --ground-truth line.tum");
+  EXPECT_EQ(line_truth.status, 2);
+  EXPECT_NE(line_truth.err.find("line.tum: its positions lie on one line"), std::string::npos)
+      << line_truth.err;
   fs::create_directories(dir_ / "late");
   fs::copy_file(dir_ / "lab/tracks.vnl", dir_ / "late/tracks.vnl");
   std::string frames = read_all(dir_ / "lab/frames.vnl");

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
@@ -56,6 +57,22 @@ std::vector<io::StampedPose> read_ground_truth(const std::string& path) {
     throw io::InputError(path, 0,
                          "holds " + std::to_string(truth.size()) +
                              " poses: comparing with the truth needs at least 3");
+  // Before any work: the alignment with the estimate turns about the truth's positions, and
+  // about a line of them it cannot.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& pose : truth)
+    mean += pose.world_from_cam.translation() / static_cast<double>(truth.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& pose : truth) {
+    const Eigen::Vector3d d = pose.world_from_cam.translation() - mean;
+    scatter += d * d.transpose();
+  }
+  const Eigen::Vector3d spread =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();
+  if (!(spread[1] > 1e-18 * spread[2]) || !(spread[2] > 0))
+    throw io::InputError(path, 0,
+                         "its positions lie on one line: the alignment with the estimate cannot "
+                         "fix the rotation about it");
   return truth;
 }
 
