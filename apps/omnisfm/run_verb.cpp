@@ -38,7 +38,7 @@ std::string sensors_line(const mrpt_plugin::ReplayInput& in) {
          << " " << in.gps_origin->height_m << ")";
   if (in.out_of_order > 0)
     line << "; " << in.out_of_order
-         << " dropped, out of time order or dated ahead of their neighbours";
+         << " dropped, out of time order (or dated far ahead of their neighbours)";
   line << "\n"
        << "fusion: " << (in.sensors.empty() ? "none: vision alone" : "the sensors with vision")
        << "\n";

@@ -241,23 +241,37 @@ std::vector<int> fixes_at_odds(const std::vector<FixPlacement>& all,
   return refused;
 }
 
-void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
-                   std::vector<Eigen::Isometry3d>* online_cam_from_world, SfmResult* result) {
-  const Eigen::Vector3d antenna = antenna_in_cam(sensors);
-  std::vector<FixPlacement> placed = place_fixes(sensors.gps, times);
+// At least 3 fixes, not on a line within their noise (the rotation about it is not observable
+// otherwise); `after` ends the message.
+void check_fixes_fix_the_frame(const std::vector<FixPlacement>& placed,
+                               const MotionSensors& sensors, const std::string& after) {
   if (placed.size() < 3)
     throw std::invalid_argument("GPS: " + std::to_string(placed.size()) +
-                                " fixes within the frames' time span; at least 3 are needed");
+                                " fixes within the frames' time span" + after +
+                                "; at least 3 are needed");
   Eigen::Matrix3Xd to(3, placed.size());
   for (size_t i = 0; i < placed.size(); ++i) to.col(i) = placed[i].fix->enu;
   const Eigen::Matrix3Xd centred = to.colwise() - to.rowwise().mean();
   const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
   const double sigma = sensors.gps.front().horizontal_sigma;
   if (!(spread[1] > 3 * sigma * std::sqrt(static_cast<double>(placed.size()))))
-    throw std::invalid_argument(
-        "GPS: the fixes lie on a line (within their noise); the heading about it cannot be fixed");
+    throw std::invalid_argument("GPS: the fixes lie on a line (within their noise)" + after +
+                                "; the heading about it cannot be fixed");
+}
+
+void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
+                   std::vector<Eigen::Isometry3d>* online_cam_from_world, SfmResult* result) {
+  const Eigen::Vector3d antenna = antenna_in_cam(sensors);
+  std::vector<FixPlacement> placed = place_fixes(sensors.gps, times);
+  check_fixes_fix_the_frame(placed, sensors, "");
   result->refused_gps_fixes = fixes_at_odds(placed, *online_cam_from_world, antenna, metric);
-  placed = place_fixes(sensors.gps, times, result->refused_gps_fixes);
+  if (!result->refused_gps_fixes.empty()) {
+    placed = place_fixes(sensors.gps, times, result->refused_gps_fixes);
+    // One fix off a straight path spreads them; without it they may lie on the line again.
+    check_fixes_fix_the_frame(placed, sensors,
+                              " once the " + std::to_string(result->refused_gps_fixes.size()) +
+                                  " at odds with the rest are left out");
+  }
   const Eigen::Matrix4d S = enu_from_filter(placed, *online_cam_from_world, antenna, metric);
   const double scale = S.topLeftCorner<3, 3>().col(0).norm();
   const Eigen::Matrix3d R = S.topLeftCorner<3, 3>() / scale;

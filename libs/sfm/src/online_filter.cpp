@@ -79,7 +79,8 @@ std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   }
   for (const auto& [track, point] : held_points_) all[track] = point;
   for (int s = 0; s < state_.num_slots(); ++s)
-    all[state_.track_of(s)] = state_.in_world(state_.world_point(s));
+    if (state_.anchor(s).updates > 0)
+      all[state_.track_of(s)] = state_.in_world(state_.world_point(s));
   return all;
 }
 
@@ -99,7 +100,10 @@ void OnlineFilter::end_point(int slot) {
       state_.take_back_prior(depth_column, 1 / settings_.initial_depth, prior_variance,
                              kMinInverseDepth);
   }
+  // A track seen once has a point made of the depth prior alone: nothing to hand over.
+  const bool measured = state_.anchor(slot).updates > 0;
   state_.remove(slot);
+  if (!measured) return;
   if (smoothing_start_)
     held_points_[track] = point;  // the smoothed start revises it, then hands it over
   else

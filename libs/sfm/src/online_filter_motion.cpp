@@ -105,7 +105,8 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
 
   restore(before);
   distance_measured_ = distance_measured;
-  const MotionPrediction fallback = constant_velocity();
+  MotionPrediction fallback = constant_velocity();
+  fallback.bias_walk_variance = given.bias_walk_variance;  // the gyro's bias walks on meanwhile
   propagate(fallback);
   std::vector<Measurement> alternative = measurements_of(seen);
   // The prediction, as loose as the random walk, fits each measurement alone; the images must

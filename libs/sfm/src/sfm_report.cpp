@@ -44,8 +44,8 @@ std::string refused_motion_line(long count, const std::vector<int>& frames, bool
   constexpr size_t kListed = 10;
   std::ostringstream line;
   line << "motion sensors refused: in " << count << (count == 1 ? " frame" : " frames")
-       << " the images showed the odometry and gyro's motion grossly wrong (a jump, a spike, a "
-          "misdated reading)";
+       << " the images showed the motion the vehicle's sensors predicted grossly wrong (a jump, "
+          "a spike, a misdated reading)";
   if (!frames.empty()) {
     line << ": frame" << (frames.size() == 1 ? " " : "s ");
     for (size_t i = 0; i < std::min(frames.size(), kListed); ++i)

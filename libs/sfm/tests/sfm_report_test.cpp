@@ -70,9 +70,10 @@ TEST(SfmReport, OutliersPhraseCountsWhatTheBatchTookBack) {
 TEST(SfmReport, RefusedMotionLineListsTheFramesAndWhatWasDone) {
   EXPECT_EQ(refused_motion_line(0, {}, true), "");
   EXPECT_EQ(refused_motion_line(1, {75}, true),
-            "motion sensors refused: in 1 frame the images showed the odometry and gyro's motion "
-            "grossly wrong (a jump, a spike, a misdated reading): frame 75; the filter took its "
-            "own constant-velocity prediction there and the batch left those readings out\n");
+            "motion sensors refused: in 1 frame the images showed the motion the vehicle's "
+            "sensors predicted grossly wrong (a jump, a spike, a misdated reading): frame 75; the "
+            "filter took its own constant-velocity prediction there and the batch left those "
+            "readings out\n");
   std::vector<int> many;
   for (int f = 1; f <= 12; ++f) many.push_back(10 * f);
   const std::string listed = refused_motion_line(12, many, true);

@@ -23,20 +23,23 @@ double unwrapped(double from, double to) {
   return to - 2 * M_PI * std::round((to - from) / (2 * M_PI));
 }
 
-// Whether a reading at `timestamp` may join `samples` in time order. One earlier than the last
-// but not than the one before is taken as the last's successor, and the last, dated ahead of
-// both its neighbours, is dropped (a single misdated reading would otherwise hold its
-// predecessor's rate over every later frame and refuse every later reading); it counts in
-// `dropped`, as does a reading refused.
+// Whether a reading at `timestamp` may join `samples` in time order. One earlier than the last is
+// dropped, unless the last stands far ahead of both: beyond kAheadFactor times the new one's
+// step from the reading before the last. Then the last is taken as misdated (a single reading
+// dated ahead would otherwise hold its predecessor's rate over every later frame and refuse every
+// later reading) and dropped instead. A reading merely late, or two swapped, keeps the earlier
+// order. Either way one reading counts in `dropped`.
 template <typename T>
 bool make_room_in_time_order(std::vector<T>* samples, double timestamp, std::size_t* dropped) {
+  constexpr double kAheadFactor = 10;
   if (samples->empty() || timestamp >= samples->back().timestamp) return true;
   ++*dropped;
-  if (samples->size() >= 2 && timestamp >= (*samples)[samples->size() - 2].timestamp) {
-    samples->pop_back();
-    return true;
-  }
-  return false;
+  if (samples->size() < 2) return false;
+  const double before = (*samples)[samples->size() - 2].timestamp;
+  const double step = timestamp - before;
+  if (step < 0 || !(samples->back().timestamp - before > kAheadFactor * step)) return false;
+  samples->pop_back();
+  return true;
 }
 
 // Erases the samples before the last one at or before `timestamp`.

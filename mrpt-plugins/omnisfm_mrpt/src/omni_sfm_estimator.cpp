@@ -199,9 +199,9 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
                                                       options_.filter, filter_->sensor_states()));
     if (filter_->refused_motions() > refused)
       MRPT_LOG_WARN_STREAM("frame at " << io::format_double(timestamp)
-                                       << " s: the images showed the odometry and gyro's motion "
-                                          "grossly wrong; the filter took its own "
-                                          "constant-velocity prediction");
+                                       << " s: the images showed the motion the vehicle's "
+                                          "sensors predicted grossly wrong; the filter took its "
+                                          "own constant-velocity prediction");
   } else
     filter_->process_frame(frames_, pixels);
   previous_frame_time_ = timestamp;

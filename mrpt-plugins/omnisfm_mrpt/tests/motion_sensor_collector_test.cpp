@@ -53,6 +53,16 @@ TEST(MotionSensorCollector, AReadingDatedAheadOfItsNeighboursGivesWay) {
   EXPECT_EQ(collector.out_of_order(), 2u);
 }
 
+// A reading merely late (or two swapped) is the one dropped: the last is not far ahead.
+TEST(MotionSensorCollector, ALateReadingIsTheOneDropped) {
+  MotionSensorCollector collector({}, std::nullopt);
+  for (double t : {1.0, 1.1, 1.2}) EXPECT_TRUE(collector.add(odometry_at(t, t)));
+  EXPECT_FALSE(collector.add(odometry_at(1.15, 1.3)));
+  EXPECT_TRUE(collector.add(odometry_at(1.4, 1.4)));
+  EXPECT_EQ(times_of(collector.sensors().odometry), (std::vector<double>{1.0, 1.1, 1.2, 1.4}));
+  EXPECT_EQ(collector.out_of_order(), 1u);
+}
+
 TEST(MotionSensorCollector, OdometryDatedAheadGivesWayToo) {
   MotionSensorCollector collector({}, std::nullopt);
   EXPECT_TRUE(collector.add(odometry_at(10.0, 0.0)));

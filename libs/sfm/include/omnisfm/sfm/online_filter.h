@@ -345,7 +345,8 @@ class OnlineFilter {
   }
   const SensorStates& sensor_states() const { return state_.mean.sensors; }
   // The latest estimate of the live points and of the ended ones kept (the latest kept_history,
-  // and every one while the smoothed start is pending), outliers excluded.
+  // and every one while the smoothed start is pending), outliers excluded, and those measured
+  // once only (made of the depth prior alone) too, as on_point_ended leaves them out.
   std::map<int, Eigen::Vector3d> points() const;
   // The latest kept_history rejected tracks, oldest first.
   const std::deque<RejectedTrack>& rejected() const { return rejected_; }

@@ -15,8 +15,8 @@
 // Odometry comes from one kind only, the first seen (a rawlog holding both would count the motion
 // twice); its yaw is unwrapped, continuous across +-pi. Labels filter each kind when not empty.
 // Readings are kept in time order: one earlier than the last of its kind is dropped and counted,
-// unless only the last, dated ahead of both its neighbours, stands in its way: that one is
-// dropped instead.
+// unless the last stands far ahead of it and of the one before (ten times their step): that one,
+// misdated, is dropped instead.
 //
 // MRPT headers: the including target must link MRPT (mrpt::obs) itself.
 
@@ -56,7 +56,7 @@ class MotionSensorCollector {
   const sfm::MotionSensors& sensors() const { return sensors_; }
   // The ENU origin in use: the configured one, the first fix's, or none yet.
   const std::optional<LocalEnuFrame>& enu_frame() const { return enu_; }
-  // Readings dropped for coming back in time, or dated ahead of both their neighbours.
+  // Readings dropped for coming back in time, or dated far ahead of their neighbours.
   std::size_t out_of_order() const { return out_of_order_; }
 
  private:
