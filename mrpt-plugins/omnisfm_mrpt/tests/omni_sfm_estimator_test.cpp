@@ -11,7 +11,6 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
-#include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <unistd.h>
@@ -317,51 +316,6 @@ TEST(OmniSfmEstimator, GivesTheSmoothedStartsPoses) {
   }
   EXPECT_GT(moved, 1e-5) << "nothing revised";
   EXPECT_LT(error, 0.01);
-}
-
-// An odometry that jumps 100 m halfway and a gyro reading dated 1,000 s ahead: the estimator's
-// last pose stays that of the clean rawlog's (measured under 1 mm apart, the run 3.45 m long),
-// where the jump moved it by 99.9 m before the filter judged the sensors' motion.
-TEST(OmniSfmEstimator, OutlastsAnOdometryJumpAndAMisdatedGyroReading) {
-  const RoverRawlog& rover = rover_rawlog();
-  std::vector<mrpt::obs::CObservation::Ptr> glitched;
-  const std::size_t half = rover.observations.size() / 2;
-  bool misdated = false;
-  for (std::size_t i = 0; i < rover.observations.size(); ++i) {
-    const auto& observation = rover.observations[i];
-    if (const auto odometry =
-            std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(observation);
-        odometry && i >= half) {
-      auto jumped = std::make_shared<mrpt::obs::CObservationOdometry>(*odometry);
-      jumped->odometry.x(jumped->odometry.x() + 100);
-      glitched.push_back(jumped);
-      continue;
-    }
-    glitched.push_back(observation);
-    if (const auto imu = std::dynamic_pointer_cast<mrpt::obs::CObservationIMU>(observation);
-        imu && i >= half / 2 && !misdated) {
-      auto ahead = std::make_shared<mrpt::obs::CObservationIMU>(*imu);
-      ahead->timestamp = mrpt::Clock::fromDouble(mrpt::Clock::toDouble(imu->timestamp) + 1000);
-      ahead->set(mrpt::obs::IMU_WZ, 1.0);
-      glitched.push_back(ahead);
-      misdated = true;
-    }
-  }
-  ASSERT_TRUE(misdated);
-  const auto last_pose = [](const std::vector<mrpt::obs::CObservation::Ptr>& observations) {
-    OmniSfmEstimator estimator;
-    for (const auto& observation : observations) estimator.processObservation(observation);
-    mrpt::poses::CPose3DPDFGaussian pose;
-    estimator.getCurrentPoseEstimation(pose);
-    return isometry(pose.mean);
-  };
-  const Eigen::Isometry3d clean = last_pose(rover.observations);
-  const Eigen::Isometry3d outlasted = last_pose(glitched);
-  const double apart = (clean.translation() - outlasted.translation()).norm();
-  std::printf("the last poses %.3f m apart, the run %.2f m from its start\n", apart,
-              clean.translation().norm());
-  EXPECT_LT(apart, 0.05 * clean.translation().norm());
-  EXPECT_LT(Eigen::AngleAxisd(clean.linear().transpose() * outlasted.linear()).angle(), 0.01);
 }
 
 // What an MRPT application sees holding the estimator as a CMetricMapBuilder*: the pose PDF, the

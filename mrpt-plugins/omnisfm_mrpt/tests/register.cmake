@@ -25,10 +25,11 @@ omnisfm_add_test(omnisfm_mrpt_tests
 # The camera contract's cameras: every inner camera and mirror the model must store.
 target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests
                            ${CMAKE_CURRENT_SOURCE_DIR}/src)
-# The pose graph's consistency over seeds: five batches, too slow for the sanitizers' build.
+# The pose graph's consistency over seeds (five batches) and whole rover runs with sensor glitches:
+# too slow for the sanitizers' build.
 omnisfm_add_test(omnisfm_mrpt_consistency_tests
   SOURCES tests/pose_graph_consistency_test.cpp tests/slam_rawlog_consistency_test.cpp
-          tests/omni_sfm_batch_estimator_test.cpp
+          tests/omni_sfm_batch_estimator_test.cpp tests/sensor_glitch_replay_test.cpp
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::sfm omnisfm::eval mrpt::poses mrpt::obs mrpt::maps
        mrpt::serialization mrpt::slam LABELS unit)
 target_include_directories(omnisfm_mrpt_consistency_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
