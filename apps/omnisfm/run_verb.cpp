@@ -45,22 +45,6 @@ std::string sensors_line(const mrpt_plugin::ReplayInput& in) {
   return line.str();
 }
 
-// "; N fixes refused, at odds with the rest (at t1, t2 ... s)" where the fusion left GPS fixes
-// out (SfmResult::refused_gps_fixes), else "".
-std::string refused_fixes_phrase(const sfm::MotionSensors& sensors,
-                                 const std::vector<int>& refused) {
-  if (refused.empty()) return "";
-  constexpr size_t kListed = 10;
-  std::ostringstream phrase;
-  phrase << std::setprecision(15) << "; " << refused.size()
-         << (refused.size() == 1 ? " fix" : " fixes")
-         << " refused, at odds with the rest as the filter's trajectory places them (at ";
-  for (size_t i = 0; i < std::min(refused.size(), kListed); ++i)
-    phrase << (i > 0 ? ", " : "") << sensors.gps[refused[i]].timestamp;
-  phrase << (refused.size() > kListed ? ", ..." : "") << " s)";
-  return phrase.str();
-}
-
 // Whether the stated noise models fit the fused batch's residuals.
 std::string noise_check_line(const sfm::BatchResult& batch) {
   std::ostringstream line;
@@ -322,7 +306,7 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
   in.frame_times.resize(result.num_frames);
   if (!result.refused_gps_fixes.empty())
     std::cerr << "omnisfm: warning: GPS"
-              << refused_fixes_phrase(in.sensors, result.refused_gps_fixes) << "\n";
+              << sfm::refused_fixes_phrase(in.sensors, result.refused_gps_fixes) << "\n";
   if (!result.refused_motion_frames.empty())
     std::cerr << "omnisfm: warning: "
               << sfm::refused_motion_line(static_cast<long>(result.refused_motion_frames.size()),
@@ -339,7 +323,8 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
     const sfm::GpsResiduals gps = sfm::gps_residuals(result.batch.world_from_cam, in.frame_times,
                                                      in.sensors, result.refused_gps_fixes);
     report << "GPS: the estimate is in ENU; " << gps.fixes << " fixes, RMS " << gps.rms_m
-           << " m against it" << refused_fixes_phrase(in.sensors, result.refused_gps_fixes) << "\n";
+           << " m against it" << sfm::refused_fixes_phrase(in.sensors, result.refused_gps_fixes)
+           << "\n";
   }
   eval::TruthComparison comparison;
   if (!truth.empty()) {

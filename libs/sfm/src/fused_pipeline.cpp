@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "omnisfm/core/mahalanobis.h"
 #include "omnisfm/core/percentile.h"
 #include "omnisfm/core/pose_direction.h"
 #include "omnisfm/sfm/frame_motion.h"
@@ -46,11 +47,11 @@ std::vector<FixPlacement> place_fixes(const std::vector<GpsSample>& gps,
   return placed;
 }
 
-// A fix's misfit in its own sigmas (horizontal, horizontal, vertical).
-double fix_sigmas(const GpsSample& fix, const Eigen::Vector3d& misfit) {
-  return std::sqrt(std::pow(misfit.x() / fix.horizontal_sigma, 2) +
-                   std::pow(misfit.y() / fix.horizontal_sigma, 2) +
-                   std::pow(misfit.z() / fix.vertical_sigma, 2));
+// A fix's noise: horizontal, horizontal, vertical.
+Eigen::Matrix3d fix_covariance(const GpsSample& fix) {
+  return Eigen::Vector3d(std::pow(fix.horizontal_sigma, 2), std::pow(fix.horizontal_sigma, 2),
+                         std::pow(fix.vertical_sigma, 2))
+      .asDiagonal();
 }
 
 Eigen::Vector3d antenna_in_cam(const MotionSensors& sensors) {
@@ -77,11 +78,11 @@ class MotionTerms : public ExtraTerms {
   // `refused_fixes`: the GPS fixes at odds with the rest (SfmResult::refused_gps_fixes), left
   // out.
   MotionTerms(const MotionSensors& sensors, const std::vector<double>& times,
-              const Eigen::Vector3d& gyro_bias, const std::vector<int>& refused_frames,
+              const Eigen::Vector3d& gyro_bias, const std::set<int>& refused_frames,
               const std::vector<int>& refused_fixes)
       : sensors_(sensors),
         times_(times),
-        refused_(refused_frames.begin(), refused_frames.end()),
+        refused_(refused_frames),
         refused_fixes_(refused_fixes),
         scale_(sensors.odometry_scale),
         bias_(gyro_bias) {}
@@ -128,12 +129,8 @@ class MotionTerms : public ExtraTerms {
     const Eigen::Vector3d antenna = antenna_in_cam(sensors_);
     int fixes = 0;
     for (const auto& p : place_fixes(sensors_.gps, times_, refused_fixes_)) {
-      const Eigen::Matrix3d covariance =
-          Eigen::Vector3d(std::pow(p.fix->horizontal_sigma, 2), std::pow(p.fix->horizontal_sigma, 2),
-                          std::pow(p.fix->vertical_sigma, 2))
-              .asDiagonal();
-      problem->AddResidualBlock(make_gps_cost(p.fix->enu, covariance, p.alpha, antenna), nullptr,
-                                (*poses)[p.k].data(), (*poses)[p.k + 1].data());
+      problem->AddResidualBlock(make_gps_cost(p.fix->enu, fix_covariance(*p.fix), p.alpha, antenna),
+                                nullptr, (*poses)[p.k].data(), (*poses)[p.k + 1].data());
       ++fixes;
     }
     fixes_scale_ = odometry || fixes > 0;
@@ -158,7 +155,7 @@ class MotionTerms : public ExtraTerms {
  private:
   const MotionSensors& sensors_;
   const std::vector<double>& times_;
-  const std::set<int> refused_;
+  const std::set<int>& refused_;
   const std::vector<int> refused_fixes_;
   double scale_;
   Eigen::Vector3d bias_;
@@ -172,8 +169,7 @@ class MotionTerms : public ExtraTerms {
 Eigen::Vector3d bias_from_filter(const std::vector<FrameMotion>& motions,
                                  const std::vector<Eigen::Isometry3d>& cam_from_world,
                                  const Eigen::Isometry3d& body_from_cam,
-                                 const std::vector<int>& refused_frames) {
-  const std::set<int> refused(refused_frames.begin(), refused_frames.end());
+                                 const std::set<int>& refused) {
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   const Eigen::Matrix3d R_bc = body_from_cam.linear();
@@ -228,7 +224,7 @@ std::vector<int> fixes_at_odds(const std::vector<FixPlacement>& all,
       const Eigen::Vector3d misfit =
           S.topLeftCorner<3, 3>() * from + S.topRightCorner<3, 1>() - p.fix->enu;
       misfit_m.push_back(misfit.norm());
-      sigmas.push_back(fix_sigmas(*p.fix, misfit));
+      sigmas.push_back(core::mahalanobis(misfit, fix_covariance(*p.fix)));
     }
     const double spread = 1.4826 * core::percentile(misfit_m, 0.5);
     const size_t worst = std::max_element(sigmas.begin(), sigmas.end()) - sigmas.begin();
@@ -329,10 +325,12 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
     move_into_enu(sensors, times, !sensors.odometry.empty(), &online_cam_from_world, &result);
   if (!settings.run_batch) return result;
 
-  MotionTerms terms(sensors, times,
-                    bias_from_filter(motions, online_cam_from_world, sensors.body_from_cam,
-                                     result.refused_motion_frames),
-                    result.refused_motion_frames, result.refused_gps_fixes);
+  const std::set<int> refused(result.refused_motion_frames.begin(),
+                              result.refused_motion_frames.end());
+  MotionTerms terms(
+      sensors, times,
+      bias_from_filter(motions, online_cam_from_world, sensors.body_from_cam, refused), refused,
+      result.refused_gps_fixes);
   adjust_on_inliers(camera, tracks, settings, online_cam_from_world, &terms, &result);
   result.odometry_scale = terms.scale();
   result.gyro_bias = terms.bias();

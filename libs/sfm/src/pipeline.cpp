@@ -254,10 +254,14 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   const double noise_px = result->online_noise_px;
   BatchSettings batch = settings.batch;
   batch.pixel_sigma = noise_px;
-  // Tracks the filter had no room for: placed from its poses, as rejected ones are re-tested.
+  // Tracks the filter had no room for: placed from its poses, as rejected ones are re-tested. A
+  // track seen once has no point anywhere (OnlineFilter::points) and nothing to place.
+  std::map<int, int> sightings;
+  for (const auto& o : tracks) ++sightings[o.track];
   std::set<int> unplaced;
-  for (const auto& o : tracks)
-    if (!rejected.count(o.track) && !result->online_points.count(o.track)) unplaced.insert(o.track);
+  for (const auto& [track, n] : sightings)
+    if (n >= 2 && !rejected.count(track) && !result->online_points.count(track))
+      unplaced.insert(track);
   std::map<int, Eigen::Vector3d> online_start = result->online_points;
   result->not_in_filter = static_cast<int>(unplaced.size());
   if (!unplaced.empty()) {

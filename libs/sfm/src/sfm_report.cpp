@@ -27,6 +27,18 @@ std::string images_fix_it(const BatchResult& batch, const char* how) {
          " (1 sigma)";
 }
 
+// The first ten values, ", "-separated, then ", ..." where there are more.
+template <typename T>
+std::string first_listed(const std::vector<T>& values) {
+  constexpr size_t kListed = 10;
+  std::ostringstream text;
+  text << std::setprecision(15);
+  for (size_t i = 0; i < std::min(values.size(), kListed); ++i)
+    text << (i > 0 ? ", " : "") << values[i];
+  if (values.size() > kListed) text << ", ...";
+  return text.str();
+}
+
 }  // namespace
 
 std::string measured_noise_phrase(double taken_px, double stated_px) {
@@ -41,20 +53,26 @@ std::string measured_noise_phrase(double taken_px, double stated_px) {
 
 std::string refused_motion_line(long count, const std::vector<int>& frames, bool batch) {
   if (count <= 0) return "";
-  constexpr size_t kListed = 10;
   std::ostringstream line;
   line << "motion sensors refused: in " << count << (count == 1 ? " frame" : " frames")
        << " the images showed the motion the vehicle's sensors predicted grossly wrong (a jump, "
           "a spike, a misdated reading)";
-  if (!frames.empty()) {
-    line << ": frame" << (frames.size() == 1 ? " " : "s ");
-    for (size_t i = 0; i < std::min(frames.size(), kListed); ++i)
-      line << (i > 0 ? ", " : "") << frames[i];
-    if (frames.size() > kListed) line << ", ...";
-  }
+  if (!frames.empty())
+    line << ": frame" << (frames.size() == 1 ? " " : "s ") << first_listed(frames);
   line << "; the filter took its own constant-velocity prediction there"
        << (batch ? " and the batch left those readings out" : "") << "\n";
   return line.str();
+}
+
+std::string refused_fixes_phrase(const MotionSensors& sensors, const std::vector<int>& refused) {
+  if (refused.empty()) return "";
+  std::vector<double> times;
+  for (int i : refused) times.push_back(sensors.gps[i].timestamp);
+  std::ostringstream phrase;
+  phrase << "; " << refused.size() << (refused.size() == 1 ? " fix" : " fixes")
+         << " refused, at odds with the rest as the filter's trajectory places them (at "
+         << first_listed(times) << " s)";
+  return phrase.str();
 }
 
 std::string not_admitted_phrase(long observations) {

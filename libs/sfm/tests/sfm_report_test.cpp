@@ -86,6 +86,23 @@ TEST(SfmReport, RefusedMotionLineListsTheFramesAndWhatWasDone) {
   EXPECT_EQ(streamed.find("frame "), std::string::npos) << streamed;
 }
 
+TEST(SfmReport, RefusedFixesPhraseGivesTheirTimes) {
+  MotionSensors sensors;
+  for (int i = 0; i < 14; ++i) sensors.gps.push_back({1000.5 + i, Eigen::Vector3d::Zero()});
+  EXPECT_EQ(refused_fixes_phrase(sensors, {}), "");
+  EXPECT_EQ(refused_fixes_phrase(sensors, {3}),
+            "; 1 fix refused, at odds with the rest as the filter's trajectory places them (at "
+            "1003.5 s)");
+  std::vector<int> all(14);
+  for (int i = 0; i < 14; ++i) all[i] = i;
+  EXPECT_NE(refused_fixes_phrase(sensors, all)
+                .find("; 14 fixes refused, at odds with the rest as the filter's trajectory "
+                      "places them (at 1000.5, 1001.5, "),
+            std::string::npos);
+  EXPECT_NE(refused_fixes_phrase(sensors, all).find("1009.5, ... s)"), std::string::npos)
+      << refused_fixes_phrase(sensors, all);
+}
+
 TEST(SfmReport, BatchLineGivesTheSolveAndItsResiduals) {
   BatchResult batch;
   batch.converged = true;

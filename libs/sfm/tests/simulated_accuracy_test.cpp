@@ -130,6 +130,29 @@ TEST(SimulatedAccuracy, TracksBeyondTheFiltersRoomArePlacedByTheBatch) {
   EXPECT_EQ(result.batch.points.size() + actual.size(), d.track_points.size());
 }
 
+// A track seen in one frame only carries nothing: no point online or in the batch, and not an
+// outlier (with the filter's points leaving it out, the batch had taken it for one the filter had
+// no room for, failed to place it and listed it as an outlier).
+TEST(SimulatedAccuracy, ATrackSeenOnceIsNeitherAPointNorAnOutlier) {
+  sim::SimulationOptions options;
+  options.scenario = "rover";
+  sim::Dataset d = sim::simulate(options);
+  const SfmResult clean = run_sfm(d.camera, d.observations, SfmSettings());
+  const int once = 1000000;
+  core::TrackObservation seen_once = d.observations.front();
+  for (const auto& o : d.observations)
+    if (o.frame == 60) seen_once = o;
+  seen_once.track = once;
+  seen_once.pixel += Eigen::Vector2d(3, 3);
+  d.observations.push_back(seen_once);
+  const SfmResult result = run_sfm(d.camera, d.observations, SfmSettings());
+  EXPECT_EQ(result.outliers.size(), clean.outliers.size());
+  EXPECT_EQ(result.not_in_filter, 0);
+  EXPECT_FALSE(result.online_points.count(once));
+  EXPECT_FALSE(result.batch.points.count(once));
+  EXPECT_EQ(result.batch.points.size(), clean.batch.points.size());
+}
+
 // The filter alone rejects exactly the outlier tracks, none of the good tracks that enter
 // mid-sequence with a depth known only to the prior (seeds where undamped Gauss-Newton steps on
 // such tracks oscillated by tens of pixels).

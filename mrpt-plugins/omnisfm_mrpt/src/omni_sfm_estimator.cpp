@@ -25,6 +25,13 @@ namespace {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
+// map_from_robot for the filter's pose cam_from_world.
+mrpt::poses::CPose3D robot_pose(const Eigen::Isometry3d& cam_from_world,
+                                const Eigen::Isometry3d& body_from_cam,
+                                const Eigen::Isometry3d& map_from_world) {
+  return pose_of(map_from_world * cam_from_world.inverse() * body_from_cam.inverse());
+}
+
 // map_from_robot for the filter's pose moved by the error `delta` (rotation left, translation).
 mrpt::poses::CPose3D perturbed_robot_pose(const Eigen::Isometry3d& cam_from_world,
                                           const Vector6d& delta,
@@ -37,7 +44,7 @@ mrpt::poses::CPose3D perturbed_robot_pose(const Eigen::Isometry3d& cam_from_worl
         Eigen::AngleAxisd(rotation.norm(), rotation.normalized()).toRotationMatrix() *
         cam_from_world.linear();
   perturbed.translation() += delta.tail<3>();
-  return pose_of(map_from_world * perturbed.inverse() * body_from_cam.inverse());
+  return robot_pose(perturbed, body_from_cam, map_from_world);
 }
 
 }  // namespace
@@ -212,8 +219,8 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
 
 void OmniSfmEstimator::maybe_add_keyframe(const mrpt::obs::CObservation::Ptr& observation) {
   // The mean alone each frame; the covariance only for a keyframe.
-  const mrpt::poses::CPose3D pose = pose_of(mapFromWorld() * filter_->cam_from_world().inverse() *
-                                            body_from_cam_.inverse());
+  const mrpt::poses::CPose3D pose =
+      robot_pose(filter_->cam_from_world(), body_from_cam_, mapFromWorld());
   if (keyframes_.size() > 0) {
     const mrpt::poses::CPose3D moved = pose - last_keyframe_pose_;
     const double turned = Eigen::AngleAxisd(isometry_of(moved).linear()).angle();
@@ -320,7 +327,7 @@ std::map<int, mrpt::poses::CPose3D> OmniSfmEstimator::smoothedStartPoses() const
   if (!filter_) return in_map;
   const Eigen::Isometry3d map_from_world = mapFromWorld();
   for (const auto& [frame, cam_from_world] : filter_->smoothed_start())
-    in_map[frame] = pose_of(map_from_world * cam_from_world.inverse() * body_from_cam_.inverse());
+    in_map[frame] = robot_pose(cam_from_world, body_from_cam_, map_from_world);
   return in_map;
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "omnisfm/sfm/batch_adjustment.h"
+#include "omnisfm/sfm/motion_sensors.h"
 #include "omnisfm/sfm/pipeline.h"
 
 namespace omnisfm::sfm {
@@ -23,6 +24,10 @@ std::string not_admitted_phrase(long observations);
 // newline, listing the first of `frames` (none for the filter alone, which counts them only),
 // and what was done instead; else "".
 std::string refused_motion_line(long count, const std::vector<int>& frames, bool batch);
+
+// "; N fixes refused, at odds with the rest ... (at t1, t2 ... s)" where the fusion left GPS
+// fixes out (SfmResult::refused_gps_fixes, indices into sensors.gps), else "".
+std::string refused_fixes_phrase(const MotionSensors& sensors, const std::vector<int>& refused);
 
 // " (judged at the tracks' measured noise, ...)" where `taken_px` is beyond `stated_px`, else "".
 std::string measured_noise_phrase(double taken_px, double stated_px);
