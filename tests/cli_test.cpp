@@ -570,8 +570,10 @@ TEST_F(CliTest, SfmRunsAtANoiseOfTenPixels) {
   const Outcome paper =
       omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config paper.ini --out paper");
   EXPECT_EQ(paper.status, 1);
-  EXPECT_EQ(paper.err, "omnisfm: no track is left for the batch adjustment: the filter rejected "
-                       "all 44 as outliers\n");
+  EXPECT_EQ(paper.err,
+            "omnisfm: no track is left for the batch adjustment: 44 of 44 tracks were rejected as "
+            "outliers: the tracks' noise is far beyond [sfm] pixel_sigma (10 px), the outlier "
+            "bound too strict, or the estimate lost its way\n");
   EXPECT_FALSE(fs::exists(dir_ / "paper"));
 }
 
@@ -1641,6 +1643,53 @@ TEST_F(CliTest, ReportsSayWhenTheTracksAreJudgedAtTheirMeasuredNoise) {
   const Outcome stated = omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out d");
   ASSERT_EQ(stated.status, 0) << stated.err;
   EXPECT_EQ(stated.out.find("measured noise"), std::string::npos) << stated.out;
+}
+#endif
+
+#ifdef OMNISFM_WITH_MRPT_PLUGIN
+// A pixel_sigma 20 times below the tracks' noise (0.2 px against 0.01: more than the filter takes)
+// rejects most tracks: every verb says so, on stderr and in the report, or fails saying why; a
+// batch whose rerun failed keeps its first solve (it ended at "RMS -> nan", exit 0). A walk that
+// holds the camera still is named where the filter failed (it blamed the camera's motion alone).
+TEST_F(CliTest, MostTracksRejectedIsSaidWithItsLikeliestCause) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --out lab --rawlog").status, 0);
+  write("understated.ini", "[sfm]\npixel_sigma = 0.01\n");
+  write("understated_online.ini", "[sfm]\npixel_sigma = 0.01\nbatch = false\n");
+  const std::string warning = "warning: ";
+  const std::string cause = " tracks were rejected as outliers: ";
+  for (const char* command :
+       {"sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config understated.ini --out a",
+        "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config understated_online.ini "
+        "--out b",
+        "run lab/dataset.rawlog --config understated_online.ini --out c"}) {
+    const Outcome run = omnisfm(command);
+    ASSERT_EQ(run.status, 0) << command << "\n" << run.err;
+    EXPECT_NE(run.err.find("omnisfm: " + warning), std::string::npos) << command << run.err;
+    EXPECT_NE(run.err.find(cause), std::string::npos) << command << run.err;
+    const std::string folder = std::string(command).substr(std::string(command).size() - 1);
+    const std::string report = read_all(dir_ / folder / "report.txt");
+    EXPECT_NE(report.find(cause), std::string::npos) << command << report;
+    EXPECT_EQ(report.find("nan"), std::string::npos) << command << report;
+  }
+  const Outcome batch = omnisfm("run lab/dataset.rawlog --config understated.ini --out d");
+  EXPECT_EQ(batch.status, 1);
+  EXPECT_NE(batch.err.find("no track is left for the batch adjustment: 44 of 44" + cause),
+            std::string::npos)
+      << batch.err;
+  EXPECT_FALSE(fs::exists(dir_ / "d"));
+
+  const Outcome stated = omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out e");
+  ASSERT_EQ(stated.status, 0) << stated.err;
+  EXPECT_EQ(stated.err.find(warning), std::string::npos) << stated.err;
+
+  write("still.ini", "[sfm]\ntranslation_walk_sigma = 1e-6\n");
+  const Outcome still =
+      omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --config still.ini --out f");
+  EXPECT_EQ(still.status, 1);
+  EXPECT_NE(still.err.find("the filter failed: "), std::string::npos) << still.err;
+  EXPECT_NE(still.err.find("[sfm] translation_walk_sigma, 1e-06 per frame, may hold it still"),
+            std::string::npos)
+      << still.err;
 }
 #endif
 

@@ -110,5 +110,34 @@ TEST(RunSettings, BadValuesNameTheirLine) {
   EXPECT_NE(error_of("ncc.ini", "[run]\nmin_ncc = 1.5\n").find("ncc.ini:2:"), std::string::npos);
 }
 
+// Sensor noises that are numerically zero or say nothing (each ran far off or failed away from
+// the file: a gyro bias sigma of 1e308 ended in exit 1, an odometry scale of 1e-300 200 % off) are
+// refused at their line with the range; the ends of each range are taken.
+TEST(RunSettings, SensorSettingsBeyondWhatTheyCanMeanAreRefused) {
+  const auto error_of = [](const std::string& text) -> std::string {
+    try {
+      read_run_settings(written("sensor.ini", "[run]\n" + text + "\n"));
+    } catch (const io::InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  for (const char* bad :
+       {"odometry_position_sigma = 1e-300", "odometry_position_sigma = 1e308",
+        "odometry_heading_sigma = 2", "odometry_scale = 1e-300", "odometry_scale = 1000",
+        "odometry_scale_sigma = 10", "gyro_noise_density = 1e308", "gyro_bias_sigma = 1e-300",
+        "gyro_bias_sigma = 1e308", "gyro_bias_walk = 1e308", "gyro_bias_walk = 0"}) {
+    const std::string message = error_of(bad);
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(' '));
+    EXPECT_NE(message.find("sensor.ini:2: key '" + key + "': must be from "), std::string::npos)
+        << bad << ": " << message;
+  }
+  for (const char* good :
+       {"odometry_position_sigma = 1e-6", "odometry_position_sigma = 1", "odometry_scale = 0.1",
+        "odometry_scale = 10", "odometry_scale_sigma = 0", "odometry_scale_sigma = 0.5",
+        "gyro_noise_density = 1e-7", "gyro_bias_walk = 1"})
+    EXPECT_EQ(error_of(good), "") << good;
+}
+
 }  // namespace
 }  // namespace omnisfm::app

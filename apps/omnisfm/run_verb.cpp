@@ -148,6 +148,11 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   check_replayed(rawlog, summary.read.problem, bias ? summary.frames : 0, strict, "replayed");
   if (refused_motions > 0)
     std::cerr << "omnisfm: warning: " << sfm::refused_motion_line(refused_motions, {}, false);
+  // Every track seen twice ends as a point or an outlier.
+  const std::string most_rejected =
+      sfm::most_rejected_line(out.outliers(), out.points() + out.outliers(), summary.noise_px,
+                              settings.sfm.filter.pixel_sigma);
+  std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
   std::ostringstream report;
   if (!summary.read.complete()) report << "rawlog damaged: " << summary.read.problem << "\n";
   report << "rawlog " << rawlog << ": " << summary.read.objects << " objects; vision from "
@@ -155,8 +160,8 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
          << "frames " << summary.frames << ", outlier tracks " << out.outliers()
          << sfm::not_admitted_phrase(not_admitted)
          << sfm::measured_noise_phrase(summary.noise_px, settings.sfm.filter.pixel_sigma) << "\n"
-         << "motion sensors: " << summary.odometry << " odometry, " << summary.gyro << " gyro, "
-         << summary.gps
+         << most_rejected << "motion sensors: " << summary.odometry << " odometry, " << summary.gyro
+         << " gyro, " << summary.gps
          << " GPS readings (GPS needs the batch: the filter takes odometry and "
             "gyro)\n"
          << sfm::refused_motion_line(refused_motions, {}, false)
@@ -268,6 +273,8 @@ std::string batch_run_report(const RunVerbOptions& o, const RunSettings& setting
          << in.vision << "\n"
          << "frames " << result.num_frames << ", observations " << in.tracks.size() << ", "
          << sfm::outliers_phrase(result, settings.sfm.filter.pixel_sigma) << "\n"
+         << sfm::most_rejected_line(static_cast<long>(result.outliers.size()), result.num_tracks,
+                                    result.online_noise_px, settings.sfm.filter.pixel_sigma)
          << sensors_line(in)
          << sfm::refused_motion_line(static_cast<long>(result.refused_motion_frames.size()),
                                      result.refused_motion_frames, settings.sfm.run_batch)
@@ -311,7 +318,11 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
     std::cerr << "omnisfm: warning: "
               << sfm::refused_motion_line(static_cast<long>(result.refused_motion_frames.size()),
                                           result.refused_motion_frames, true);
-  if (!result.batch.converged && result.batch.world_from_cam.empty())
+  const std::string most_rejected =
+      sfm::most_rejected_line(static_cast<long>(result.outliers.size()), result.num_tracks,
+                              result.online_noise_px, settings.sfm.filter.pixel_sigma);
+  std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
+  if (!result.batch.usable())
     throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
   std::ostringstream report;

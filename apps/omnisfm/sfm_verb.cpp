@@ -116,15 +116,21 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
     process(next++, pixels);
   }
   if (next < 2) throw io::InputError(tracks_path, 0, "the tracks span fewer than 2 frames");
+  filter.finish_start();
+  out.take_what_is_held(filter);
+  // Every track seen twice ends as a point or an outlier.
+  const std::string most_rejected =
+      sfm::most_rejected_line(out.outliers(), out.points() + out.outliers(), filter.pixel_sigma(),
+                              settings.filter.pixel_sigma);
+  std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
   std::ostringstream report;
   report << "frames " << next << ", observations " << observations << ", outlier tracks "
          << out.outliers() << sfm::not_admitted_phrase(filter.not_admitted())
          << sfm::measured_noise_phrase(filter.pixel_sigma(), settings.filter.pixel_sigma) << "\n"
-         << "filter: " << seconds << " s (" << 1000 * seconds / next << " ms per frame)\n"
+         << most_rejected << "filter: " << seconds << " s (" << 1000 * seconds / next
+         << " ms per frame)\n"
          << sfm::considered_camera_line(camera, settings.filter)
          << "online only ([sfm] batch = false): tracks read and results written frame by frame\n";
-  filter.finish_start();
-  out.take_what_is_held(filter);
   out.finish(report.str());
   return report.str();
 }
@@ -190,14 +196,18 @@ void add_sfm_verb(CLI::App& app) {
     } catch (const std::invalid_argument& e) {
       throw io::InputError(o->tracks, 0, e.what());
     }
-    if (settings.run_batch && !result.batch.converged && result.batch.world_from_cam.empty())
+    if (settings.run_batch && !result.batch.usable())
       throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
     times.resize(result.num_frames);
+    const std::string most_rejected =
+        sfm::most_rejected_line(static_cast<long>(result.outliers.size()), result.num_tracks,
+                                result.online_noise_px, settings.filter.pixel_sigma);
+    std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
     std::ostringstream report;
-    report << "frames " << result.num_frames << ", observations " << tracks.size()
-           << ", " << sfm::outliers_phrase(result, settings.filter.pixel_sigma) << "\n"
-           << "filter: " << result.online_seconds << " s ("
+    report << "frames " << result.num_frames << ", observations " << tracks.size() << ", "
+           << sfm::outliers_phrase(result, settings.filter.pixel_sigma) << "\n"
+           << most_rejected << "filter: " << result.online_seconds << " s ("
            << 1000 * result.online_seconds / result.num_frames << " ms per frame)\n"
            << sfm::considered_camera_line(camera, settings.filter);
     if (settings.run_batch)

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <istream>
+#include <limits>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -114,6 +115,19 @@ double IniSection::get_positive(const std::string& key, double fallback, bool ze
 int IniSection::get_positive_int(const std::string& key, int fallback, bool zero_ok) const {
   const int v = has(key) ? get_int(key) : fallback;
   if (!(zero_ok ? v >= 0 : v > 0)) fail(key, zero_ok ? "must be >= 0" : "must be > 0");
+  return v;
+}
+
+double IniSection::get_within(const std::string& key, double fallback, double low, double high,
+                              const std::string& meaning, bool zero_off) const {
+  const double v = get_double(key, fallback);
+  if (zero_off && v == 0) return v;
+  if (!(v >= low && v <= high)) {
+    const std::string range = high < std::numeric_limits<double>::max()
+                                  ? "from " + format_double(low) + " to " + format_double(high)
+                                  : "a finite number of at least " + format_double(low);
+    fail(key, "must be " + range + (zero_off ? " (or 0: off)" : "") + ": " + meaning);
+  }
   return v;
 }
 

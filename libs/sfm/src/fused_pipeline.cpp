@@ -307,6 +307,7 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   SfmResult result;
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
   result.num_frames = static_cast<int>(by_frame.size());
+  result.num_tracks = tracks_seen_twice(tracks);
   check_timestamps(frame_timestamps, result.num_frames);
   const std::vector<double> times(frame_timestamps.begin(),
                                   frame_timestamps.begin() + result.num_frames);
@@ -320,7 +321,7 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
       progress, &result);
   result.odometry_scale = sensors.odometry_scale;
 
-  refuse_degenerate_motion(result);
+  refuse_degenerate_motion(result, settings.filter, true);
   if (!sensors.gps.empty())
     move_into_enu(sensors, times, !sensors.odometry.empty(), &online_cam_from_world, &result);
   if (!settings.run_batch) return result;

@@ -34,10 +34,9 @@ constexpr int kMinPointsToJudgeMotion = 8;
 constexpr std::size_t kNoiseWindow = 400;
 constexpr std::size_t kMinScoresForNoise = 30;
 // The variance over the stated one beyond which the measured noise is taken, below which it is
-// let go, and the largest factor on the stated noise taken.
+// let go (OnlineFilter::kMaxNoiseScale bounds the noise taken).
 constexpr double kTakeNoiseRatio = 2;
 constexpr double kLetGoNoiseRatio = 1.5;
-constexpr double kMaxNoiseScale = 10;
 
 }  // namespace
 

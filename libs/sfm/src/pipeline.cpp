@@ -11,6 +11,8 @@
 
 #include "omnisfm/core/pose_direction.h"
 #include "omnisfm/core/pose_vector.h"
+#include "omnisfm/io/number_text.h"
+#include "omnisfm/sfm/sfm_report.h"
 #include "omnisfm/sfm/track_consistency.h"
 #include "omnisfm/sfm/track_triangulation.h"
 #include "pipeline_steps.h"
@@ -84,7 +86,15 @@ std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& came
   return cam_from_world;
 }
 
-void refuse_degenerate_motion(const SfmResult& result) {
+int tracks_seen_twice(const std::vector<core::TrackObservation>& tracks) {
+  std::map<int, int> sightings;
+  for (const auto& o : tracks) ++sightings[o.track];
+  return static_cast<int>(std::count_if(sightings.begin(), sightings.end(),
+                                        [](const auto& s) { return s.second >= 2; }));
+}
+
+void refuse_degenerate_motion(const SfmResult& result, const FilterSettings& settings,
+                              bool motion_sensors) {
   // Without translation the points' depths are not observable: refuse rather than report a
   // structure made of the initialisation's guesses.
   double baseline = 0, depth = 0;
@@ -97,11 +107,26 @@ void refuse_degenerate_motion(const SfmResult& result) {
     std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
     depth = depths[depths.size() / 2];
   }
-  if (!(baseline > kMinBaselineRatio * depth))
-    throw std::runtime_error(
-        "degenerate motion: the camera moves " + std::to_string(baseline) +
-        " (filter units) against a median point distance of " + std::to_string(depth) +
-        "; with (nearly) pure rotation the structure cannot be recovered");
+  if (baseline > kMinBaselineRatio * depth) return;
+  // A filter held still by its walk sees every track off.
+  const std::string held_still = motion_sensors
+                                     ? ""
+                                     : "[sfm] translation_walk_sigma, " +
+                                           io::format_double(settings.translation_walk_sigma) +
+                                           " per frame, may hold it still";
+  // With most tracks rejected the filter's motion is no evidence of the camera's.
+  const std::string rejected =
+      most_rejected_phrase(static_cast<long>(result.outliers.size()), result.num_tracks,
+                           result.online_noise_px, settings.pixel_sigma);
+  if (!rejected.empty())
+    throw std::runtime_error("the filter failed: " + rejected + "; its camera moves " +
+                             std::to_string(baseline) + " filter units" +
+                             (held_still.empty() ? "" : " (" + held_still + ")"));
+  throw std::runtime_error(
+      "degenerate motion: the camera moves " + std::to_string(baseline) +
+      " (filter units) against a median point distance of " + std::to_string(depth) +
+      "; with (nearly) pure rotation the structure cannot be recovered" +
+      (held_still.empty() ? "" : " (if the camera did move: " + held_still + ")"));
 }
 
 namespace {
@@ -245,9 +270,15 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
       if (of.count(o.track)) chosen.push_back(o);
     return chosen;
   };
-  if (kept.empty())
-    throw std::runtime_error("no track is left for the batch adjustment: the filter rejected all " +
-                             std::to_string(rejected.size()) + " as outliers");
+  if (kept.empty()) {
+    const std::string why =
+        most_rejected_phrase(static_cast<long>(rejected.size()), result->num_tracks,
+                             result->online_noise_px, settings.filter.pixel_sigma);
+    throw std::runtime_error(
+        "no track is left for the batch adjustment: " +
+        (why.empty() ? "the filter rejected all " + std::to_string(rejected.size()) + " as outliers"
+                     : why));
+  }
   // The tracks' noise, the filter's: the stated one, or what it measured where that is more
   // (FilterSettings::measure_noise). It weighs the pixels against the sensors' terms (alone it is
   // not read: the camera's prior is weighed at the noise the batch measures).
@@ -305,20 +336,26 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
       retest_tracks(optimised, tracks, kept, rejected, result->batch, threshold, follows_noise,
                     settings.batch_track_false_alarm, noise_px);
   if (retest.failing.empty() && retest.explained.empty()) return;
+  for (const auto& [track, frame] : retest.failing) kept.erase(track);
+  for (const auto& [track, point] : retest.explained) kept.insert(track);
+  std::map<int, Eigen::Vector3d> start_points = result->batch.points;
+  for (const auto& [track, point] : retest.explained) start_points[track] = point;
+  BatchResult rerun = batch_adjust_with_terms(
+      camera, observations_of(kept), cam_from_world_of(result->batch.cam_from_world_parameters),
+      start_points, batch, extra);
+  // A rerun whose solve failed (a track taken back that no longer projects) is no judgement of
+  // the tracks: the first solve and the filter's rejections stand.
+  if (!std::isfinite(rerun.final_rms_px)) {
+    result->retest_skipped = "the batch with the re-tested tracks failed: " + rerun.message;
+    return;
+  }
   std::vector<RejectedTrack> outliers;
   for (const auto& r : result->outliers)
     if (!retest.explained.count(r.track)) outliers.push_back(r);
   for (const auto& [track, frame] : retest.failing) outliers.push_back({track, frame});
   result->outliers = std::move(outliers);
   result->taken_back = static_cast<int>(retest.explained.size());
-  for (const auto& [track, frame] : retest.failing) kept.erase(track);
-  for (const auto& [track, point] : retest.explained) kept.insert(track);
-  std::map<int, Eigen::Vector3d> start_points = result->batch.points;
-  for (const auto& [track, point] : retest.explained) start_points[track] = point;
-  result->batch =
-      batch_adjust_with_terms(camera, observations_of(kept),
-                              cam_from_world_of(result->batch.cam_from_world_parameters),
-                              start_points, batch, extra);
+  result->batch = std::move(rerun);
 }
 
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings) {
@@ -348,10 +385,11 @@ SfmResult run_sfm(const camera::CatadioptricCamera& camera,
   SfmResult result;
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
   result.num_frames = static_cast<int>(by_frame.size());
+  result.num_tracks = tracks_seen_twice(tracks);
 
   const std::vector<Eigen::Isometry3d> online_cam_from_world =
       run_filter(camera, by_frame, settings.filter, nullptr, progress, &result);
-  refuse_degenerate_motion(result);
+  refuse_degenerate_motion(result, settings.filter, false);
   if (settings.run_batch)
     adjust_on_inliers(camera, tracks, settings, online_cam_from_world, nullptr, &result);
   return result;

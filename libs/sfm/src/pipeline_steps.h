@@ -20,14 +20,20 @@ std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& came
                                           const PredictedMotion& predicted_motion,
                                           const Progress& progress, SfmResult* result);
 
+// The tracks seen in two frames or more (SfmResult::num_tracks).
+int tracks_seen_twice(const std::vector<core::TrackObservation>& tracks);
+
 // Throws std::invalid_argument, before any work, for settings that cannot be run: refine_camera
 // without the camera's prior to refine it under, consider_camera without the uncertainty to
 // consider, either prior unusable (camera_prior_problem), or a batch_track_false_alarm that is
 // no probability below 1.
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings);
 
-// Throws std::runtime_error when the filter's camera barely translates against the scene's depth.
-void refuse_degenerate_motion(const SfmResult& result);
+// Throws std::runtime_error when the filter's camera barely translates against the scene's depth,
+// saying why where it can: the filter rejected most tracks, or (without `motion_sensors`) its
+// translation walk held the camera still.
+void refuse_degenerate_motion(const SfmResult& result, const FilterSettings& settings,
+                              bool motion_sensors);
 
 // The batch started from the filter (online_cam_from_world, as run_filter returns it) on its
 // inliers, then the batch-level outlier rejection and the batch again; fills result->batch and

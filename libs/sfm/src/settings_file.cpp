@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "omnisfm/io/ini_file.h"
@@ -29,44 +30,64 @@ SfmSettings read_sfm_settings(const std::string& path) {
 SfmSettings read_sfm_settings(const io::IniSection& s) {
   SfmSettings settings;
   FilterSettings& f = settings.filter;
-  f.pixel_sigma = s.get_positive("pixel_sigma", f.pixel_sigma);
-  f.rotation_walk_sigma = s.get_positive("rotation_walk_sigma", f.rotation_walk_sigma, true);
+  // The bounds hold what the settings can mean: beyond them a noise or walk is numerically zero
+  // or says nothing, and the filter failed far from the file.
+  f.pixel_sigma = s.get_within("pixel_sigma", f.pixel_sigma, 1e-3, 100,
+                               "pixels per coordinate (no tracker is surer than a thousandth of a "
+                               "pixel; beyond 100 the pixels say nothing)");
+  f.rotation_walk_sigma =
+      s.get_within("rotation_walk_sigma", f.rotation_walk_sigma, 0, 3.14,
+                   "radians per frame (0: the camera does not turn; a half turn is no walk)");
   f.translation_walk_sigma =
-      s.get_positive("translation_walk_sigma", f.translation_walk_sigma, true);
-  f.initial_depth = s.get_positive("initial_depth", f.initial_depth);
-  f.inverse_depth_sigma = s.get_positive("inverse_depth_sigma", f.inverse_depth_sigma);
+      s.get_within("translation_walk_sigma", f.translation_walk_sigma, 1e-6, 1e6,
+                   "metres per frame (a camera that cannot move recovers no structure)");
+  f.initial_depth = s.get_within("initial_depth", f.initial_depth, 1e-3, 1e6, "metres");
+  f.inverse_depth_sigma =
+      s.get_within("inverse_depth_sigma", f.inverse_depth_sigma, 1e-6, 1e6, "per metre");
   const std::string test = s.get_string("outlier_test", "chi2");
   if (test == "pixels")
     f.outlier_test = OutlierTest::kPixels;
   else if (test != "chi2")
     s.fail("outlier_test", "must be chi2 (the residual against its covariance) or pixels (the "
                            "paper's fixed outlier_threshold_px)");
-  f.outlier_chi2 = s.get_positive("outlier_chi2", f.outlier_chi2);
-  f.outlier_threshold_px = s.get_positive("outlier_threshold_px", f.outlier_threshold_px);
-  f.innovation_gate_chi2 = s.get_positive("innovation_gate_chi2", f.innovation_gate_chi2, true);
+  // Below chi-square's 95 % bound (2 dof) a good track, scored every frame, is rejected within a
+  // few dozen frames.
+  const std::string chi2_meaning =
+      "a chi-square bound (2 degrees of freedom) of at least the 95 % one, 5.99";
+  const double max_chi2 = std::numeric_limits<double>::max();
+  f.outlier_chi2 = s.get_within("outlier_chi2", f.outlier_chi2, 5.99, max_chi2, chi2_meaning);
+  f.outlier_threshold_px =
+      s.get_within("outlier_threshold_px", f.outlier_threshold_px, 0.01, 1e6, "pixels");
+  f.innovation_gate_chi2 = s.get_within("innovation_gate_chi2", f.innovation_gate_chi2, 5.99,
+                                        max_chi2, chi2_meaning, true);
   f.measure_noise = s.get_flag("measure_noise", f.measure_noise);
   f.update_iterations = s.get_positive_int("update_iterations", f.update_iterations);
+  if (f.update_iterations > 100) s.fail("update_iterations", "must be from 1 to 100");
   f.smoothed_start_frames =
       s.get_positive_int("smoothed_start_frames", f.smoothed_start_frames, true);
   if (f.smoothed_start_frames == 1) s.fail("smoothed_start_frames", "must be 0 (off) or at least 2");
   f.smoothing_window_frames =
       s.get_positive_int("smoothing_window_frames", f.smoothing_window_frames, true);
   f.max_live_points = s.get_positive_int("max_live_points", f.max_live_points);
-  if (f.max_live_points < 6)
-    s.fail("max_live_points", "must be at least 6: the filter starts from 6 points");
+  // The filter's covariance grows as the square of its points: 2,000 hold 290 MB.
+  if (f.max_live_points < 6 || f.max_live_points > 2000)
+    s.fail("max_live_points",
+           "must be from 6 (the filter starts from 6 points) to 2000 (its covariance, 290 MB)");
   settings.run_batch = s.get_flag("batch", settings.run_batch);
   settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
-  settings.batch_outlier_threshold_px =
-      s.get_positive("batch_outlier_threshold_px", settings.batch_outlier_threshold_px, true);
+  settings.batch_outlier_threshold_px = s.get_within(
+      "batch_outlier_threshold_px", settings.batch_outlier_threshold_px, 0.01, 1e6, "pixels", true);
   settings.batch_track_false_alarm =
       s.get_positive("batch_track_false_alarm", settings.batch_track_false_alarm, true);
   if (!(settings.batch_track_false_alarm < 1))
     s.fail("batch_track_false_alarm",
            "must be a probability below 1 (the chance a good track fails), or 0 (off)");
-  settings.batch.huber_px = s.get_positive("huber_px", settings.batch.huber_px, true);
+  settings.batch.huber_px =
+      s.get_within("huber_px", settings.batch.huber_px, 0.01, 1e6, "pixels", true);
   settings.batch.covariances = s.get_flag("covariances", settings.batch.covariances);
   settings.batch.max_iterations =
       s.get_positive_int("max_iterations", settings.batch.max_iterations);
+  if (settings.batch.max_iterations > 1000000) s.fail("max_iterations", "must be from 1 to 1e6");
   settings.batch.scale_start = s.get_flag("batch_scale_start", settings.batch.scale_start);
   settings.refine_camera = s.get_flag("refine_camera", settings.refine_camera);
   if (settings.refine_camera && !settings.run_batch)
@@ -74,12 +95,11 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   settings.consider_camera = s.get_flag("consider_camera", settings.consider_camera);
   // Empty, the default, when not known: 0 would say the first and last cameras coincide.
   if (!s.get_string("known_distance_m", "").empty()) {
-    const double d = s.get_double("known_distance_m");
-    if (!(std::isfinite(d) && d > 0))
-      s.fail("known_distance_m",
-             "must be the distance between the first and last camera positions in metres, "
-             "finite and > 0 (empty when not known)");
-    settings.batch.known_distance_m = d;
+    // Below a millimetre or beyond 1e8 m (a thousand times the Earth) no rig's positions are.
+    settings.batch.known_distance_m = s.get_within(
+        "known_distance_m", 1, 1e-3, 1e8,
+        "the distance between the first and last camera positions in metres (empty when not "
+        "known)");
   }
   for (const auto& entry : s.unread()) s.fail(entry.key, "unknown key in [sfm]");
   return settings;

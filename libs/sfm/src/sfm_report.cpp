@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "omnisfm/core/mahalanobis.h"
+#include "omnisfm/sfm/online_filter.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -73,6 +74,31 @@ std::string refused_fixes_phrase(const MotionSensors& sensors, const std::vector
          << " refused, at odds with the rest as the filter's trajectory places them (at "
          << first_listed(times) << " s)";
   return phrase.str();
+}
+
+std::string most_rejected_phrase(long rejected, long tracks, double taken_noise_px,
+                                 double stated_noise_px) {
+  constexpr long kMinTracks = 10;
+  if (tracks < kMinTracks || !(2 * rejected > tracks)) return "";
+  std::ostringstream phrase;
+  phrase << std::setprecision(3) << rejected << " of " << tracks
+         << " tracks were rejected as outliers: ";
+  if (taken_noise_px >= 0.999 * OnlineFilter::kMaxNoiseScale * stated_noise_px)
+    phrase << "the tracks are noisier than " << OnlineFilter::kMaxNoiseScale
+           << " times [sfm] pixel_sigma (" << stated_noise_px
+           << " px), the most the filter takes (set pixel_sigma nearer their noise), or the "
+              "estimate lost its way";
+  else
+    phrase << "the tracks' noise is far beyond [sfm] pixel_sigma (" << stated_noise_px
+           << " px), the outlier bound too strict, or the estimate lost its way";
+  return phrase.str();
+}
+
+std::string most_rejected_line(long rejected, long tracks, double taken_noise_px,
+                               double stated_noise_px) {
+  const std::string phrase =
+      most_rejected_phrase(rejected, tracks, taken_noise_px, stated_noise_px);
+  return phrase.empty() ? "" : "warning: " + phrase + "; the results are not to be trusted\n";
 }
 
 std::string not_admitted_phrase(long observations) {

@@ -93,7 +93,7 @@ TEST(SfmSettings, BadValuesAndUnknownKeysNameTheirLine) {
   EXPECT_EQ(settings_of("[sfm]\nbatch_track_false_alarm = 0\n").batch_track_false_alarm, 0);
   EXPECT_NE(error_of("[sfm]\nmax_live_points = 5\n")
                 .find("test.ini:2: key 'max_live_points': "
-                      "must be at least 6"),
+                      "must be from 6 (the filter starts from 6 points)"),
             std::string::npos)
       << error_of("[sfm]\nmax_live_points = 5\n");
 }
@@ -116,6 +116,33 @@ TEST(SfmSettings, MeaninglessNoiseAndDistancesAreRefusedAtTheirLine) {
   const std::string no_batch = error_of("[sfm]\nbatch = 0\nrefine_camera = 1\n");
   EXPECT_EQ(no_batch.rfind("test.ini:3:", 0), 0u) << no_batch;
   EXPECT_NE(no_batch.find("batch = false"), std::string::npos) << no_batch;
+}
+
+// Values within their type but beyond what they can mean (probed: each ended in exit 1 blaming the
+// camera's motion, or in a result far off with exit 0, or an infinite trajectory) are refused at
+// their line with the range; the ends of each range are taken.
+TEST(SfmSettings, SettingsBeyondWhatTheyCanMeanAreRefusedAtTheirLine) {
+  for (const char* bad :
+       {"pixel_sigma = 1e-300", "pixel_sigma = 1e308", "rotation_walk_sigma = 1e308",
+        "translation_walk_sigma = 0", "translation_walk_sigma = 1e308", "initial_depth = 1e-300",
+        "initial_depth = 1e308", "inverse_depth_sigma = 1e308", "outlier_chi2 = 1",
+        "innovation_gate_chi2 = 1e-300", "outlier_threshold_px = 1e-300", "huber_px = 1e-300",
+        "batch_outlier_threshold_px = 1e-300", "update_iterations = 1000000",
+        "max_iterations = 2000000000", "max_live_points = 100000", "known_distance_m = 1e308",
+        "known_distance_m = 1e-300"}) {
+    const std::string message = error_of("[sfm]\n" + std::string(bad) + "\n");
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(' '));
+    EXPECT_EQ(message.rfind("test.ini:2: key '" + key + "': must be ", 0), 0u)
+        << bad << ": " << message;
+  }
+  EXPECT_NE(error_of("[sfm]\noutlier_chi2 = 1\n").find("at least 5.99"), std::string::npos);
+  EXPECT_NE(error_of("[sfm]\npixel_sigma = 1e-300\n").find("from 0.001 to 100"), std::string::npos);
+  for (const char* good :
+       {"pixel_sigma = 0.001", "pixel_sigma = 100", "rotation_walk_sigma = 0",
+        "translation_walk_sigma = 1e-6", "outlier_chi2 = 5.99", "outlier_chi2 = 1e308",
+        "innovation_gate_chi2 = 0", "huber_px = 0", "known_distance_m = 0.001",
+        "known_distance_m = 1e8", "max_live_points = 2000", "update_iterations = 100"})
+    EXPECT_EQ(error_of("[sfm]\n" + std::string(good) + "\n"), "") << good;
 }
 
 // A setting the file does not put in [sfm] would be silently ignored: a key before any section

@@ -67,6 +67,26 @@ TEST(SfmReport, OutliersPhraseCountsWhatTheBatchTookBack) {
             "tracks' measured noise, 0.52 px per coordinate, where pixel_sigma says 0.3)");
 }
 
+// A run that rejected most of its tracks is said to be one (a pixel_sigma 20 times below the
+// tracks' noise rejected 112 of the rover's 116 with exit 0 and a report that only counted them).
+TEST(SfmReport, MostRejectedLineWarnsOnlyWhereMostTracksWentAndSaysWhy) {
+  EXPECT_EQ(most_rejected_line(5, 10, 0.3, 0.3), "");  // half: no warning
+  EXPECT_EQ(most_rejected_line(5, 9, 0.3, 0.3), "");   // too few to judge
+  EXPECT_EQ(most_rejected_line(0, 0, NAN, 0.3), "");
+  const std::string capped = most_rejected_line(112, 116, 0.1, 0.01);
+  EXPECT_EQ(capped.rfind("warning: 112 of 116 tracks were rejected as outliers: the tracks are "
+                         "noisier than 10 times [sfm] pixel_sigma (0.01 px)",
+                         0),
+            0u)
+      << capped;
+  EXPECT_TRUE(has(capped, "the results are not to be trusted\n")) << capped;
+  const std::string stated = most_rejected_line(6, 10, 0.3, 0.3);
+  EXPECT_TRUE(has(stated, "6 of 10 tracks")) << stated;
+  EXPECT_TRUE(has(stated, "far beyond [sfm] pixel_sigma (0.3 px)")) << stated;
+  EXPECT_EQ(most_rejected_phrase(6, 10, 0.3, 0.3) + "; the results are not to be trusted\n",
+            stated.substr(std::string("warning: ").size()));
+}
+
 TEST(SfmReport, RefusedMotionLineListsTheFramesAndWhatWasDone) {
   EXPECT_EQ(refused_motion_line(0, {}, true), "");
   EXPECT_EQ(refused_motion_line(1, {75}, true),

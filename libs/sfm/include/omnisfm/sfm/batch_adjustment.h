@@ -77,6 +77,11 @@ enum class BatchScale {
 struct BatchResult {
   bool converged = false;
   std::string message;
+  // A solution to write: the solve converged, or stopped (at its iteration limit) with finite
+  // residuals; not one whose residuals could not be evaluated.
+  bool usable() const {
+    return !world_from_cam.empty() && (converged || std::isfinite(final_rms_px));
+  }
   int iterations = 0;
   double initial_rms_px = 0, final_rms_px = 0;  // per coordinate
   // 2 x final cost / degrees of freedom. Alone, the pixels' variance (px^2). With the motion

@@ -329,8 +329,11 @@ class OnlineFilter {
   // map made before then keeps its scale and the term leaves at once.
   double vision_scale_log_sigma() const;
   // The tracks' noise the filter takes, pixels per coordinate: pixel_sigma, or what it measured
-  // where that is well beyond (FilterSettings::measure_noise).
+  // where that is well beyond (FilterSettings::measure_noise), at most kMaxNoiseScale times
+  // pixel_sigma (a filter that has lost its way sees every track off, and taking that as noise
+  // would accept them all).
   double pixel_sigma() const { return settings_.pixel_sigma * noise_scale_; }
+  static constexpr double kMaxNoiseScale = 10;
   // The gyro's bias (rad/s about the body's axes), zero until a prediction brings a gyro, and its
   // covariance.
   const Eigen::Vector3d& gyro_bias() const { return state_.mean.sensors.gyro_bias; }

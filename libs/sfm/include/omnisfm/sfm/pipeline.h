@@ -44,6 +44,8 @@ struct SfmSettings {
 
 struct SfmResult {
   int num_frames = 0;
+  // Tracks seen in two frames or more: a track seen once is neither a point nor an outlier.
+  int num_tracks = 0;
   std::vector<Eigen::Isometry3d> online_world_from_cam;  // the filter's estimate at each frame
   std::map<int, Eigen::Vector3d> online_points;
   // The filter's, less those the batch took back, then the batch's.

@@ -1,13 +1,16 @@
 #pragma once
-// The estimators' settings from an INI file, section [sfm]; absent keys keep their defaults:
-//   pixel_sigma  rotation_walk_sigma  translation_walk_sigma  initial_depth  inverse_depth_sigma
-//   outlier_test (chi2 or pixels)  outlier_chi2  outlier_threshold_px  innovation_gate_chi2
-//   measure_noise (0 or 1)  update_iterations  smoothed_start_frames (0 or >= 2)
-//   smoothing_window_frames (0: off)
-//   batch  (0 or 1)  batch_outliers (0 or 1)  batch_outlier_threshold_px
-//   batch_track_false_alarm (0 <= it < 1)  huber_px
-//   covariances (0 or 1)  max_iterations
-//   batch_scale_start (0 or 1)  known_distance_m (metres > 0, or empty: not known)
+// The estimators' settings from an INI file, section [sfm]; absent keys keep their defaults. The
+// ranges hold what a value can mean (share/omnisfm/config/omnisfm.ini says what each is):
+//   pixel_sigma (0.001-100 px)  rotation_walk_sigma (0-3.14 rad)
+//   translation_walk_sigma (1e-6-1e6 m)  initial_depth (0.001-1e6 m)
+//   inverse_depth_sigma (1e-6-1e6 /m)  outlier_test (chi2 or pixels)  outlier_chi2 (>= 5.99)
+//   outlier_threshold_px (0.01-1e6)  innovation_gate_chi2 (0: off, or >= 5.99)
+//   measure_noise (0 or 1)  update_iterations (1-100)  smoothed_start_frames (0 or >= 2)
+//   smoothing_window_frames (0: off)  max_live_points (6-2000)
+//   batch  (0 or 1)  batch_outliers (0 or 1)  batch_outlier_threshold_px (0 or 0.01-1e6)
+//   batch_track_false_alarm (0 <= it < 1)  huber_px (0 or 0.01-1e6)
+//   covariances (0 or 1)  max_iterations (1-1e6)
+//   batch_scale_start (0 or 1)  known_distance_m (0.001-1e8 m, or empty: not known)
 //   refine_camera (0 or 1)  consider_camera (0 or 1)
 
 #include <string>

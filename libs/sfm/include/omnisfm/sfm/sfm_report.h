@@ -15,6 +15,17 @@ namespace omnisfm::sfm {
 // they were judged at where the filter measured more than `stated_noise_px` (pixel_sigma).
 std::string outliers_phrase(const SfmResult& result, double stated_noise_px);
 
+// Where more than half of at least 10 tracks (seen twice or more) were rejected, "N of M tracks
+// were rejected as outliers: " and the likeliest cause (the tracks' noise beyond what the filter
+// takes against pixel_sigma, `stated_noise_px`; or a stated noise or outlier bound far off, or an
+// estimate that lost its way); else "". `taken_noise_px` is the noise the filter took
+// (SfmResult::online_noise_px).
+std::string most_rejected_phrase(long rejected, long tracks, double taken_noise_px,
+                                 double stated_noise_px);
+// The same as the report's line, beginning "warning: " and ending in a newline; else "".
+std::string most_rejected_line(long rejected, long tracks, double taken_noise_px,
+                               double stated_noise_px);
+
 // The filter alone: "; N observations of new tracks left out for want of room (max_live_points)"
 // where it left any out (OnlineFilter::not_admitted), else "".
 std::string not_admitted_phrase(long observations);
