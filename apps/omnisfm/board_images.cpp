@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <stdexcept>
 
 #include "omnisfm/io/input_error.h"
@@ -69,6 +70,8 @@ std::vector<io::ImageCorners> detect_boards(const std::string& images,
     if (each) each(image);
     progress(static_cast<int>(found.size()), sequence.expected_frames());
   }
+  if (const std::string lost = sequence.shortfall(); !lost.empty())
+    std::cerr << "omnisfm: warning: " << io::printable_text(images + ": " + lost) << "\n";
   return found;
 }
 

@@ -168,6 +168,8 @@ void add_track_verb(CLI::App& app) {
       track::ImageSequence images(o->images);
       TerminalProgress progress("tracked", "frames");
       result = track::track_images(camera, images, o->settings, progress.callback());
+      if (const std::string lost = images.shortfall(); !lost.empty())
+        std::cerr << "omnisfm: warning: " << io::printable_text(o->images + ": " + lost) << "\n";
     }
     if (result.frames.size() < 2)
       throw io::InputError(o->images, 0,

@@ -86,6 +86,15 @@ int ImageSequence::expected_frames() const {
   return count > 0 ? static_cast<int>(count) : 0;
 }
 
+std::string ImageSequence::shortfall() const {
+  const int expected = expected_frames();
+  if (!video_ || next_index_ >= expected) return "";
+  return "the video gave " + std::to_string(next_index_) + " frames where its container says " +
+         std::to_string(expected) +
+         ": damaged or cut short (its decoder passes over what it cannot read, so the frames "
+         "after a damaged stretch may also carry wrong times)";
+}
+
 int ImageSequence::skip(int count) {
   int skipped = 0;
   for (; skipped < count; ++skipped, ++next_index_) {

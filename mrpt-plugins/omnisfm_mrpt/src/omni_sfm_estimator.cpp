@@ -1,24 +1,24 @@
 #include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
 
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/config/CConfigFile.h>
 #include <mrpt/obs/CObservationImage.h>
-#include <mrpt/system/string_utils.h>
 #include <mrpt/poses/CPosePDF.h>
+#include <mrpt/system/string_utils.h>
 
 #include <algorithm>
 #include <stdexcept>
 
+#include "eigen_poses.h"
+#include "frame_time_order.h"
+#include "grey_image.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/sfm/motion_prediction.h"
-#include "omnisfm/track/track_images.h"
-
-#include "eigen_poses.h"
 #include "omnisfm/sfm/settings_file.h"
-#include "grey_image.h"
+#include "omnisfm/track/track_images.h"
 
 namespace omnisfm::mrpt_plugin {
 namespace {
@@ -184,10 +184,10 @@ void OmniSfmEstimator::start(const camera::CatadioptricCamera& camera,
 
 void OmniSfmEstimator::require_next_frame(const mrpt::poses::CPose3D& pose,
                                           double timestamp) const {
-  if (frames_ > 0 && timestamp < previous_frame_time_)
-    throw std::invalid_argument(
-        "a camera frame at " + io::format_double(timestamp) + " s after one at " +
-        io::format_double(previous_frame_time_) + " s: the observations are out of time order");
+  if (frames_ > 0)
+    if (const std::string wrong = frame_time_problem(timestamp, previous_frame_time_);
+        !wrong.empty())
+      throw std::invalid_argument(wrong);
   if (!same_pose(isometry_of(pose), body_from_cam_))
     throw std::invalid_argument(
         "the camera's pose on the robot " + pose.asString() + " is not the first frame's " +

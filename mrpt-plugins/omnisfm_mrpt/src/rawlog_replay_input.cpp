@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "eigen_poses.h"
+#include "frame_time_order.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/io/number_text.h"
 #include "omnisfm/mrpt_plugin/motion_sensor_collector.h"
@@ -174,11 +175,9 @@ class ReplayPass {
   void require_next_frame(const mrpt::poses::CPose3D& pose, double time,
                           const std::vector<double>& previous_times, std::size_t index) {
     const std::string object = "object " + std::to_string(index) + ": ";
-    if (!previous_times.empty() && time < previous_times.back())
-      throw io::InputError(path_, 0,
-                           object + "a camera frame at " + io::format_double(time) +
-                               " s after one at " + io::format_double(previous_times.back()) +
-                               " s: the observations are out of time order");
+    if (!previous_times.empty())
+      if (const std::string wrong = frame_time_problem(time, previous_times.back()); !wrong.empty())
+        throw io::InputError(path_, 0, object + wrong);
     if (!vision_pose_) vision_pose_ = isometry_of(pose);
     if (!same_pose(isometry_of(pose), *vision_pose_))
       throw io::InputError(path_, 0,

@@ -365,6 +365,14 @@ TEST(OmniSfmEstimator, RefusesFramesOutOfTimeOrderOrFromAnotherCameraPose) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("out of time order"), std::string::npos) << e.what();
   }
+  // The same frame again: one time, two poses.
+  try {
+    estimator.processObservation(std::make_shared<CObservationTrackedFeatures>(*last));
+    ADD_FAILURE() << "a frame at the time of the previous one was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("two frames cannot share a time"), std::string::npos)
+        << e.what();
+  }
   auto moved = std::make_shared<CObservationTrackedFeatures>(*last);
   moved->timestamp = last->timestamp + std::chrono::milliseconds(100);
   moved->sensorPose.x_incr(0.05);

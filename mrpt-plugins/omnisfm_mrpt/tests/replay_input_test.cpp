@@ -298,8 +298,9 @@ TEST(DamagedReplay, TheValidPartIsReplayedAndTheObjectNamed) {
   EXPECT_LT(in.sensors.gyro.back().timestamp, rover.options.start_time + rover.dataset.timestamps.back());
 }
 
-// Camera frames that go back in time, or come from another pose on the robot under the same label,
-// are refused with the file and the object; frames at one time are taken (a rig without a clock).
+// Camera frames that go back in time or share one time, or come from another pose on the robot
+// under the same label, are refused with the file and the object (MRPT stamps an observation when
+// it is made, so even a rig without a clock of its own gives each frame its time).
 TEST(BadReplay, FramesOutOfTimeOrderOrFromAnotherCameraPoseAreRefused) {
   const auto frame = [](double time, double camera_height) {
     auto features = std::make_shared<CObservationTrackedFeatures>();
@@ -324,7 +325,13 @@ TEST(BadReplay, FramesOutOfTimeOrderOrFromAnotherCameraPoseAreRefused) {
     return std::string();
   };
 
-  EXPECT_EQ(refusal({frame(10, 1), frame(10, 1), frame(11, 1)}), "");
+  EXPECT_EQ(refusal({frame(10, 1), frame(10.5, 1), frame(11, 1)}), "");
+  // Two frames at one time: streamed, they were one time twice in online.tum, which eval refused.
+  const std::string twice = refusal({frame(10, 1), frame(10, 1), frame(11, 1)});
+  EXPECT_NE(twice.find("object 1: a camera frame at 10 s, the time of the one before: two frames "
+                       "cannot share a time"),
+            std::string::npos)
+      << twice;
   const std::string backwards = refusal({frame(10, 1), frame(11, 1), frame(10.5, 1)});
   EXPECT_NE(backwards.find(path), std::string::npos) << backwards;
   EXPECT_NE(backwards.find("object 2: a camera frame at 10.5 s after one at 11 s: the observations "

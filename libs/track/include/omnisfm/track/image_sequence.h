@@ -40,6 +40,10 @@ class ImageSequence {
   // how many there were.
   int skip(int count);
 
+  // Once next() has returned false: for a video that gave fewer frames than its container says
+  // (damaged or cut short, which the decoder passes over), what was lost; else "".
+  std::string shortfall() const;
+
   bool is_video() const { return video_ != nullptr; }
   // Frames in all: exact for a folder; for a video what its container says (0 when unknown).
   int expected_frames() const;
