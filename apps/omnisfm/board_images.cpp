@@ -33,9 +33,11 @@ calib::MirrorImage mirror_of(const std::string& images) {
   try {
     return calib::find_mirror_image(mean.mean());
   } catch (const std::runtime_error& e) {
-    throw io::InputError(images, 0,
-                         std::string(e.what()) + " on the mean of its " +
-                             std::to_string(mean.count()) + " images");
+    throw io::InputError(
+        images, 0,
+        std::string(e.what()) + "; searched on " +
+            (mean.count() == 1 ? std::string("its one image")
+                               : "the mean of its " + std::to_string(mean.count()) + " images"));
   }
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <vector>
@@ -24,29 +25,54 @@ cv::Mat MeanImage::mean() const {
 
 namespace {
 
-// Circles of radius [min_radius, max_radius] on a blurred image, strongest first, in the
-// coordinates of the full image though searched on one at most kSearchWidth wide (the
-// transform's cost grows with the radii).
-std::vector<cv::Vec3f> circles(const cv::Mat& blurred, double min_radius, double max_radius,
-                               double accumulator_threshold) {
+// A blurred image as the circles are searched on: at most kSearchWidth wide (the Hough
+// transform's cost grows with the radii), and how much smaller than the image.
+struct SearchImage {
+  cv::Mat small;
+  double scale = 1;
+};
+SearchImage search_image(const cv::Mat& blurred) {
   constexpr double kSearchWidth = 640;
-  const double scale = std::min(1.0, kSearchWidth / blurred.cols);
-  cv::Mat small = blurred;
-  if (scale < 1) cv::resize(blurred, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  SearchImage search{blurred, std::min(1.0, kSearchWidth / blurred.cols)};
+  if (search.scale < 1)
+    cv::resize(blurred, search.small, cv::Size(), search.scale, search.scale, cv::INTER_AREA);
+  return search;
+}
+
+// The Hough transform's edges: Canny's, at the thresholds it takes (the upper, and half of it).
+constexpr double kCannyThreshold = 60;
+
+// Circles of radius [min_radius, max_radius], strongest first, in the coordinates of the full
+// image.
+std::vector<cv::Vec3f> circles(const SearchImage& search, double min_radius, double max_radius,
+                               double accumulator_threshold) {
+  const double scale = search.scale;
   std::vector<cv::Vec3f> found;
-  cv::HoughCircles(small, found, cv::HOUGH_GRADIENT, 1, std::max(1.0, min_radius * scale / 4),
-                   60, accumulator_threshold, static_cast<int>(min_radius * scale),
+  cv::HoughCircles(search.small, found, cv::HOUGH_GRADIENT, 1,
+                   std::max(1.0, min_radius * scale / 4), kCannyThreshold, accumulator_threshold,
+                   static_cast<int>(min_radius * scale),
                    static_cast<int>(std::ceil(max_radius * scale)));
   for (cv::Vec3f& c : found) c /= scale;
   return found;
+}
+
+// The fraction of the search image's pixels on an edge.
+double edge_fraction(const SearchImage& search) {
+  cv::Mat edges;
+  cv::Canny(search.small, edges, kCannyThreshold / 2, kCannyThreshold);
+  return cv::countNonZero(edges) / static_cast<double>(edges.total());
 }
 
 // The radius in [from, to] about `centre` where the mean grey along circles rises fastest
 // (rising = true: the edge of a dark disc, the camera's reflection, against the scene around it)
 // or falls fastest (the mirror's picture against the dark ring of its rim). Circles are sampled
 // inside the image only.
-double steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, double from, double to,
-                     bool rising) {
+struct Edge {
+  double radius = 0;
+  double step = 0;  // grey levels across it, over 6 px
+};
+Edge steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, double from, double to,
+                   bool rising) {
   constexpr int kAngles = 360;
   std::vector<double> profile;
   for (int r = static_cast<int>(from); r <= static_cast<int>(to); ++r) {
@@ -70,7 +96,7 @@ double steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, doub
       best = rise;
       radius = from + i;
     }
-  return radius;
+  return {radius, best};
 }
 
 // The circle through the edge of the dark disc about `centre` of radius near `radius`: along each
@@ -118,17 +144,29 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
   cv::Mat blurred;
   cv::GaussianBlur(mean_grey, blurred, cv::Size(5, 5), 2);
   const double side = std::min(mean_grey.cols, mean_grey.rows);
-  const std::vector<cv::Vec3f> rims = circles(blurred, 0.25 * side, 0.7 * side, 40);
+  const SearchImage search = search_image(blurred);
+  // Edges everywhere (noise: 38 % of the pixels, where the shared sets' images and means have
+  // 5-12 %) hide any circle, and the transform would take a minute to say so.
+  constexpr double kMaxEdgeFraction = 0.25;
+  if (const double edges = edge_fraction(search); edges > kMaxEdgeFraction) {
+    char why[160];
+    std::snprintf(why, sizeof why,
+                  "the mirror was not found: the image is edges nearly everywhere (%.0f %% of its "
+                  "pixels, as noise or a close texture gives; a mirror's images, 5-12 %%)",
+                  100 * edges);
+    throw std::runtime_error(why);
+  }
+  const std::vector<cv::Vec3f> rims = circles(search, 0.25 * side, 0.7 * side, 40);
   if (rims.empty()) throw std::runtime_error("the mirror's rim (a circle) was not found");
   const cv::Vec3f rim = rims.front();
   MirrorImage mirror;
   mirror.centre = Eigen::Vector2d(rim[0], rim[1]);
   // The reflection's radius from the radial profile, where Hough's votes favour big circles;
   // then its centre from a circle of about that radius.
-  const double self_radius =
-      steepest_edge(blurred, mirror.centre, 0.05 * rim[2], 0.45 * rim[2], true);
+  const Edge self_edge = steepest_edge(blurred, mirror.centre, 0.05 * rim[2], 0.45 * rim[2], true);
+  const double self_radius = self_edge.radius;
   mirror.inner_radius = self_radius;
-  for (const cv::Vec3f& self : circles(blurred, 0.9 * self_radius, 1.1 * self_radius, 20)) {
+  for (const cv::Vec3f& self : circles(search, 0.9 * self_radius, 1.1 * self_radius, 20)) {
     if (std::hypot(self[0] - rim[0], self[1] - rim[1]) > 0.1 * rim[2]) continue;
     mirror.centre = Eigen::Vector2d(self[0], self[1]);
     mirror.inner_radius = self[2];
@@ -143,8 +181,22 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
   // About that centre: the strongest circle may be the mount's rather than the mirror's own edge,
   // and the picture ends where the grey falls most steeply, a little inside that (the edge is
   // blurred).
-  mirror.outer_radius = 0.98 * steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2],
-                                             false);
+  const Edge picture_edge =
+      steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2], false);
+  mirror.outer_radius = 0.98 * picture_edge.radius;
+  // Hough finds some circle in anything; a mirror's edges stand out of the grey about them (the
+  // shared sets': 35-62 grey levels for the camera's reflection, 43-101 for the picture's end, on
+  // their mean or on one image).
+  constexpr double kMinEdgeStep = 10;
+  if (self_edge.step < kMinEdgeStep || picture_edge.step < kMinEdgeStep) {
+    char why[200];
+    std::snprintf(why, sizeof why,
+                  "the mirror was not found: no circle stands out (the camera's reflection would "
+                  "end in a rise of %.1f grey levels, the mirror's picture in a fall of %.1f; a "
+                  "mirror's are %.0f or more)",
+                  self_edge.step, picture_edge.step, kMinEdgeStep);
+    throw std::runtime_error(why);
+  }
   return mirror;
 }
 

@@ -3,18 +3,20 @@
 // source tree or $OMNISFM_REAL_DATA; skipped when absent), and the mirror's circles on a drawn
 // mirror.
 
+#include "omnisfm/calib/board_detection.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
-#include "omnisfm/calib/board_detection.h"
 #include "omnisfm/calib/checkerboard_grid.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/checkerboard_files.h"
@@ -50,6 +52,33 @@ TEST(MirrorImage, FindsTheRimAndTheCamerasReflection) {
 TEST(MirrorImage, AnImageWithoutAMirrorIsRefused) {
   const cv::Mat flat(480, 640, CV_8UC1, cv::Scalar(128));
   EXPECT_THROW(find_mirror_image(flat), std::runtime_error);
+}
+
+// The message of the error finding a mirror in `image` throws, or "".
+std::string mirror_error(const cv::Mat& image) {
+  try {
+    find_mirror_image(image);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Noise, and a photograph's circles too faint to be a mirror's, are refused at once (noise took 30
+// s in the transform and gave a "mirror" 43-196 px across).
+TEST(MirrorImage, NoiseAndFaintCirclesAreNoMirror) {
+  cv::Mat noise(768, 1024, CV_8UC1);
+  cv::randu(noise, 0, 256);
+  const auto started = std::chrono::steady_clock::now();
+  const std::string edges = mirror_error(noise);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 5);
+  EXPECT_EQ(edges.rfind("the mirror was not found: the image is edges nearly everywhere", 0), 0u)
+      << edges;
+  // A photograph of bricks, no mirror: Hough finds a circle in its texture, but no edge of it
+  // stands out (4.2 grey levels where a mirror's picture ends in 43-101).
+  const std::string bricks = mirror_error(
+      cv::imread(source_file("share/omnisfm/textures/brick.png"), cv::IMREAD_GRAYSCALE));
+  EXPECT_EQ(bricks.rfind("the mirror was not found: no circle stands out", 0), 0u) << bricks;
 }
 
 // A board of `width_n` x `height_n` inner corners, `square` apart, rendered through `camera` by

@@ -30,7 +30,7 @@ class MeanImage {
 // image's smaller side that may run past the image's edges, and within it the camera's
 // reflection, a circle of 0.05-0.45 of the rim's radius about nearly the same centre, whose
 // centre is the better estimate of the mirror's. Throws std::runtime_error saying which circle
-// was not found.
+// was not found, or that the edges found do not stand out of the image as a mirror's do.
 MirrorImage find_mirror_image(const cv::Mat& mean_grey);
 
 }  // namespace omnisfm::calib
