@@ -572,8 +572,8 @@ TEST_F(CliTest, SfmRunsAtANoiseOfTenPixels) {
   EXPECT_EQ(paper.status, 1);
   EXPECT_EQ(paper.err,
             "omnisfm: no track is left for the batch adjustment: 44 of 44 tracks were rejected as "
-            "outliers: the tracks' noise is far beyond [sfm] pixel_sigma (10 px), the outlier "
-            "bound too strict, or the estimate lost its way\n");
+            "outliers: [sfm] outlier_threshold_px (2 px) is too strict for the tracks, or the "
+            "estimate lost its way\n");
   EXPECT_FALSE(fs::exists(dir_ / "paper"));
 }
 
@@ -1676,6 +1676,9 @@ TEST_F(CliTest, MostTracksRejectedIsSaidWithItsLikeliestCause) {
   EXPECT_NE(batch.err.find("no track is left for the batch adjustment: 44 of 44" + cause),
             std::string::npos)
       << batch.err;
+  // The batch's rerun after the re-test failed there, and its first solve stood.
+  EXPECT_NE(read_all(dir_ / "a/report.txt").find("the batch with the re-tested tracks failed"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "d"));
 
   const Outcome stated = omnisfm("sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out e");

@@ -70,7 +70,10 @@ sfm::SfmResult shape_from_motion(const sim::Dataset& d,
   sfm::SfmSettings settings;
   settings.batch.covariances = false;
   TerminalProgress progress(what, "frames");
-  return sfm::run_sfm(d.camera, tracks, settings, progress.callback());
+  sfm::SfmResult result = sfm::run_sfm(d.camera, tracks, settings, progress.callback());
+  if (!result.batch.usable())
+    throw std::runtime_error(what + ": the batch adjustment failed: " + result.batch.message);
+  return result;
 }
 
 // The experiment's dataset with its images rendered into dir/dataset.

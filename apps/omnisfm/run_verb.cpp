@@ -149,9 +149,8 @@ std::string stream_online_run(const std::string& rawlog, const RunSettings& sett
   if (refused_motions > 0)
     std::cerr << "omnisfm: warning: " << sfm::refused_motion_line(refused_motions, {}, false);
   // Every track seen twice ends as a point or an outlier.
-  const std::string most_rejected =
-      sfm::most_rejected_line(out.outliers(), out.points() + out.outliers(), summary.noise_px,
-                              settings.sfm.filter.pixel_sigma);
+  const std::string most_rejected = sfm::most_rejected_line(
+      out.outliers(), out.points() + out.outliers(), summary.noise_px, settings.sfm.filter);
   std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
   std::ostringstream report;
   if (!summary.read.complete()) report << "rawlog damaged: " << summary.read.problem << "\n";
@@ -274,7 +273,7 @@ std::string batch_run_report(const RunVerbOptions& o, const RunSettings& setting
          << "frames " << result.num_frames << ", observations " << in.tracks.size() << ", "
          << sfm::outliers_phrase(result, settings.sfm.filter.pixel_sigma) << "\n"
          << sfm::most_rejected_line(static_cast<long>(result.outliers.size()), result.num_tracks,
-                                    result.online_noise_px, settings.sfm.filter.pixel_sigma)
+                                    result.online_noise_px, settings.sfm.filter)
          << sensors_line(in)
          << sfm::refused_motion_line(static_cast<long>(result.refused_motion_frames.size()),
                                      result.refused_motion_frames, settings.sfm.run_batch)
@@ -320,7 +319,7 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
                                           result.refused_motion_frames, true);
   const std::string most_rejected =
       sfm::most_rejected_line(static_cast<long>(result.outliers.size()), result.num_tracks,
-                              result.online_noise_px, settings.sfm.filter.pixel_sigma);
+                              result.online_noise_px, settings.sfm.filter);
   std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
   if (!result.batch.usable())
     throw std::runtime_error("the batch adjustment failed: " + result.batch.message);

@@ -119,9 +119,8 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
   filter.finish_start();
   out.take_what_is_held(filter);
   // Every track seen twice ends as a point or an outlier.
-  const std::string most_rejected =
-      sfm::most_rejected_line(out.outliers(), out.points() + out.outliers(), filter.pixel_sigma(),
-                              settings.filter.pixel_sigma);
+  const std::string most_rejected = sfm::most_rejected_line(
+      out.outliers(), out.points() + out.outliers(), filter.pixel_sigma(), settings.filter);
   std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
   std::ostringstream report;
   report << "frames " << next << ", observations " << observations << ", outlier tracks "
@@ -196,14 +195,14 @@ void add_sfm_verb(CLI::App& app) {
     } catch (const std::invalid_argument& e) {
       throw io::InputError(o->tracks, 0, e.what());
     }
+    const std::string most_rejected =
+        sfm::most_rejected_line(static_cast<long>(result.outliers.size()), result.num_tracks,
+                                result.online_noise_px, settings.filter);
+    std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
     if (settings.run_batch && !result.batch.usable())
       throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
     times.resize(result.num_frames);
-    const std::string most_rejected =
-        sfm::most_rejected_line(static_cast<long>(result.outliers.size()), result.num_tracks,
-                                result.online_noise_px, settings.filter.pixel_sigma);
-    std::cerr << (most_rejected.empty() ? "" : "omnisfm: " + most_rejected);
     std::ostringstream report;
     report << "frames " << result.num_frames << ", observations " << tracks.size() << ", "
            << sfm::outliers_phrase(result, settings.filter.pixel_sigma) << "\n"

@@ -89,7 +89,7 @@ Edge steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, double
     profile.push_back(n > 0 ? sum / n : 0);
   }
   constexpr int kStep = 3;  // pixels either side: the edge is blurred
-  double best = -INFINITY, radius = from;
+  double best = 0, radius = from;  // a range too short to hold an edge has none
   for (int i = kStep; i + kStep < static_cast<int>(profile.size()); ++i)
     if (const double rise = (rising ? 1 : -1) * (profile[i + kStep] - profile[i - kStep]);
         rise > best) {

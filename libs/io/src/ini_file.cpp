@@ -120,7 +120,9 @@ int IniSection::get_positive_int(const std::string& key, int fallback, bool zero
 
 double IniSection::get_within(const std::string& key, double fallback, double low, double high,
                               const std::string& meaning, bool zero_off) const {
-  const double v = get_double(key, fallback);
+  // The range is the file's to meet: a fallback set in code is the caller's.
+  if (!has(key)) return fallback;
+  const double v = get_double(key);
   if (zero_off && v == 0) return v;
   if (!(v >= low && v <= high)) {
     const std::string range = high < std::numeric_limits<double>::max()

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -136,6 +137,24 @@ TEST(IniFile, PositiveGettersRefuseZeroInfinityAndFractions) {
   EXPECT_EQ(a.get_positive_int("absent", 7), 7);
   EXPECT_NE(error_of([&] { a.get_positive_int("zero", 1); }).find("test.ini:2:"),
             std::string::npos);
+}
+
+// A number within its range, or 0 where 0 is off; the range is the file's to meet, so an absent
+// key gives the caller's fallback as it is.
+TEST(IniFile, RangedGetterNamesTheRangeAndWhy) {
+  const IniFile ini = parsed("[a]\nzero = 0\nfar = 1e308\nnear = 0.5\nword = x\n");
+  const IniSection& a = ini.section("a");
+  EXPECT_EQ(a.get_within("near", 7, 0.1, 1, "metres"), 0.5);
+  EXPECT_EQ(a.get_within("zero", 7, 0.1, 1, "metres", true), 0);
+  EXPECT_EQ(error_of([&] { a.get_within("zero", 7, 0.1, 1, "metres"); }),
+            "test.ini:2: key 'zero': must be from 0.1 to 1: metres");
+  EXPECT_EQ(error_of([&] { a.get_within("far", 7, 0.1, 1, "metres", true); }),
+            "test.ini:3: key 'far': must be from 0.1 to 1 (or 0: off): metres");
+  EXPECT_EQ(error_of([&] { a.get_within("near", 7, 1, std::numeric_limits<double>::max(), "x"); }),
+            "test.ini:4: key 'near': must be a finite number of at least 1: x");
+  EXPECT_NE(error_of([&] { a.get_within("word", 7, 0.1, 1, "metres"); }).find("test.ini:5:"),
+            std::string::npos);
+  EXPECT_EQ(a.get_within("absent", 7, 0.1, 1, "metres"), 7);
 }
 
 TEST(IniFile, FlagsReadAsWordsOrDigits) {

@@ -321,7 +321,7 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
       progress, &result);
   result.odometry_scale = sensors.odometry_scale;
 
-  refuse_degenerate_motion(result, settings.filter, true);
+  refuse_degenerate_motion(result, settings.filter, !sensors.odometry.empty());
   if (!sensors.gps.empty())
     move_into_enu(sensors, times, !sensors.odometry.empty(), &online_cam_from_world, &result);
   if (!settings.run_batch) return result;

@@ -515,8 +515,8 @@ void OnlineFilter::accept(Candidate* c) {
   state_.restore_considered_covariance(considered);
 }
 
-bool OnlineFilter::motion_misfits(const std::map<int, Eigen::Vector2d>& seen,
-                                  const std::vector<Measurement>& measurements) const {
+double OnlineFilter::motion_misfit(const std::map<int, Eigen::Vector2d>& seen,
+                                   const std::vector<Measurement>& measurements) const {
   std::vector<double> scores;
   for (const auto& [track, pixel] : seen) {
     const int slot = state_.slot_of(track);
@@ -524,11 +524,12 @@ bool OnlineFilter::motion_misfits(const std::map<int, Eigen::Vector2d>& seen,
     if (slot >= 0 && state_.anchor(slot).updates >= kEstablishedUpdates)
       scores.push_back(std::numeric_limits<double>::infinity());
   }
-  if (static_cast<int>(scores.size()) < kMinPointsToJudgeMotion) return false;
+  if (static_cast<int>(scores.size()) < kMinPointsToJudgeMotion)
+    return std::numeric_limits<double>::quiet_NaN();
   size_t k = 0;
   for (const Measurement& m : measurements)
     if (state_.anchor(m.slot).updates >= kEstablishedUpdates) scores[k++] = prior_chi2(m);
-  return !(core::percentile(scores, 0.5) <= settings_.outlier_chi2);
+  return core::percentile(scores, 0.5);
 }
 
 bool OnlineFilter::fits_after_update(const std::vector<Measurement>& measurements) const {

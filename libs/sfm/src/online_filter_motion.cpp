@@ -101,7 +101,7 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   const bool distance_measured = distance_measured_;
   propagate(given);
   std::vector<Measurement> measurements = measurements_of(seen);
-  if (!motion_misfits(seen, measurements)) return measurements;
+  if (!(motion_misfit(seen, measurements) > settings_.outlier_chi2)) return measurements;
 
   restore(before);
   distance_measured_ = distance_measured;
@@ -111,7 +111,8 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   std::vector<Measurement> alternative = measurements_of(seen);
   // The prediction, as loose as the random walk, fits each measurement alone; the images must
   // also agree on one pose.
-  if (motion_misfits(seen, alternative) || !fits_after_update(alternative)) {
+  if (motion_misfit(seen, alternative) > settings_.outlier_chi2 ||
+      !fits_after_update(alternative)) {
     // The images agree with neither: they are the suspects, and the sensors' motion stands.
     restore(before);
     propagate(given);

@@ -94,7 +94,7 @@ int tracks_seen_twice(const std::vector<core::TrackObservation>& tracks) {
 }
 
 void refuse_degenerate_motion(const SfmResult& result, const FilterSettings& settings,
-                              bool motion_sensors) {
+                              bool odometry) {
   // Without translation the points' depths are not observable: refuse rather than report a
   // structure made of the initialisation's guesses.
   double baseline = 0, depth = 0;
@@ -109,15 +109,14 @@ void refuse_degenerate_motion(const SfmResult& result, const FilterSettings& set
   }
   if (baseline > kMinBaselineRatio * depth) return;
   // A filter held still by its walk sees every track off.
-  const std::string held_still = motion_sensors
-                                     ? ""
-                                     : "[sfm] translation_walk_sigma, " +
-                                           io::format_double(settings.translation_walk_sigma) +
-                                           " per frame, may hold it still";
+  const std::string held_still = odometry ? ""
+                                          : "[sfm] translation_walk_sigma, " +
+                                                io::format_double(settings.translation_walk_sigma) +
+                                                " per frame, may hold it still";
   // With most tracks rejected the filter's motion is no evidence of the camera's.
   const std::string rejected =
       most_rejected_phrase(static_cast<long>(result.outliers.size()), result.num_tracks,
-                           result.online_noise_px, settings.pixel_sigma);
+                           result.online_noise_px, settings);
   if (!rejected.empty())
     throw std::runtime_error("the filter failed: " + rejected + "; its camera moves " +
                              std::to_string(baseline) + " filter units" +
@@ -273,7 +272,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
   if (kept.empty()) {
     const std::string why =
         most_rejected_phrase(static_cast<long>(rejected.size()), result->num_tracks,
-                             result->online_noise_px, settings.filter.pixel_sigma);
+                             result->online_noise_px, settings.filter);
     throw std::runtime_error(
         "no track is left for the batch adjustment: " +
         (why.empty() ? "the filter rejected all " + std::to_string(rejected.size()) + " as outliers"
@@ -345,7 +344,7 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
       start_points, batch, extra);
   // A rerun whose solve failed (a track taken back that no longer projects) is no judgement of
   // the tracks: the first solve and the filter's rejections stand.
-  if (!std::isfinite(rerun.final_rms_px)) {
+  if (!rerun.usable()) {
     result->retest_skipped = "the batch with the re-tested tracks failed: " + rerun.message;
     return;
   }

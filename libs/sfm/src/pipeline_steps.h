@@ -30,10 +30,10 @@ int tracks_seen_twice(const std::vector<core::TrackObservation>& tracks);
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings);
 
 // Throws std::runtime_error when the filter's camera barely translates against the scene's depth,
-// saying why where it can: the filter rejected most tracks, or (without `motion_sensors`) its
-// translation walk held the camera still.
+// saying why where it can: the filter rejected most tracks, or (without `odometry`, where the walk
+// moves the camera) its translation walk held the camera still.
 void refuse_degenerate_motion(const SfmResult& result, const FilterSettings& settings,
-                              bool motion_sensors);
+                              bool odometry);
 
 // The batch started from the filter (online_cam_from_world, as run_filter returns it) on its
 // inliers, then the batch-level outlier rejection and the batch again; fills result->batch and

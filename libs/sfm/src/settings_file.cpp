@@ -69,10 +69,11 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
   f.smoothing_window_frames =
       s.get_positive_int("smoothing_window_frames", f.smoothing_window_frames, true);
   f.max_live_points = s.get_positive_int("max_live_points", f.max_live_points);
-  // The filter's covariance grows as the square of its points: 2,000 hold 290 MB.
-  if (f.max_live_points < 6 || f.max_live_points > 2000)
+  // The filter's covariance grows as the square of its points (6 columns each): 1,000 take
+  // 290 MB.
+  if (f.max_live_points < 6 || f.max_live_points > 1000)
     s.fail("max_live_points",
-           "must be from 6 (the filter starts from 6 points) to 2000 (its covariance, 290 MB)");
+           "must be from 6 (the filter starts from 6 points) to 1000 (its covariance, 290 MB)");
   settings.run_batch = s.get_flag("batch", settings.run_batch);
   settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
   settings.batch_outlier_threshold_px = s.get_within(

@@ -77,27 +77,35 @@ std::string refused_fixes_phrase(const MotionSensors& sensors, const std::vector
 }
 
 std::string most_rejected_phrase(long rejected, long tracks, double taken_noise_px,
-                                 double stated_noise_px) {
+                                 const FilterSettings& settings) {
   constexpr long kMinTracks = 10;
   if (tracks < kMinTracks || !(2 * rejected > tracks)) return "";
   std::ostringstream phrase;
   phrase << std::setprecision(3) << rejected << " of " << tracks
          << " tracks were rejected as outliers: ";
-  if (taken_noise_px >= 0.999 * OnlineFilter::kMaxNoiseScale * stated_noise_px)
+  const double stated = settings.pixel_sigma;
+  if (settings.outlier_test == OutlierTest::kPixels)
+    phrase << "[sfm] outlier_threshold_px (" << settings.outlier_threshold_px
+           << " px) is too strict for the tracks, or the estimate lost its way";
+  else if (!settings.measure_noise)
+    phrase << "the tracks may be far noisier than [sfm] pixel_sigma (" << stated
+           << " px) says (measure_noise = 1 measures it), outlier_chi2 (" << settings.outlier_chi2
+           << ") too strict, or the estimate lost its way";
+  else if (taken_noise_px >= 0.999 * OnlineFilter::kMaxNoiseScale * stated)
     phrase << "the tracks are noisier than " << OnlineFilter::kMaxNoiseScale
-           << " times [sfm] pixel_sigma (" << stated_noise_px
+           << " times [sfm] pixel_sigma (" << stated
            << " px), the most the filter takes (set pixel_sigma nearer their noise), or the "
               "estimate lost its way";
   else
-    phrase << "the tracks' noise is far beyond [sfm] pixel_sigma (" << stated_noise_px
-           << " px), the outlier bound too strict, or the estimate lost its way";
+    phrase << "the estimate lost its way (the tracks' noise taken at "
+           << std::max(taken_noise_px, stated) << " px), or outlier_chi2 (" << settings.outlier_chi2
+           << ") is too strict";
   return phrase.str();
 }
 
 std::string most_rejected_line(long rejected, long tracks, double taken_noise_px,
-                               double stated_noise_px) {
-  const std::string phrase =
-      most_rejected_phrase(rejected, tracks, taken_noise_px, stated_noise_px);
+                               const FilterSettings& settings) {
+  const std::string phrase = most_rejected_phrase(rejected, tracks, taken_noise_px, settings);
   return phrase.empty() ? "" : "warning: " + phrase + "; the results are not to be trusted\n";
 }
 

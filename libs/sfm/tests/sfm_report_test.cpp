@@ -70,21 +70,37 @@ TEST(SfmReport, OutliersPhraseCountsWhatTheBatchTookBack) {
 // A run that rejected most of its tracks is said to be one (a pixel_sigma 20 times below the
 // tracks' noise rejected 112 of the rover's 116 with exit 0 and a report that only counted them).
 TEST(SfmReport, MostRejectedLineWarnsOnlyWhereMostTracksWentAndSaysWhy) {
-  EXPECT_EQ(most_rejected_line(5, 10, 0.3, 0.3), "");  // half: no warning
-  EXPECT_EQ(most_rejected_line(5, 9, 0.3, 0.3), "");   // too few to judge
-  EXPECT_EQ(most_rejected_line(0, 0, NAN, 0.3), "");
-  const std::string capped = most_rejected_line(112, 116, 0.1, 0.01);
+  FilterSettings settings;
+  settings.pixel_sigma = 0.01;
+  EXPECT_EQ(most_rejected_line(5, 10, 0.01, settings), "");  // half: no warning
+  EXPECT_EQ(most_rejected_line(5, 9, 0.01, settings), "");   // too few to judge
+  EXPECT_EQ(most_rejected_line(0, 0, NAN, settings), "");
+  // The noise taken at its cap, ten times pixel_sigma: the stated noise is the likeliest cause.
+  const std::string capped = most_rejected_line(112, 116, 0.1, settings);
   EXPECT_EQ(capped.rfind("warning: 112 of 116 tracks were rejected as outliers: the tracks are "
                          "noisier than 10 times [sfm] pixel_sigma (0.01 px)",
                          0),
             0u)
       << capped;
   EXPECT_TRUE(has(capped, "the results are not to be trusted\n")) << capped;
-  const std::string stated = most_rejected_line(6, 10, 0.3, 0.3);
-  EXPECT_TRUE(has(stated, "6 of 10 tracks")) << stated;
-  EXPECT_TRUE(has(stated, "far beyond [sfm] pixel_sigma (0.3 px)")) << stated;
-  EXPECT_EQ(most_rejected_phrase(6, 10, 0.3, 0.3) + "; the results are not to be trusted\n",
-            stated.substr(std::string("warning: ").size()));
+  EXPECT_EQ(most_rejected_phrase(112, 116, 0.1, settings) + "; the results are not to be trusted\n",
+            capped.substr(std::string("warning: ").size()));
+  // The noise measured below the cap: not the noise.
+  settings.pixel_sigma = 0.3;
+  const std::string lost = most_rejected_line(6, 10, 0.3, settings);
+  EXPECT_TRUE(has(lost, "6 of 10 tracks")) << lost;
+  EXPECT_TRUE(has(lost,
+                  "the estimate lost its way (the tracks' noise taken at 0.3 px), or "
+                  "outlier_chi2 (27.6) is too strict"))
+      << lost;
+  settings.measure_noise = false;
+  EXPECT_TRUE(has(most_rejected_line(6, 10, 0.3, settings),
+                  "may be far noisier than [sfm] "
+                  "pixel_sigma (0.3 px) says"));
+  // The paper's fixed bound in pixels.
+  settings.outlier_test = OutlierTest::kPixels;
+  EXPECT_TRUE(has(most_rejected_line(6, 10, 0.3, settings),
+                  "[sfm] outlier_threshold_px (2 px) is too strict for the tracks"));
 }
 
 TEST(SfmReport, RefusedMotionLineListsTheFramesAndWhatWasDone) {

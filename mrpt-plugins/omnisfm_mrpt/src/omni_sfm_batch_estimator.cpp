@@ -56,8 +56,7 @@ OmniSfmBatchResult OmniSfmBatchEstimator::estimate(ReplayInput in,
     throw io::InputError(source, 0, e.what());
   }
   const sfm::BatchResult& batch = out.estimate.batch;
-  if (batch.world_from_cam.empty())
-    throw std::runtime_error("the batch adjustment failed: " + batch.message);
+  if (!batch.usable()) throw std::runtime_error("the batch adjustment failed: " + batch.message);
 
   out.map_is_enu = out.estimate.world_is_enu;
   const Eigen::Isometry3d& body_from_cam = in.sensors.body_from_cam;

@@ -58,11 +58,12 @@ void read_run_options(const io::IniSection& s, RunOptions* options) {
                                "the scale's relative uncertainty (0 holds it; beyond 0.5 the "
                                "scale would be negative within two sigmas)");
   sfm::GyroNoise& g = options->gyro_noise;
+  // The low ends lie below a navigation-grade gyro's (an HG9900's bias is about 1.5e-8 rad/s).
   g.noise_density =
-      s.get_within("gyro_noise_density", g.noise_density, 1e-7, 1, "rad/s per sqrt(Hz)");
-  g.bias_sigma = s.get_within("gyro_bias_sigma", g.bias_sigma, 1e-7, 1,
+      s.get_within("gyro_noise_density", g.noise_density, 1e-10, 1, "rad/s per sqrt(Hz)");
+  g.bias_sigma = s.get_within("gyro_bias_sigma", g.bias_sigma, 1e-10, 1,
                               "rad/s (a bias of a radian a second is no gyro)");
-  g.bias_walk = s.get_within("gyro_bias_walk", g.bias_walk, 1e-9, 1, "rad/s^2 per sqrt(Hz)");
+  g.bias_walk = s.get_within("gyro_bias_walk", g.bias_walk, 1e-12, 1, "rad/s^2 per sqrt(Hz)");
   r.tracker.max_tracks = s.get_positive_int("max_tracks", r.tracker.max_tracks);
   // As track's --max-tracks: the filter starts from 6 tracks.
   if (r.tracker.max_tracks < 6 || r.tracker.max_tracks > 100000)

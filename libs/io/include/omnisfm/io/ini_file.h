@@ -51,8 +51,8 @@ class IniSection {
   double get_positive(const std::string& key, double fallback, bool zero_ok = false) const;
   int get_positive_int(const std::string& key, int fallback, bool zero_ok = false) const;
   // A number from low to high (or exactly 0 with zero_off: the setting off), or the fallback when
-  // absent; fails naming the key, the range and `meaning` (why values beyond say nothing). A high
-  // of the largest double asks only for a finite number.
+  // absent (not judged: it is the caller's); fails naming the key, the range and `meaning` (why
+  // values beyond say nothing). A high of the largest double asks only for a finite number.
   double get_within(const std::string& key, double fallback, double low, double high,
                     const std::string& meaning, bool zero_off = false) const;
   // 1 or 0, true or false, yes or no, on or off (any case), or the fallback when absent.

@@ -454,12 +454,12 @@ class OnlineFilter {
   // then points to.
   std::vector<Measurement> propagate_checked(const std::map<int, Eigen::Vector2d>& seen,
                                              const MotionPrediction** motion);
-  // Whether the established points' median innovation score lies beyond the outlier bound
-  // (FilterSettings::outlier_chi2): a prediction under which most good tracks would be rejected
-  // is gross error, not noise. Not judged with fewer than kMinPointsToJudgeMotion of them
-  // (online_filter.cpp).
-  bool motion_misfits(const std::map<int, Eigen::Vector2d>& seen,
-                      const std::vector<Measurement>& measurements) const;
+  // The established points' median innovation score (chi-square, 2 dof) under a prediction:
+  // beyond the outlier bound (FilterSettings::outlier_chi2) most good tracks would be rejected,
+  // and the prediction is in gross error. NaN (not judged) with fewer than
+  // kMinPointsToJudgeMotion of them (online_filter.cpp).
+  double motion_misfit(const std::map<int, Eigen::Vector2d>& seen,
+                       const std::vector<Measurement>& measurements) const;
   // Whether, updated by `measurements`, the established points' median score after the update
   // lies within the outlier bound: the images agree on one pose.
   bool fits_after_update(const std::vector<Measurement>& measurements) const;

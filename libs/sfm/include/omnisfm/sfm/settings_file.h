@@ -6,7 +6,7 @@
 //   inverse_depth_sigma (1e-6-1e6 /m)  outlier_test (chi2 or pixels)  outlier_chi2 (>= 5.99)
 //   outlier_threshold_px (0.01-1e6)  innovation_gate_chi2 (0: off, or >= 5.99)
 //   measure_noise (0 or 1)  update_iterations (1-100)  smoothed_start_frames (0 or >= 2)
-//   smoothing_window_frames (0: off)  max_live_points (6-2000)
+//   smoothing_window_frames (0: off)  max_live_points (6-1000)
 //   batch  (0 or 1)  batch_outliers (0 or 1)  batch_outlier_threshold_px (0 or 0.01-1e6)
 //   batch_track_false_alarm (0 <= it < 1)  huber_px (0 or 0.01-1e6)
 //   covariances (0 or 1)  max_iterations (1-1e6)

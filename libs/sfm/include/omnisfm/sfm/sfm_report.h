@@ -16,15 +16,14 @@ namespace omnisfm::sfm {
 std::string outliers_phrase(const SfmResult& result, double stated_noise_px);
 
 // Where more than half of at least 10 tracks (seen twice or more) were rejected, "N of M tracks
-// were rejected as outliers: " and the likeliest cause (the tracks' noise beyond what the filter
-// takes against pixel_sigma, `stated_noise_px`; or a stated noise or outlier bound far off, or an
-// estimate that lost its way); else "". `taken_noise_px` is the noise the filter took
-// (SfmResult::online_noise_px).
+// were rejected as outliers: " and the likeliest causes under `settings` (the outlier test and
+// its bound, pixel_sigma against `taken_noise_px`, the noise the filter took:
+// SfmResult::online_noise_px); else "".
 std::string most_rejected_phrase(long rejected, long tracks, double taken_noise_px,
-                                 double stated_noise_px);
+                                 const FilterSettings& settings);
 // The same as the report's line, beginning "warning: " and ending in a newline; else "".
 std::string most_rejected_line(long rejected, long tracks, double taken_noise_px,
-                               double stated_noise_px);
+                               const FilterSettings& settings);
 
 // The filter alone: "; N observations of new tracks left out for want of room (max_live_points)"
 // where it left any out (OnlineFilter::not_admitted), else "".

@@ -109,8 +109,8 @@ class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
                                 mrpt::obs::CSensoryFrame& observations) override;
   // One observation, as an observation-format rawlog or a live sensor gives it. Throws
   // std::invalid_argument, changing nothing, for an image or tracks when no camera is known (a
-  // stock CObservationImage without options.camera), a camera frame earlier than the previous
-  // one, or one whose camera pose on the robot is not the first frame's.
+  // stock CObservationImage without options.camera), a camera frame at or before the previous
+  // one's time, or one whose camera pose on the robot is not the first frame's.
   void processObservation(const mrpt::obs::CObservation::Ptr& observation);
 
   // The robot's pose in the map frame with its covariance: a CPose3DPDFGaussian, whose
@@ -164,8 +164,8 @@ class OmniSfmEstimator : public mrpt::slam::CMetricMapBuilder {
 
  private:
   void start(const camera::CatadioptricCamera& camera, const mrpt::poses::CPose3D& camera_pose);
-  // Refuses a frame earlier than the previous one, or whose camera pose on the robot is not the
-  // one the estimator started with.
+  // Refuses a frame at or before the previous one's time, or whose camera pose on the robot is not
+  // the one the estimator started with.
   void require_next_frame(const mrpt::poses::CPose3D& pose, double timestamp) const;
   // The filter propagated by the odometry and gyro collected since the previous frame (when there
   // are any), then updated by the frame's pixels.

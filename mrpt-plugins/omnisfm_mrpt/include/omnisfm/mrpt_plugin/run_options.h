@@ -14,9 +14,9 @@
 //   odometry_scale = 1               # true distance per distance the wheels read, 0.1 to 10:
 //                                    # the "odometry scale" a run with GPS reports
 //   odometry_scale_sigma = 0.02      # its relative uncertainty, up to 0.5; 0 holds it
-//   gyro_noise_density = 2e-4        # rad/s per sqrt(Hz), 1e-7 to 1
-//   gyro_bias_sigma = 5e-3           # rad/s, 1e-7 to 1
-//   gyro_bias_walk = 2e-5            # rad/s^2 per sqrt(Hz), 1e-9 to 1
+//   gyro_noise_density = 2e-4        # rad/s per sqrt(Hz), 1e-10 to 1
+//   gyro_bias_sigma = 5e-3           # rad/s, 1e-10 to 1
+//   gyro_bias_walk = 2e-5            # rad/s^2 per sqrt(Hz), 1e-12 to 1
 //   max_tracks = 112  min_ncc = 0.97 # the tracker, for images
 //   keyframe_distance_m = 1          # OmniSfmEstimator's keyframes: one each time the robot has
 //   keyframe_angle_deg = 10          # moved or turned this much (omnisfm run keeps none)
