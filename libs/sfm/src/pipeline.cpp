@@ -71,6 +71,8 @@ std::vector<Eigen::Isometry3d> run_filter(const camera::CatadioptricCamera& came
     if (progress) progress(f + 1, num_frames);
   }
   filter.finish_start();
+  // A lasting fault names the frames that led up to it late.
+  std::sort(result->refused_motion_frames.begin(), result->refused_motion_frames.end());
   result->online_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   for (const auto& [frame, T] : filter.smoothed_start()) cam_from_world[frame] = T;

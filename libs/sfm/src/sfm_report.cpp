@@ -56,11 +56,12 @@ std::string refused_motion_line(long count, const std::vector<int>& frames, bool
   if (count <= 0) return "";
   std::ostringstream line;
   line << "motion sensors refused: in " << count << (count == 1 ? " frame" : " frames")
-       << " the images showed the motion the vehicle's sensors predicted grossly wrong (a jump, "
-          "a spike, a misdated reading)";
+       << " the images showed the motion the vehicle's sensors predicted wrong, grossly or for "
+          "good (a jump, a spike, a misdated reading, a sensor stuck)";
   if (!frames.empty())
     line << ": frame" << (frames.size() == 1 ? " " : "s ") << first_listed(frames);
-  line << "; the filter took its own constant-velocity prediction there"
+  line << "; the filter took its own prediction there (constant velocity, or where the fault "
+          "lasted the random walk)"
        << (batch ? " and the batch left those readings out" : "") << "\n";
   return line.str();
 }

@@ -107,9 +107,10 @@ TEST(SfmReport, RefusedMotionLineListsTheFramesAndWhatWasDone) {
   EXPECT_EQ(refused_motion_line(0, {}, true), "");
   EXPECT_EQ(refused_motion_line(1, {75}, true),
             "motion sensors refused: in 1 frame the images showed the motion the vehicle's "
-            "sensors predicted grossly wrong (a jump, a spike, a misdated reading): frame 75; the "
-            "filter took its own constant-velocity prediction there and the batch left those "
-            "readings out\n");
+            "sensors predicted wrong, grossly or for good (a jump, a spike, a misdated reading, a "
+            "sensor stuck): frame 75; the filter took its own prediction there "
+            "(constant velocity, or where the fault lasted the random walk) and the batch left "
+            "those readings out\n");
   std::vector<int> many;
   for (int f = 1; f <= 12; ++f) many.push_back(10 * f);
   const std::string listed = refused_motion_line(12, many, true);

@@ -207,8 +207,8 @@ void OmniSfmEstimator::process_frame(const std::vector<sfm::TrackPixel>& pixels,
     if (filter_->refused_motions() > refused)
       MRPT_LOG_WARN_STREAM("frame at " << io::format_double(timestamp)
                                        << " s: the images showed the motion the vehicle's "
-                                          "sensors predicted grossly wrong; the filter took its "
-                                          "own constant-velocity prediction");
+                                          "sensors predicted wrong, grossly or for good; "
+                                          "the filter took its own prediction");
   } else
     filter_->process_frame(frames_, pixels);
   previous_frame_time_ = timestamp;

@@ -292,11 +292,12 @@ class OnlineFilter {
   using TrackRejected = std::function<void(const RejectedTrack&)>;
   void on_track_rejected(TrackRejected callback) { track_rejected_ = std::move(callback); }
   // Called with a frame whose predicted motion (process_frame's `motion`) the images refused:
-  // under it the established points' median innovation score was beyond any noise's, and under
-  // the filter's own constant-velocity prediction, which the frame then took, within (an
-  // odometry that jumps, a gyro's spike, a reading misdated). The sensors' readings over that
-  // interval are wrong, and the batch leaves them out. Where the images fit neither, the
-  // sensors' motion stands.
+  // under it the established points' median innovation score was beyond any noise's (an
+  // odometry that jumps, a gyro's spike, a reading misdated), or beyond a consistent
+  // prediction's frame after frame (a sensor that fails for good: a wheel that stops counting, a
+  // gyro stuck), and under the filter's own constant-velocity prediction, which the frame then
+  // took, within. The sensors' readings over that interval are wrong, and the batch leaves them
+  // out. Where the images fit neither, the sensors' motion stands.
   using MotionRefused = std::function<void(int frame)>;
   void on_motion_refused(MotionRefused callback) { motion_refused_ = std::move(callback); }
 
@@ -466,6 +467,11 @@ class OnlineFilter {
   // The motion between the last two frames as the filter estimated them, with the random walk's
   // covariance.
   MotionPrediction constant_velocity() const;
+  // Counts the frame's predicted motion as refused and says so (on_motion_refused).
+  void refuse_motion_at(int frame);
+  // No motion, with the random walk's covariance (FilterSettings::rotation_walk_sigma,
+  // translation_walk_sigma).
+  MotionPrediction random_walk() const;
   // The frame's estimated pose and motion since the previous, for constant_velocity().
   void note_pose();
   // A track's point leaves the state: held while the smoothed start is pending, else handed over.
@@ -630,6 +636,12 @@ class OnlineFilter {
   int previous_frame_ = 0;  // and the one before
   long not_admitted_ = 0;
   long refused_motions_ = 0;
+  // The sensors' predictions' summed excess misfit (propagate_checked), the frames that took
+  // their motion since it last rose from 0, and the median misfit a consistent prediction stays
+  // below (chi-square's, 2 dof, is 1.39).
+  double sensor_misfit_sum_ = 0;
+  std::vector<int> suspect_frames_;
+  static constexpr double kConsistentMisfit = 2;
   // The last two frames' estimated poses in the world (constant_velocity()).
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
