@@ -129,7 +129,10 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   }
   const bool lasting = !gross && sensor_misfit_sum_ > bound;
   if (!gross && !lasting) {
+    // The last few: a sum that hovers above 0 over an endless drive would otherwise keep them all.
+    constexpr std::size_t kMaxSuspectFrames = 30;
     if (sensor_misfit_sum_ > 0) suspect_frames_.push_back(frame_);
+    if (suspect_frames_.size() > kMaxSuspectFrames) suspect_frames_.pop_front();
     return measurements;
   }
 

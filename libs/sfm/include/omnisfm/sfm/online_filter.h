@@ -640,7 +640,7 @@ class OnlineFilter {
   // their motion since it last rose from 0, and the median misfit a consistent prediction stays
   // below (chi-square's, 2 dof, is 1.39).
   double sensor_misfit_sum_ = 0;
-  std::vector<int> suspect_frames_;
+  std::deque<int> suspect_frames_;
   static constexpr double kConsistentMisfit = 2;
   // The last two frames' estimated poses in the world (constant_velocity()).
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
