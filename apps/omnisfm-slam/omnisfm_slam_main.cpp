@@ -140,8 +140,9 @@ RobotPath replay(const SlamOptions& o, omnisfm::mrpt_plugin::OmniSfmEstimator* e
   // A sequence shorter than the smoothed start gets it over the frames it had; either way the
   // path takes the first frames as it revised them.
   estimator->finishStart();
-  for (const auto& [frame, pose] : estimator->smoothedStartPoses())
-    if (frame >= 0 && static_cast<size_t>(frame) < path.poses.size()) path.poses[frame] = pose;
+  for (const auto& [revised, pose] : estimator->smoothedStartPoses())
+    if (revised >= 0 && static_cast<size_t>(revised) < path.poses.size())
+      path.poses[revised] = pose;
   return path;
 }
 

@@ -105,9 +105,11 @@ TEST(OnlineFilter, ATrackSeenOnceGivesNoPoint) {
   for (const auto& o : d.observations) ++sightings[o.track];
   std::set<int> rejected;
   for (const auto& r : filter.rejected()) rejected.insert(r.track);
-  for (const auto& [track, n] : sightings)
-    if (n >= 2 && !rejected.count(track))
+  for (const auto& [track, n] : sightings) {
+    if (n >= 2 && !rejected.count(track)) {
       EXPECT_TRUE(ended.count(track) || points.count(track)) << "track " << track;
+    }
+  }
 }
 
 // Vision alone on the endless drive, the mean angle between the filter's and the true direction of

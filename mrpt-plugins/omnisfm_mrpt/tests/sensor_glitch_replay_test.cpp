@@ -78,9 +78,9 @@ TEST(OmniSfmEstimator, OutlastsAnOdometryJumpAndAMisdatedGyroReading) {
     }
   }
   ASSERT_TRUE(misdated);
-  const auto last_pose = [](const std::vector<mrpt::obs::CObservation::Ptr>& observations) {
+  const auto last_pose = [](const std::vector<mrpt::obs::CObservation::Ptr>& stream) {
     OmniSfmEstimator estimator;
-    for (const auto& observation : observations) estimator.processObservation(observation);
+    for (const auto& observation : stream) estimator.processObservation(observation);
     mrpt::poses::CPose3DPDFGaussian pose;
     estimator.getCurrentPoseEstimation(pose);
     return isometry(pose.mean);
