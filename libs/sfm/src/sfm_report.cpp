@@ -99,8 +99,8 @@ std::string most_rejected_phrase(long rejected, long tracks, double taken_noise_
               "estimate lost its way";
   else
     phrase << "the estimate lost its way (the tracks' noise taken at "
-           << std::max(taken_noise_px, stated) << " px), or outlier_chi2 (" << settings.outlier_chi2
-           << ") is too strict";
+           << (std::isfinite(taken_noise_px) ? std::max(taken_noise_px, stated) : stated)
+           << " px), or outlier_chi2 (" << settings.outlier_chi2 << ") is too strict";
   return phrase.str();
 }
 

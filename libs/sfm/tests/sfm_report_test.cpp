@@ -93,6 +93,8 @@ TEST(SfmReport, MostRejectedLineWarnsOnlyWhereMostTracksWentAndSaysWhy) {
                   "the estimate lost its way (the tracks' noise taken at 0.3 px), or "
                   "outlier_chi2 (27.6) is too strict"))
       << lost;
+  // A replay that ended before the filter measured any noise reports none (NaN): the stated one.
+  EXPECT_TRUE(has(most_rejected_line(6, 10, NAN, settings), "noise taken at 0.3 px"));
   settings.measure_noise = false;
   EXPECT_TRUE(has(most_rejected_line(6, 10, 0.3, settings),
                   "may be far noisier than [sfm] "
