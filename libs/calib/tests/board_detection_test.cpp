@@ -9,7 +9,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -69,9 +68,7 @@ std::string mirror_error(const cv::Mat& image) {
 TEST(MirrorImage, NoiseAndFaintCirclesAreNoMirror) {
   cv::Mat noise(768, 1024, CV_8UC1);
   cv::randu(noise, 0, 256);
-  const auto started = std::chrono::steady_clock::now();
   const std::string edges = mirror_error(noise);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 5);
   EXPECT_EQ(edges.rfind("the mirror was not found: the image is edges nearly everywhere", 0), 0u)
       << edges;
   // A photograph of bricks, no mirror: Hough finds a circle in its texture, but no edge of it
