@@ -21,17 +21,22 @@ function(omnisfm_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wno-sign-compare)
 endfunction()
 
-# omnisfm_add_test(NAME SOURCES ... DEPS ... [LABELS ...])
-# Labels: unit by default; sanitize for the tests the sanitizer build runs in CI (scripts/test.sh);
-# long for the seed sweeps and long drives, which are given a cost so that a first run, with no
-# timings yet, starts them before the short tests and two cores finish together.
+# omnisfm_add_test(NAME SOURCES ... DEPS ... [LABELS ...] [NOT_SANITIZED TEST...])
+# Labels: unit by default; sanitize for the tests the sanitizer build runs in CI (scripts/test.sh),
+# but for the NOT_SANITIZED ones (whole runs of the estimators, which the sanitizers slow about
+# tenfold, where smaller runs of the same code are checked there); long for the seed sweeps and
+# long drives, which are given a cost so that a first run, with no timings yet, starts them before
+# the short tests and two cores finish together.
 function(omnisfm_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS;NOT_SANITIZED" ${ARGN})
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  if(TARGET omnisfm_sanitizer_checks AND "sanitize" IN_LIST ARG_LABELS)
+    add_dependencies(omnisfm_sanitizer_checks ${name})
+  endif()
   omnisfm_warnings(${name})
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
@@ -47,10 +52,20 @@ function(omnisfm_add_test name)
     set(cost 100)
   endif()
   set(properties_file "${CMAKE_CURRENT_BINARY_DIR}/${name}_properties.cmake")
+  # CTest adds labels to a test's rather than replacing them: the NOT_SANITIZED tests are left
+  # out of the list that is given the sanitize label.
+  set(labels ${ARG_LABELS})
+  list(REMOVE_ITEM labels sanitize)
   file(WRITE "${properties_file}"
        "if(${name}_tests)\n"
        "  set_tests_properties(\${${name}_tests} PROPERTIES\n"
-       "    LABELS \"${ARG_LABELS}\" COST ${cost} ENVIRONMENT \"${environment}\")\n"
-       "endif()\n")
+       "    LABELS \"${labels}\" COST ${cost} ENVIRONMENT \"${environment}\")\n")
+  if("sanitize" IN_LIST ARG_LABELS)
+    file(APPEND "${properties_file}"
+         "  set(sanitized \${${name}_tests})\n"
+         "  list(REMOVE_ITEM sanitized ${ARG_NOT_SANITIZED})\n"
+         "  set_tests_properties(\${sanitized} PROPERTIES LABELS sanitize)\n")
+  endif()
+  file(APPEND "${properties_file}" "endif()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${properties_file}")
 endfunction()

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian packages omnisfm needs (only those missing), then configures and builds
 # into build/. Idempotent: quiet when everything is already there.
-#   scripts/setup.sh --sanitize   the same into build-sanitize/: clang with AddressSanitizer and
+#   scripts/setup.sh --sanitize [TARGET]
+#                                 the same into build-sanitize/: clang with AddressSanitizer and
 #                                 UndefinedBehaviorSanitizer, the libraries, the tests and the
-#                                 libFuzzer targets (no benchmarks)
+#                                 libFuzzer targets (no benchmarks); only TARGET if given
+#                                 (omnisfm_sanitizer_checks: what CI runs there)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,7 +21,11 @@ packages=(
 )
 
 sanitize=0
-if [ "${1:-}" = "--sanitize" ]; then sanitize=1; fi
+target=()
+if [ "${1:-}" = "--sanitize" ]; then
+  sanitize=1
+  if [ -n "${2:-}" ]; then target=(--target "$2"); fi
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -50,7 +56,7 @@ fi
 echo "setup: building in $build_dir/" >&2
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
-if ! cmake --build "$build_dir" --parallel "$(nproc)" >"$log" 2>&1; then
+if ! cmake --build "$build_dir" --parallel "$(nproc)" ${target[@]+"${target[@]}"} >"$log" 2>&1; then
   cat "$log" >&2
   echo "setup: the build failed" >&2
   exit 1

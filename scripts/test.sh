@@ -11,7 +11,12 @@ scripts/setup.sh
 (cd "${OMNISFM_BUILD_DIR:-build}" &&
   ctest --output-on-failure --parallel "$(nproc)" --timeout 600 "$@")
 if [ "${OMNISFM_SANITIZE:-1}" != 0 ]; then
-  scripts/setup.sh --sanitize
+  # The default labels' tests and fuzz targets alone are built there; other labels build all.
+  if [ -z "${OMNISFM_SANITIZE_LABELS:-}" ]; then
+    scripts/setup.sh --sanitize omnisfm_sanitizer_checks
+  else
+    scripts/setup.sh --sanitize
+  fi
   (cd "${OMNISFM_SANITIZE_BUILD_DIR:-build-sanitize}" &&
     ctest --output-on-failure --parallel "$(nproc)" --timeout 600 \
       -L "${OMNISFM_SANITIZE_LABELS:-sanitize|fuzz}")

@@ -41,7 +41,7 @@ int refinement_half_window(const std::vector<cv::Point2f>& corners, int width_n)
 }  // namespace
 
 io::ImageCorners image_corners(const std::string& name, const std::optional<DetectedBoard>& board) {
-  io::ImageCorners corners{name, {}, {}, 0};
+  io::ImageCorners corners{name, {}, {}, 0, {}};
   if (board) {
     corners.pixels = board->corners;
     corners.detected.assign(corners.pixels.size(), true);

@@ -42,8 +42,8 @@ TEST(CalibrationViews, KeepDetectedCornersAndCheckTheBoard) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<Eigen::Vector3d> board = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
   std::vector<io::ImageCorners> images = {
-      {"a.png", {{1, 1}, {nan, nan}, {3, 3}, {4, 4}}, {true, false, true, true}, 2},
-      {"empty.png", {}, {}, 6},
+      {"a.png", {{1, 1}, {nan, nan}, {3, 3}, {4, 4}}, {true, false, true, true}, 2, {}},
+      {"empty.png", {}, {}, 6, {}},
   };
   const auto views = board_views(images, board, "corners.vnl", "board.vnl");
   ASSERT_EQ(views.size(), 1u);
@@ -51,7 +51,7 @@ TEST(CalibrationViews, KeepDetectedCornersAndCheckTheBoard) {
   EXPECT_EQ(views[0].point_ids, (std::vector<int>{0, 2, 3}));
   EXPECT_EQ(views[0].points[1], Eigen::Vector3d(0, 1, 0));
 
-  images.push_back({"short.png", {{1, 1}, {2, 2}, {3, 3}}, {true, true, true}, 7});
+  images.push_back({"short.png", {{1, 1}, {2, 2}, {3, 3}}, {true, true, true}, 7, {}});
   EXPECT_EQ(error_of([&] { board_views(images, board, "corners.vnl", "board.vnl"); }),
             "corners.vnl:7: image 'short.png' has 3 corners but the board (board.vnl) has 4 "
             "points");

@@ -18,7 +18,9 @@ TEST(PoseVector, RoundTripsAndTransformsAsItSays) {
     T.translation() = Eigen::Vector3d(1.5, -0.2, 0.7);
     const PoseVector v = pose_vector_of(T);
     EXPECT_NEAR(v.head<3>().norm(), angle, 1e-12) << angle;
-    if (angle > 0) EXPECT_LT((v.head<3>().normalized() - axis).norm(), 1e-6) << angle;
+    if (angle > 0) {
+      EXPECT_LT((v.head<3>().normalized() - axis).norm(), 1e-6) << angle;
+    }
     EXPECT_EQ(v.tail<3>(), T.translation());
     const Eigen::Isometry3d back = isometry_of(v);
     EXPECT_LT((back.matrix() - T.matrix()).norm(), 1e-12) << angle;

@@ -58,7 +58,7 @@ std::vector<ImageCorners> read_corners(const std::string& path) {
     const auto found = index_of.find(filename);
     if (found == index_of.end()) {
       index_of[filename] = images.size();
-      images.push_back({filename, {}, {}, table.line(row)});
+      images.push_back({filename, {}, {}, table.line(row), {}});
     } else if (found->second != images.size() - 1) {
       throw InputError(path, table.line(row),
                        "the rows of image '" + filename + "' are not contiguous (it began on line " +

@@ -39,9 +39,9 @@ TEST_F(CheckerboardFiles, ReadsCornersKeepingMissingOnesInBoardOrder) {
 TEST_F(CheckerboardFiles, WrittenCornersReadBackTheSame) {
   constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<ImageCorners> written{
-      {"a.png", {{1.25, 2.5}, {kNan, kNan}, {7.125, 8}}, {true, false, true}, 0},
-      {"b.png", {}, {}, 0},  // no board
-      {"c.png", {{9, 10}}, {true}, 0}};
+      {"a.png", {{1.25, 2.5}, {kNan, kNan}, {7.125, 8}}, {true, false, true}, 0, {}},
+      {"b.png", {}, {}, 0, {}},  // no board
+      {"c.png", {{9, 10}}, {true}, 0, {}}};
   const std::string path = write("corners.vnl", "");
   write_corners(path, written);
   const auto read = read_corners(path);
@@ -52,7 +52,7 @@ TEST_F(CheckerboardFiles, WrittenCornersReadBackTheSame) {
   EXPECT_EQ(read[1].filename, "b.png");
   EXPECT_EQ(read[1].num_detected(), 0);
   EXPECT_EQ(read[2].pixels[0], Eigen::Vector2d(9, 10));
-  EXPECT_THROW(write_corners(path, {{"with space.png", {{1, 2}}, {true}, 0}}),
+  EXPECT_THROW(write_corners(path, {{"with space.png", {{1, 2}}, {true}, 0, {}}}),
                std::invalid_argument);
   EXPECT_EQ(read_corners(path).size(), 3u);  // the file as it was
 }

@@ -1,23 +1,30 @@
 // The filter's published pose covariance against its actual errors over the simulated rover's
 // seeds, with odometry and gyro (eval::rover_pose_consistency), vision alone, and with the filter
-// linearised at the truth.
+// linearised at the truth. Over seeds 1-10, 1-25 with OMNISFM_TEST_SIZE=full (CTest label `long`).
+
+#include "omnisfm/eval/filter_consistency.h"
 
 #include <gtest/gtest.h>
 
 #include "imperfect_calibration.h"
-#include "omnisfm/eval/filter_consistency.h"
 #include "omnisfm/sim/scenario.h"
+#include "test_size.h"
 
 namespace omnisfm::sfm {
 namespace {
 
-// The mean NEES within (low, high) and at least 90 % of frames inside the 95 % bound.
+// The rover's seeds 1-N (the goals are stated over 25).
+int rover_seeds() { return small_or_full(10, 25); }
+
+// The mean NEES within (low, high) and at least 90 % of frames inside the 95 % bound (85 % over
+// the small size's 10 seeds, where a seed's frames, which err together, weigh more: at the truth
+// 89.4 % there, 95.9 % over 25).
 void expect_honest(const char* what, const eval::PoseConsistency& c, double low, double high) {
-  std::printf("%s: mean NEES %.2f, %.1f %% inside the 95 %% bound\n", what, c.mean_nees,
-              100 * c.inside);
+  std::printf("%s, rover seeds 1-%d: mean NEES %.2f, %.1f %% inside the 95 %% bound\n", what,
+              rover_seeds(), c.mean_nees, 100 * c.inside);
   EXPECT_GT(c.mean_nees, low) << what;
   EXPECT_LT(c.mean_nees, high) << what;
-  EXPECT_GE(c.inside, 0.90) << what;
+  EXPECT_GE(c.inside, small_or_full(0.85, 0.90)) << what;
 }
 
 // The simulation's wheel reading 1.5 % long, its scale a state (the default), seeds 1-25: the goal
@@ -28,8 +35,8 @@ void expect_honest(const char* what, const eval::PoseConsistency& c, double low,
 // prior's depth); with the update relinearised at the measurements' own iterates, as under the
 // random walk, 18.4 and 48.6 %.
 TEST(FilterConsistency, RoverPoseNeesWithOdometryAndGyro) {
-  const eval::PoseConsistency c = eval::rover_pose_consistency(25);
-  expect_honest("rover seeds 1-25, wheel +1.5 %", c, 4.0, 8.0);
+  const eval::PoseConsistency c = eval::rover_pose_consistency(rover_seeds());
+  expect_honest("wheel +1.5 %", c, 4.0, 8.0);
 }
 
 // Vision alone, the published pose covariance holds the map's scale
@@ -38,8 +45,9 @@ TEST(FilterConsistency, RoverPoseNeesWithOdometryAndGyro) {
 TEST(FilterConsistency, VisionAloneThePoseCovarianceHoldsTheScale) {
   eval::RoverStudy camera_alone;
   camera_alone.with_sensors = false;
-  const eval::PoseConsistency c = eval::rover_pose_consistency(25, FilterSettings(), camera_alone);
-  expect_honest("rover seeds 1-25, the camera alone", c, 1.0, 8.0);
+  const eval::PoseConsistency c =
+      eval::rover_pose_consistency(rover_seeds(), FilterSettings(), camera_alone);
+  expect_honest("the camera alone", c, 1.0, 8.0);
   std::printf("the map's scale at the last frame %.2f-%.2f; along the scale, linearised, NEES "
               "%.2f (as a logarithm %.2f)\n",
               c.smallest_scale, c.largest_scale, c.mean_linearised_scale_nees,
@@ -75,14 +83,15 @@ TEST(FilterConsistency, RoverPoseNeesWithTheCalibrationsUncertaintyConsidered) {
   settings.camera_uncertainty = calibration;
   eval::RoverStudy calibrated;
   calibrated.calibration_error = &calibration;
-  const eval::PoseConsistency c = eval::rover_pose_consistency(25, settings, calibrated);
-  expect_honest("rover seeds 1-25, calibrated camera considered", c, 4.0, 8.0);
+  const eval::PoseConsistency c = eval::rover_pose_consistency(rover_seeds(), settings, calibrated);
+  expect_honest("calibrated camera considered", c, 4.0, 8.0);
 
   // Without the smoothed start, whose sensitivity otherwise carries most of the first points'
   // dependence on the camera, each new point's ray does (FilterState::add's G_camera): measured
   // 4.77 and 96.3 %, and 9.3 with G_camera left out.
   settings.smoothed_start_frames = 0;
-  const eval::PoseConsistency plain = eval::rover_pose_consistency(25, settings, calibrated);
+  const eval::PoseConsistency plain =
+      eval::rover_pose_consistency(rover_seeds(), settings, calibrated);
   expect_honest("the same without the smoothed start", plain, 3.0, 7.0);
 
   const eval::PoseConsistency exact = eval::rover_pose_consistency(5, {}, calibrated);
@@ -100,8 +109,8 @@ TEST(FilterConsistency, LinearisedAtTheTruthTheModelIsHonestWithTheWheelsError) 
   settings.estimate_wheel_scale = true;
   eval::RoverStudy at_truth;
   at_truth.linearised_at_truth = true;
-  const eval::PoseConsistency c = eval::rover_pose_consistency(25, settings, at_truth);
-  expect_honest("rover seeds 1-25, wheel +1.5 %, at the truth", c, 4.0, 8.0);
+  const eval::PoseConsistency c = eval::rover_pose_consistency(rover_seeds(), settings, at_truth);
+  expect_honest("wheel +1.5 %, at the truth", c, 4.0, 8.0);
 }
 
 }  // namespace

@@ -147,8 +147,9 @@ TEST(SensorGlitch, ASensorThatFailsForGoodIsRefusedFromAFewFramesOn) {
       ASSERT_FALSE(e.refused.empty()) << what << ", seed " << seed;
       EXPECT_GE(e.refused.front(), fault_frame - 1) << what << ", seed " << seed;
       EXPECT_GT(e.refused.size(), 50u) << what << ", seed " << seed;
-      if (what != "odometry tripled")
+      if (what != "odometry tripled") {
         EXPECT_EQ(e.outliers, clean.outliers) << what << ", seed " << seed;
+      }
     }
   }
 }

@@ -21,7 +21,11 @@ omnisfm_add_test(omnisfm_mrpt_tests
   DEPS omnisfm::mrpt_plugin omnisfm::sim omnisfm::io omnisfm::sfm mrpt::obs mrpt::img mrpt::io
        mrpt::poses mrpt::serialization mrpt::opengl mrpt::graphs mrpt::slam mrpt::maps
        opencv_imgcodecs
-  LABELS unit sanitize)
+  LABELS unit sanitize
+  NOT_SANITIZED OmniSfmEstimator.IsAnMrptMapBuilder OmniSfmEstimator.KeepsNoSensorHistory
+                OmniSfmEstimator.GivesTheSmoothedStartsPoses
+                SlamRawlog.IsReadByMrptAsActionsAndObservationPairs
+                PoseGraphFile.MrptReadsTheBatchsPosesAndEdges)
 # The camera contract's cameras: every inner camera and mirror the model must store.
 target_include_directories(omnisfm_mrpt_tests PRIVATE ${PROJECT_SOURCE_DIR}/libs/camera/tests
                            ${CMAKE_CURRENT_SOURCE_DIR}/src)
