@@ -21,10 +21,11 @@ function(omnisfm_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wno-sign-compare)
 endfunction()
 
-# omnisfm_add_test(NAME SOURCES ... DEPS ... [LABELS ...] [NOT_SANITIZED TEST...])
+# omnisfm_add_test(NAME SOURCES ... DEPS ... [LABELS ...] [NOT_SANITIZED REGEX...])
 # Labels: unit by default; sanitize for the tests the sanitizer build runs in CI (scripts/test.sh),
-# but for the NOT_SANITIZED ones (whole runs of the estimators, which the sanitizers slow about
-# tenfold, where smaller runs of the same code are checked there); long for the seed sweeps and
+# but for those whose whole name a NOT_SANITIZED regular expression matches (whole runs of the
+# estimators, numeric derivatives, statistics over thousands of draws: the sanitizers slow them
+# about tenfold, and other tests run the same code there); long for the seed sweeps and
 # long drives, which are given a cost so that a first run, with no timings yet, starts them before
 # the short tests and two cores finish together.
 function(omnisfm_add_test name)
@@ -61,9 +62,13 @@ function(omnisfm_add_test name)
        "  set_tests_properties(\${${name}_tests} PROPERTIES\n"
        "    LABELS \"${labels}\" COST ${cost} ENVIRONMENT \"${environment}\")\n")
   if("sanitize" IN_LIST ARG_LABELS)
+    file(APPEND "${properties_file}" "  set(sanitized \${${name}_tests})\n")
+    if(ARG_NOT_SANITIZED)
+      list(JOIN ARG_NOT_SANITIZED "|" not_sanitized)
+      file(APPEND "${properties_file}"
+           "  list(FILTER sanitized EXCLUDE REGEX \"^(${not_sanitized})\$\")\n")
+    endif()
     file(APPEND "${properties_file}"
-         "  set(sanitized \${${name}_tests})\n"
-         "  list(REMOVE_ITEM sanitized ${ARG_NOT_SANITIZED})\n"
          "  set_tests_properties(\${sanitized} PROPERTIES LABELS sanitize)\n")
   endif()
   file(APPEND "${properties_file}" "endif()\n")

@@ -22,8 +22,8 @@ omnisfm_add_test(omnisfm_mrpt_tests
        mrpt::poses mrpt::serialization mrpt::opengl mrpt::graphs mrpt::slam mrpt::maps
        opencv_imgcodecs
   LABELS unit sanitize
-  NOT_SANITIZED OmniSfmEstimator.IsAnMrptMapBuilder OmniSfmEstimator.KeepsNoSensorHistory
-                OmniSfmEstimator.GivesTheSmoothedStartsPoses
+  NOT_SANITIZED "OmniSfmEstimator.(IsAnMrptMapBuilder|KeepsNoSensorHistory)"
+                "OmniSfmEstimator.(GivesTheSmoothedStartsPoses|PoseIsTheFiltersInTheRobotFrame)"
                 SlamRawlog.IsReadByMrptAsActionsAndObservationPairs
                 PoseGraphFile.MrptReadsTheBatchsPosesAndEdges)
 # The camera contract's cameras: every inner camera and mirror the model must store.
