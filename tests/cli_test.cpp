@@ -16,6 +16,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -1280,6 +1281,38 @@ TEST_F(CliTest, DetectCornersRejectsBadInputAndWritesNothing) {
   EXPECT_NE(mixed.err.find("c.png"), std::string::npos) << mixed.err;
   EXPECT_FALSE(fs::exists(dir_ / "corners.vnl"));
   EXPECT_FALSE(fs::exists(dir_ / "corners.report"));
+}
+
+// A video cut short (a copy that stopped, a recording that did not close) gives fewer frames
+// than its container says, and OpenCV's decoder passes over that silently: track says so.
+TEST_F(CliTest, TrackSaysWhenAVideoGivesFewerFramesThanItsContainer) {
+  ASSERT_EQ(omnisfm("simulate --scenario lab --width 256 --height 192 --render --samples 1 "
+                    "--out lab")
+                .status,
+            0);
+  const std::string video = (dir_ / "lab.avi").string();
+  {
+    cv::VideoWriter writer(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, {256, 192},
+                           false);
+    ASSERT_TRUE(writer.isOpened());
+    for (const auto& entry :
+         std::set<fs::path>(fs::directory_iterator(dir_ / "lab/images"), fs::directory_iterator()))
+      writer.write(cv::imread(entry.string(), cv::IMREAD_GRAYSCALE));
+  }
+  const std::string whole = read_all(video);
+  std::ofstream(dir_ / "cut.avi", std::ios::binary) << whole.substr(0, whole.size() * 6 / 10);
+  const Outcome cut =
+      omnisfm("track --camera lab/camera.ini --images cut.avi --out cut/tracks.vnl");
+  ASSERT_EQ(cut.status, 0) << cut.err;
+  EXPECT_NE(cut.err.find("omnisfm: warning: cut.avi: the video gave "), std::string::npos)
+      << cut.err;
+  EXPECT_NE(cut.err.find(" frames where its container says 41: damaged or cut short"),
+            std::string::npos)
+      << cut.err;
+  const Outcome full =
+      omnisfm("track --camera lab/camera.ini --images lab.avi --out full/tracks.vnl");
+  ASSERT_EQ(full.status, 0) << full.err;
+  EXPECT_EQ(full.err.find("warning"), std::string::npos) << full.err;
 }
 
 TEST_F(CliTest, TrackFollowsRenderedImagesIntoShapeFromMotion) {

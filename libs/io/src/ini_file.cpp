@@ -118,18 +118,21 @@ int IniSection::get_positive_int(const std::string& key, int fallback, bool zero
   return v;
 }
 
+std::string range_phrase(double low, double high, bool zero_off) {
+  const std::string range = high < std::numeric_limits<double>::max()
+                                ? "from " + format_double(low) + " to " + format_double(high)
+                                : "a finite number of at least " + format_double(low);
+  return range + (zero_off ? " (or 0: off)" : "");
+}
+
 double IniSection::get_within(const std::string& key, double fallback, double low, double high,
                               const std::string& meaning, bool zero_off) const {
   // The range is the file's to meet: a fallback set in code is the caller's.
   if (!has(key)) return fallback;
   const double v = get_double(key);
   if (zero_off && v == 0) return v;
-  if (!(v >= low && v <= high)) {
-    const std::string range = high < std::numeric_limits<double>::max()
-                                  ? "from " + format_double(low) + " to " + format_double(high)
-                                  : "a finite number of at least " + format_double(low);
-    fail(key, "must be " + range + (zero_off ? " (or 0: off)" : "") + ": " + meaning);
-  }
+  if (!(v >= low && v <= high))
+    fail(key, "must be " + range_phrase(low, high, zero_off) + ": " + meaning);
   return v;
 }
 

@@ -9,6 +9,7 @@
 
 #include "filter_linear_algebra.h"
 #include "omnisfm/core/percentile.h"
+#include "omnisfm/sfm/settings_ranges.h"
 #include "so3.h"
 
 namespace omnisfm::sfm {
@@ -65,8 +66,10 @@ OnlineFilter::OnlineFilter(const camera::CatadioptricCamera& camera, const Filte
       prediction_camera_(camera.with_wider_patch(kPredictionPatchMargin)),
       settings_(settings),
       state_(checked_uncertainty(camera, settings.camera_uncertainty)),
-      smoothing_start_(settings.smoothed_start_frames > 0) {}
-
+      smoothing_start_(settings.smoothed_start_frames > 0) {
+  if (const std::string problem = settings_problem(settings); !problem.empty())
+    throw std::invalid_argument("FilterSettings: " + problem);
+}
 
 std::map<int, Eigen::Vector3d> OnlineFilter::points() const {
   std::map<int, Eigen::Vector3d> all;

@@ -12,6 +12,7 @@
 #include "omnisfm/core/pose_direction.h"
 #include "omnisfm/core/pose_vector.h"
 #include "omnisfm/io/number_text.h"
+#include "omnisfm/sfm/settings_ranges.h"
 #include "omnisfm/sfm/sfm_report.h"
 #include "omnisfm/sfm/track_consistency.h"
 #include "omnisfm/sfm/track_triangulation.h"
@@ -360,6 +361,8 @@ void adjust_on_inliers(const camera::CatadioptricCamera& camera,
 }
 
 void check_settings(const camera::CatadioptricCamera& camera, const SfmSettings& settings) {
+  if (const std::string problem = settings_problem(settings); !problem.empty())
+    throw std::invalid_argument("SfmSettings: " + problem);
   // A flag asking for a camera prior, the prior it asks for, and their names.
   const auto check = [&camera](bool flag, const char* flag_name, const CameraPrior& prior,
                                const char* prior_name) {

@@ -7,6 +7,7 @@
 
 #include "omnisfm/io/ini_file.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/sfm/settings_ranges.h"
 
 namespace omnisfm::sfm {
 SfmSettings read_sfm_settings(const std::string& path) {
@@ -30,36 +31,20 @@ SfmSettings read_sfm_settings(const std::string& path) {
 SfmSettings read_sfm_settings(const io::IniSection& s) {
   SfmSettings settings;
   FilterSettings& f = settings.filter;
-  // The bounds hold what the settings can mean: beyond them a noise or walk is numerically zero
-  // or says nothing, and the filter failed far from the file.
-  f.pixel_sigma = s.get_within("pixel_sigma", f.pixel_sigma, 1e-3, 100,
-                               "pixels per coordinate (no tracker is surer than a thousandth of a "
-                               "pixel; beyond 100 the pixels say nothing)");
-  f.rotation_walk_sigma =
-      s.get_within("rotation_walk_sigma", f.rotation_walk_sigma, 0, 3.14,
-                   "radians per frame (0: the camera does not turn; a half turn is no walk)");
-  f.translation_walk_sigma =
-      s.get_within("translation_walk_sigma", f.translation_walk_sigma, 1e-6, 1e6,
-                   "metres per frame (a camera that cannot move recovers no structure)");
-  f.initial_depth = s.get_within("initial_depth", f.initial_depth, 1e-3, 1e6, "metres");
-  f.inverse_depth_sigma =
-      s.get_within("inverse_depth_sigma", f.inverse_depth_sigma, 1e-6, 1e6, "per metre");
+  // The bounds hold what the settings can mean (settings_ranges.h): beyond them a noise or walk
+  // is numerically zero or says nothing, and the filter failed far from the file.
+  for (const SettingRange& r : setting_ranges()) {
+    if (std::string(r.key) == "known_distance_m") continue;  // below: empty when not known
+    double& field = r.field(settings);
+    field = s.get_within(r.key, field, r.low, r.high, r.meaning, r.zero_off);
+  }
   const std::string test = s.get_string("outlier_test", "chi2");
   if (test == "pixels")
     f.outlier_test = OutlierTest::kPixels;
   else if (test != "chi2")
-    s.fail("outlier_test", "must be chi2 (the residual against its covariance) or pixels (the "
-                           "paper's fixed outlier_threshold_px)");
-  // Below chi-square's 95 % bound (2 dof) a good track, scored every frame, is rejected within a
-  // few dozen frames.
-  const std::string chi2_meaning =
-      "a chi-square bound (2 degrees of freedom) of at least the 95 % one, 5.99";
-  const double max_chi2 = std::numeric_limits<double>::max();
-  f.outlier_chi2 = s.get_within("outlier_chi2", f.outlier_chi2, 5.99, max_chi2, chi2_meaning);
-  f.outlier_threshold_px =
-      s.get_within("outlier_threshold_px", f.outlier_threshold_px, 0.01, 1e6, "pixels");
-  f.innovation_gate_chi2 = s.get_within("innovation_gate_chi2", f.innovation_gate_chi2, 5.99,
-                                        max_chi2, chi2_meaning, true);
+    s.fail("outlier_test",
+           "must be chi2 (the residual against its covariance) or pixels (the "
+           "paper's fixed outlier_threshold_px)");
   f.measure_noise = s.get_flag("measure_noise", f.measure_noise);
   f.update_iterations = s.get_positive_int("update_iterations", f.update_iterations);
   if (f.update_iterations > 100) s.fail("update_iterations", "must be from 1 to 100");
@@ -76,15 +61,11 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
            "must be from 6 (the filter starts from 6 points) to 1000 (its covariance, 290 MB)");
   settings.run_batch = s.get_flag("batch", settings.run_batch);
   settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
-  settings.batch_outlier_threshold_px = s.get_within(
-      "batch_outlier_threshold_px", settings.batch_outlier_threshold_px, 0.01, 1e6, "pixels", true);
   settings.batch_track_false_alarm =
       s.get_positive("batch_track_false_alarm", settings.batch_track_false_alarm, true);
   if (!(settings.batch_track_false_alarm < 1))
     s.fail("batch_track_false_alarm",
            "must be a probability below 1 (the chance a good track fails), or 0 (off)");
-  settings.batch.huber_px =
-      s.get_within("huber_px", settings.batch.huber_px, 0.01, 1e6, "pixels", true);
   settings.batch.covariances = s.get_flag("covariances", settings.batch.covariances);
   settings.batch.max_iterations =
       s.get_positive_int("max_iterations", settings.batch.max_iterations);

@@ -6,13 +6,18 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "omnisfm/io/ini_file.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/sfm/online_filter.h"
+#include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sfm/settings_ranges.h"
 #include "omnisfm/sim/scenario.h"
 
 namespace omnisfm::sfm {
@@ -143,6 +148,57 @@ TEST(SfmSettings, SettingsBeyondWhatTheyCanMeanAreRefusedAtTheirLine) {
         "innovation_gate_chi2 = 0", "huber_px = 0", "known_distance_m = 0.001",
         "known_distance_m = 1e8", "max_live_points = 1000", "update_iterations = 100"})
     EXPECT_EQ(error_of("[sfm]\n" + std::string(good) + "\n"), "") << good;
+}
+
+// Settings set in code meet the same ranges (settings_ranges.h): each number just beyond its
+// range, NaN, and each count beyond its own is refused by the filter and the pipeline, naming the
+// setting; the ends of each range and the defaults are taken.
+TEST(SfmSettings, SettingsSetInCodeMeetTheFilesRanges) {
+  EXPECT_EQ(settings_problem(SfmSettings()), "");
+  const camera::CatadioptricCamera camera = sim::default_rig(256, 192);
+  int filter_refusals = 0;
+  for (const SettingRange& r : setting_ranges()) {
+    for (const double value : {r.low, r.high}) {
+      SfmSettings ends;
+      r.field(ends) = value;
+      EXPECT_EQ(settings_problem(ends), "") << r.key << " = " << value;
+    }
+    const double below = r.low > 0 ? r.low / 2 : -1;
+    const double beyond = r.high < std::numeric_limits<double>::max() ? 2 * r.high : INFINITY;
+    for (const double value : {below, beyond, std::numeric_limits<double>::quiet_NaN()}) {
+      SfmSettings bad;
+      r.field(bad) = value;
+      const std::string problem = settings_problem(bad);
+      EXPECT_EQ(problem.rfind(std::string(r.key) + " = ", 0), 0u) << r.key << ": " << problem;
+      EXPECT_NE(problem.find(" must be "), std::string::npos) << problem;
+      EXPECT_THROW(run_sfm(camera, {}, bad), std::invalid_argument) << r.key << " = " << value;
+      if (!settings_problem(bad.filter).empty()) {  // the filter's own
+        ++filter_refusals;
+        EXPECT_THROW(OnlineFilter(camera, bad.filter), std::invalid_argument) << r.key;
+      }
+    }
+  }
+  EXPECT_EQ(filter_refusals, 8 * 3);  // the filter's eight numbers, each three ways
+  SfmSettings bad;
+  bad.filter.pixel_sigma = 0;
+  EXPECT_EQ(settings_problem(bad),
+            "pixel_sigma = 0 must be from 0.001 to 100: pixels per coordinate (no tracker is surer "
+            "than a thousandth of a pixel; beyond 100 the pixels say nothing)");
+  const auto problem_with = [](auto change) {
+    SfmSettings s;
+    change(s);
+    return settings_problem(s);
+  };
+  EXPECT_EQ(problem_with([](SfmSettings& s) { s.filter.update_iterations = 0; }),
+            "update_iterations = 0 must be from 1 to 100");
+  EXPECT_EQ(problem_with([](SfmSettings& s) { s.filter.max_live_points = 5; }),
+            "max_live_points = 5 must be from 6 to 1000");
+  EXPECT_EQ(problem_with([](SfmSettings& s) {
+              s.filter.smoothed_start_frames = 1;
+            }).rfind("smoothed_start_frames = 1 must be at least 2 (or 0: off)", 0),
+            0u);
+  EXPECT_NE(problem_with([](SfmSettings& s) { s.batch.max_iterations = 0; }), "");
+  EXPECT_EQ(problem_with([](SfmSettings& s) { s.filter.smoothed_start_frames = 0; }), "");
 }
 
 // A setting the file does not put in [sfm] would be silently ignored: a key before any section

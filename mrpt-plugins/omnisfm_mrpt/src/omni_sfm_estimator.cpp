@@ -18,6 +18,7 @@
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/settings_file.h"
+#include "omnisfm/sfm/settings_ranges.h"
 #include "omnisfm/track/track_images.h"
 
 namespace omnisfm::mrpt_plugin {
@@ -144,6 +145,9 @@ void OmniSfmEstimatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& ta
 OmniSfmEstimator::OmniSfmEstimator(const OmniSfmEstimatorOptions& estimator_options)
     : options_(estimator_options),
       collector_(estimator_options.sensor_labels, estimator_options.gps_origin) {
+  // Said here rather than at the first camera observation, where the filter starts.
+  if (const std::string problem = sfm::settings_problem(options_.filter); !problem.empty())
+    throw std::invalid_argument("OmniSfmEstimatorOptions::filter: " + problem);
   initialize();
 }
 

@@ -145,5 +145,24 @@ TEST(EstimatorOptions, AKeyTheLoaderDoesNotKnowIsRefusedNamingTheFile) {
   std::filesystem::remove(consider);
 }
 
+// Options set in code meet the settings file's ranges (sfm/settings_ranges.h), said when the
+// estimator is made rather than at its first camera observation.
+TEST(EstimatorOptions, FilterSettingsBeyondTheirRangeAreRefusedWhenTheEstimatorIsMade) {
+  OmniSfmEstimatorOptions options;
+  options.filter.pixel_sigma = 0;
+  try {
+    OmniSfmEstimator estimator(options);
+    ADD_FAILURE() << "a pixel noise of 0 was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("OmniSfmEstimatorOptions::filter: pixel_sigma = 0 must "
+                                          "be from 0.001 to 100",
+                                          0),
+              0u)
+        << e.what();
+  }
+  options.filter.pixel_sigma = 0.3;
+  EXPECT_NO_THROW(OmniSfmEstimator{options});
+}
+
 }  // namespace
 }  // namespace omnisfm::mrpt_plugin

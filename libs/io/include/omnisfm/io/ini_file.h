@@ -14,6 +14,10 @@
 
 namespace omnisfm::io {
 
+// "from LOW to HIGH" ("a finite number of at least LOW" where high is the largest double), and
+// " (or 0: off)" with zero_off: what IniSection::get_within asks for.
+std::string range_phrase(double low, double high, bool zero_off);
+
 struct IniEntry {
   std::string key;
   std::string value;
