@@ -46,19 +46,12 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
            "must be chi2 (the residual against its covariance) or pixels (the "
            "paper's fixed outlier_threshold_px)");
   f.measure_noise = s.get_flag("measure_noise", f.measure_noise);
-  f.update_iterations = s.get_positive_int("update_iterations", f.update_iterations);
-  if (f.update_iterations > 100) s.fail("update_iterations", "must be from 1 to 100");
-  f.smoothed_start_frames =
-      s.get_positive_int("smoothed_start_frames", f.smoothed_start_frames, true);
-  if (f.smoothed_start_frames == 1) s.fail("smoothed_start_frames", "must be 0 (off) or at least 2");
-  f.smoothing_window_frames =
-      s.get_positive_int("smoothing_window_frames", f.smoothing_window_frames, true);
-  f.max_live_points = s.get_positive_int("max_live_points", f.max_live_points);
-  // The filter's covariance grows as the square of its points (6 columns each): 1,000 take
-  // 290 MB.
-  if (f.max_live_points < 6 || f.max_live_points > 1000)
-    s.fail("max_live_points",
-           "must be from 6 (the filter starts from 6 points) to 1000 (its covariance, 290 MB)");
+  for (const CountRange& r : count_ranges()) {
+    int& field = r.field(settings);
+    field = s.get_positive_int(r.key, field, r.zero_off || r.low == 0);
+    if (!(r.zero_off && field == 0) && (field < r.low || field > r.high))
+      s.fail(r.key, r.requirement());
+  }
   settings.run_batch = s.get_flag("batch", settings.run_batch);
   settings.batch_outliers = s.get_flag("batch_outliers", settings.batch_outliers);
   settings.batch_track_false_alarm =
@@ -67,9 +60,6 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
     s.fail("batch_track_false_alarm",
            "must be a probability below 1 (the chance a good track fails), or 0 (off)");
   settings.batch.covariances = s.get_flag("covariances", settings.batch.covariances);
-  settings.batch.max_iterations =
-      s.get_positive_int("max_iterations", settings.batch.max_iterations);
-  if (settings.batch.max_iterations > 1000000) s.fail("max_iterations", "must be from 1 to 1e6");
   settings.batch.scale_start = s.get_flag("batch_scale_start", settings.batch.scale_start);
   settings.refine_camera = s.get_flag("refine_camera", settings.refine_camera);
   if (settings.refine_camera && !settings.run_batch)

@@ -14,16 +14,6 @@ constexpr double kAnyFinite = std::numeric_limits<double>::max();
 constexpr const char* kChi2Meaning =
     "a chi-square bound (2 degrees of freedom) of at least the 95 % one, 5.99";
 
-// A count from low to high (any from low where high is the largest int), or 0 with zero_off.
-std::string count_problem(const char* key, int value, int low, int high, bool zero_off) {
-  if ((zero_off && value == 0) || (value >= low && value <= high)) return "";
-  const std::string range = high < std::numeric_limits<int>::max()
-                                ? "from " + std::to_string(low) + " to " + std::to_string(high)
-                                : "at least " + std::to_string(low);
-  return std::string(key) + " = " + std::to_string(value) + " must be " + range +
-         (zero_off ? " (or 0: off)" : "");
-}
-
 }  // namespace
 
 const std::vector<SettingRange>& setting_ranges() {
@@ -60,6 +50,32 @@ const std::vector<SettingRange>& setting_ranges() {
   return ranges;
 }
 
+std::string CountRange::requirement() const {
+  const std::string range = high < std::numeric_limits<int>::max()
+                                ? "from " + std::to_string(low) + " to " + std::to_string(high)
+                                : "at least " + std::to_string(low);
+  return "must be " + range + (zero_off ? " (or 0: off)" : "") +
+         (*meaning != '\0' ? std::string(": ") + meaning : std::string());
+}
+
+const std::vector<CountRange>& count_ranges() {
+  static const std::vector<CountRange> ranges = {
+      {"update_iterations", 1, 100, false, "",
+       [](SfmSettings& s) -> int& { return s.filter.update_iterations; }},
+      {"smoothed_start_frames", 2, std::numeric_limits<int>::max(), true, "",
+       [](SfmSettings& s) -> int& { return s.filter.smoothed_start_frames; }},
+      {"smoothing_window_frames", 0, std::numeric_limits<int>::max(), false, "",
+       [](SfmSettings& s) -> int& { return s.filter.smoothing_window_frames; }},
+      // The filter's covariance grows as the square of its points (6 columns each).
+      {"max_live_points", 6, 1000, false,
+       "the filter starts from 6 points, and 1,000 take 290 MB of covariance",
+       [](SfmSettings& s) -> int& { return s.filter.max_live_points; }},
+      {"max_iterations", 1, 1000000, false, "",
+       [](SfmSettings& s) -> int& { return s.batch.max_iterations; }},
+  };
+  return ranges;
+}
+
 std::string settings_problem(const SfmSettings& settings) {
   SfmSettings copy = settings;  // the fields are reached through the table's references
   for (const SettingRange& r : setting_ranges()) {
@@ -68,19 +84,14 @@ std::string settings_problem(const SfmSettings& settings) {
     return std::string(r.key) + " = " + io::format_double(value) + " must be " +
            io::range_phrase(r.low, r.high, r.zero_off) + ": " + r.meaning;
   }
-  const FilterSettings& f = settings.filter;
-  for (const std::string& problem :
-       {count_problem("update_iterations", f.update_iterations, 1, 100, false),
-        // The filter's covariance grows as the square of its points (6 columns each): 1,000 take
-        // 290 MB.
-        count_problem("max_live_points", f.max_live_points, 6, 1000, false),
-        count_problem("smoothed_start_frames", f.smoothed_start_frames, 2,
-                      std::numeric_limits<int>::max(), true),
-        count_problem("smoothing_window_frames", f.smoothing_window_frames, 0,
-                      std::numeric_limits<int>::max(), false),
-        count_problem("kept_history", f.kept_history, 0, std::numeric_limits<int>::max(), false),
-        count_problem("max_iterations", settings.batch.max_iterations, 1, 1000000, false)})
-    if (!problem.empty()) return problem;
+  for (const CountRange& r : count_ranges()) {
+    const int value = r.field(copy);
+    if ((r.zero_off && value == 0) || (value >= r.low && value <= r.high)) continue;
+    return std::string(r.key) + " = " + std::to_string(value) + " " + r.requirement();
+  }
+  // Not a file's key: the caller keeps the history.
+  if (settings.filter.kept_history < 0)
+    return "kept_history = " + std::to_string(settings.filter.kept_history) + " must be at least 0";
   return "";
 }
 

@@ -16,15 +16,15 @@ namespace {
 // The rover's seeds 1-N (the goals are stated over 25).
 int rover_seeds() { return small_or_full(10, 25); }
 
-// The mean NEES within (low, high) and at least 90 % of frames inside the 95 % bound (85 % over
-// the small size's 10 seeds, where a seed's frames, which err together, weigh more: at the truth
-// 89.4 % there, 95.9 % over 25).
-void expect_honest(const char* what, const eval::PoseConsistency& c, double low, double high) {
+// The mean NEES within (low, high) and at least `min_inside` of the frames inside the 95 % bound
+// (the goal: 90 %).
+void expect_honest(const char* what, const eval::PoseConsistency& c, double low, double high,
+                   double min_inside = 0.90) {
   std::printf("%s, rover seeds 1-%d: mean NEES %.2f, %.1f %% inside the 95 %% bound\n", what,
               rover_seeds(), c.mean_nees, 100 * c.inside);
   EXPECT_GT(c.mean_nees, low) << what;
   EXPECT_LT(c.mean_nees, high) << what;
-  EXPECT_GE(c.inside, small_or_full(0.85, 0.90)) << what;
+  EXPECT_GE(c.inside, min_inside) << what;
 }
 
 // The simulation's wheel reading 1.5 % long, its scale a state (the default), seeds 1-25: the goal
@@ -110,7 +110,9 @@ TEST(FilterConsistency, LinearisedAtTheTruthTheModelIsHonestWithTheWheelsError) 
   eval::RoverStudy at_truth;
   at_truth.linearised_at_truth = true;
   const eval::PoseConsistency c = eval::rover_pose_consistency(rover_seeds(), settings, at_truth);
-  expect_honest("wheel +1.5 %, at the truth", c, 4.0, 8.0);
+  // Over the small size's 10 seeds, where a seed's frames, which err together, weigh more: 89.4 %
+  // inside there (95.9 % over 25), so 85 %; the goals' tests above hold 90 % at every size.
+  expect_honest("wheel +1.5 %, at the truth", c, 4.0, 8.0, small_or_full(0.85, 0.90));
 }
 
 }  // namespace

@@ -98,7 +98,7 @@ TEST(SfmSettings, BadValuesAndUnknownKeysNameTheirLine) {
   EXPECT_EQ(settings_of("[sfm]\nbatch_track_false_alarm = 0\n").batch_track_false_alarm, 0);
   EXPECT_NE(error_of("[sfm]\nmax_live_points = 5\n")
                 .find("test.ini:2: key 'max_live_points': "
-                      "must be from 6 (the filter starts from 6 points)"),
+                      "must be from 6 to 1000: the filter starts from 6 points"),
             std::string::npos)
       << error_of("[sfm]\nmax_live_points = 5\n");
 }
@@ -192,7 +192,8 @@ TEST(SfmSettings, SettingsSetInCodeMeetTheFilesRanges) {
   EXPECT_EQ(problem_with([](SfmSettings& s) { s.filter.update_iterations = 0; }),
             "update_iterations = 0 must be from 1 to 100");
   EXPECT_EQ(problem_with([](SfmSettings& s) { s.filter.max_live_points = 5; }),
-            "max_live_points = 5 must be from 6 to 1000");
+            "max_live_points = 5 must be from 6 to 1000: the filter starts from 6 points, and "
+            "1,000 take 290 MB of covariance");
   EXPECT_EQ(problem_with([](SfmSettings& s) {
               s.filter.smoothed_start_frames = 1;
             }).rfind("smoothed_start_frames = 1 must be at least 2 (or 0: off)", 0),

@@ -20,9 +20,19 @@ struct SettingRange {
   double& (*field)(SfmSettings&);
 };
 
-// The numbers with a range, the filter's first; the counts (update_iterations, max_live_points,
-// smoothed_start_frames, max_iterations) are judged by settings_problem and the reader alike.
+// The same for a count, with its requirement's words ("from 1 to 100", "at least 2 (or 0: off)").
+struct CountRange {
+  const char* key;
+  int low, high;  // a high of the largest int asks only for at least low
+  bool zero_off;
+  const char* meaning;  // "" where the range says it all
+  int& (*field)(SfmSettings&);
+  std::string requirement() const;  // "must be ...[: meaning]"
+};
+
+// The numbers with a range, the filter's first, and the counts.
 const std::vector<SettingRange>& setting_ranges();
+const std::vector<CountRange>& count_ranges();
 
 // "" when every setting is within what it can mean, else the first that is not: "KEY = VALUE
 // must be ...: MEANING".
