@@ -133,15 +133,18 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
     constexpr std::size_t kMaxSuspectFrames = 30;
     if (sensor_misfit_sum_ > 0) suspect_frames_.push_back(frame_);
     if (suspect_frames_.size() > kMaxSuspectFrames) suspect_frames_.pop_front();
+    refused_in_a_row_ = 0;
     return measurements;
   }
 
   restore(before);
   distance_measured_ = distance_measured;
-  // A frame's gross error is the sensor's alone, and the motion goes on as it went; a lasting
-  // fault leaves no motion to go on from that the sensor did not distort, and the frames take the
-  // random walk, as the images alone would.
-  MotionPrediction fallback = gross ? constant_velocity() : random_walk();
+  // A frame's gross error is the sensor's alone, and the motion goes on as it went. A fault that
+  // lasts, summed or gross frame after frame, leaves no motion to go on from that the sensor did
+  // not distort, and the frame takes the random walk, as the images alone would: the constant
+  // velocity, fed back its own estimates with no distance measured, diverged within 30 frames on
+  // the long drive (a wheel that stopped counting misfits there by 35-145 a frame).
+  MotionPrediction fallback = gross && refused_in_a_row_ == 0 ? constant_velocity() : random_walk();
   fallback.bias_walk_variance = given.bias_walk_variance;  // the gyro's bias walks on meanwhile
   propagate(fallback);
   std::vector<Measurement> alternative = measurements_of(seen);
@@ -151,6 +154,7 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
     // The images agree with neither: they are the suspects, and the sensors' motion stands.
     restore(before);
     propagate(given);
+    refused_in_a_row_ = 0;
     return measurements;
   }
   // The frames that led up to a lasting fault took the sensors' motion; too late for the filter,
@@ -159,6 +163,7 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
     for (const int suspect : suspect_frames_) refuse_motion_at(suspect);
   suspect_frames_.clear();
   refuse_motion_at(frame_);
+  ++refused_in_a_row_;
   fallback_motion_ = fallback;
   *motion = &fallback_motion_;
   return alternative;

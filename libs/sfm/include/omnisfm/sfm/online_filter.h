@@ -451,8 +451,8 @@ class OnlineFilter {
   BeforePropagation before_propagation() const;
   void restore(const BeforePropagation& before);
   // Propagated by `motion`, the frame's measurements at the propagated state; where the images
-  // refuse it (on_motion_refused), by the constant-velocity prediction instead, which `motion`
-  // then points to.
+  // refuse it (on_motion_refused), by the constant-velocity prediction instead (a single frame's
+  // gross misfit) or the random walk (a fault that lasts), which `motion` then points to.
   std::vector<Measurement> propagate_checked(const std::map<int, Eigen::Vector2d>& seen,
                                              const MotionPrediction** motion);
   // The established points' median innovation score (chi-square, 2 dof) under a prediction:
@@ -646,6 +646,7 @@ class OnlineFilter {
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
   MotionPrediction fallback_motion_;  // the refused frame's prediction
+  int refused_in_a_row_ = 0;          // frames up to the last whose sensors were refused
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
