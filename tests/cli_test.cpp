@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -1173,7 +1174,8 @@ TEST_F(CliTest, CalibrateStartsFromTheImagesWithoutACameraFile) {
     EXPECT_EQ(refused.status, 2) << args << "\n" << refused.err;
     EXPECT_FALSE(fs::exists(dir_ / "x.ini")) << args;
   }
-  // A board size that matches nothing, and a square of no size: nothing written at all.
+  // A board size that matches nothing (the size the image shows said instead), and a square of
+  // no size: nothing written at all.
   copy_images(data / "vmr", dir_ / "few", {"VMRImage3.jpg", "VMRImage8.jpg"});
   copy_images(data / "vmr", dir_ / "one", {"VMRImage8.jpg"});
   for (const std::string& board : {std::string(" --object-spacing 0.03 --object-width-n 9"),
@@ -1183,6 +1185,12 @@ TEST_F(CliTest, CalibrateStartsFromTheImagesWithoutACameraFile) {
     EXPECT_EQ(refused.status, 2) << board << "\n" << refused.err;
     for (const std::string written : {"z.ini", "z.corners.vnl", "z.report"})
       EXPECT_FALSE(fs::exists(dir_ / written)) << board << " " << written;
+    if (board.find("width-n 9") != std::string::npos) {
+      EXPECT_EQ(refused.err,
+                "omnisfm: one: a whole 9x7 board was found in 0 of 1 images; calibrating needs at "
+                "least 3; the images show a board of 6x7 points (--object-width-n 6 "
+                "--object-height-n 7)\n");
+    }
   }
   const Outcome few = omnisfm("calibrate --images few --object-spacing 0.03 --object-width-n 6"
                               " --object-height-n 7 --mirror conic --out x.ini");
@@ -1281,6 +1289,35 @@ TEST_F(CliTest, DetectCornersRejectsBadInputAndWritesNothing) {
   EXPECT_NE(mixed.err.find("c.png"), std::string::npos) << mixed.err;
   EXPECT_FALSE(fs::exists(dir_ / "corners.vnl"));
   EXPECT_FALSE(fs::exists(dir_ / "corners.report"));
+
+  // A board size that matches nothing: exit 2, the size the images show said, and nothing
+  // written (a corners file of `FILE - - -` lines is no result).
+  const fs::path data = real_data_folder();
+  if (!fs::is_directory(data)) GTEST_SKIP() << "no real data at " << data;
+  const auto refused_error = [&](const std::string& images) {
+    const Outcome run = omnisfm("detect-corners --images " + images +
+                                " --object-width-n 9 --object-height-n 7 --out wrong/corners.vnl");
+    EXPECT_EQ(run.status, 2) << images << "\n" << run.out;
+    EXPECT_FALSE(fs::exists(dir_ / "wrong")) << images;
+    return run.err;
+  };
+  copy_images(data / "vmr", dir_ / "one", {"VMRImage8.jpg"});
+  EXPECT_EQ(refused_error("one"),
+            "omnisfm: one: no 9x7 board was found in its one image; the images show a board of "
+            "6x7 points (--object-width-n 6 --object-height-n 7)\n");
+  // The same image with its mirror's picture painted flat from just outside the camera's
+  // reflection to just inside the rim (about (517, 386), 80-443 px): the mirror is still found,
+  // and no board is seen at all.
+  cv::Mat blank = cv::imread((dir_ / "one/VMRImage8.jpg").string(), cv::IMREAD_GRAYSCALE);
+  for (int v = 0; v < blank.rows; ++v)
+    for (int u = 0; u < blank.cols; ++u)
+      if (const double r = std::hypot(u - 517.0, v - 386.0); r > 110 && r < 420)
+        blank.at<std::uint8_t>(v, u) = 128;
+  fs::create_directories(dir_ / "blank");
+  ASSERT_TRUE(cv::imwrite((dir_ / "blank/blank.png").string(), blank));
+  EXPECT_EQ(refused_error("blank"),
+            "omnisfm: blank: no 9x7 board was found in its one image; the images show no "
+            "checkerboard\n");
 }
 
 // A video cut short (a copy that stopped, a recording that did not close) gives fewer frames

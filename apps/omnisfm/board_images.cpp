@@ -1,11 +1,14 @@
 #include "board_images.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <stdexcept>
 
+#include "omnisfm/calib/board_seen.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/track/image_sequence.h"
 #include "terminal_progress.h"
@@ -23,7 +26,41 @@ std::string image_name(const track::ImageSequence& sequence, const track::Sequen
   return fs::path(sequence.path()).stem().string() + index;
 }
 
+// `board` either way round as the user would name it for `grid`: a count that matches stays in
+// its place, else the fewer points across (as the real sets' boards are named).
+cv::Size named_like(cv::Size board, cv::Size grid) {
+  const cv::Size turned(board.height, board.width);
+  if (board.width == grid.width || board.height == grid.height) return board;
+  if (turned.width == grid.width || turned.height == grid.height) return turned;
+  return board.width <= board.height ? board : turned;
+}
+
+std::string points(cv::Size size) {
+  return std::to_string(size.width) + "x" + std::to_string(size.height);
+}
+
 }  // namespace
+
+std::string boards_seen_note(const std::vector<cv::Size>& seen, cv::Size grid) {
+  if (seen.empty()) return "";
+  // A size seen either way round counts once; of sizes seen as often, the larger.
+  std::map<std::pair<int, int>, int> images_showing;
+  for (const cv::Size& size : seen)
+    if (!size.empty()) ++images_showing[std::minmax(size.width, size.height)];
+  if (images_showing.empty()) return "the images show no checkerboard";
+  auto most = images_showing.begin();
+  for (auto it = images_showing.begin(); it != images_showing.end(); ++it)
+    if (it->second > most->second ||
+        (it->second == most->second &&
+         it->first.first * it->first.second > most->first.first * most->first.second))
+      most = it;
+  const cv::Size board = named_like(cv::Size(most->first.first, most->first.second), grid);
+  if (calib::holds(board, grid))
+    return "the images show a board of " + points(board) + " points, but no whole " + points(grid) +
+           " block of it could be taken";
+  return "the images show a board of " + points(board) + " points (--object-width-n " +
+         std::to_string(board.width) + " --object-height-n " + std::to_string(board.height) + ")";
+}
 
 calib::MirrorImage mirror_of(const std::string& images) {
   track::ImageSequence sequence(images);
@@ -63,11 +100,11 @@ std::vector<io::ImageCorners> detect_boards(const std::string& images,
                                std::to_string(frame.image.rows) + " but the camera's is " +
                                std::to_string(camera_size->width) + "x" +
                                std::to_string(camera_size->height));
-    BoardImage image{image_name(sequence, frame), frame.image, std::nullopt};
+    BoardImage image{image_name(sequence, frame), frame.image, std::nullopt, {}};
     if (image.name.find_first_of(" \t\r\n\v\f") != std::string::npos)
       throw io::InputError(frame.file, 0,
                            "has whitespace in its name, which corners.vnl cannot hold");
-    image.board = detector->detect(frame.image);
+    image.board = detector->detect(frame.image, &image.board_seen);
     found.push_back(calib::image_corners(image.name, image.board));
     if (each) each(image);
     progress(static_cast<int>(found.size()), sequence.expected_frames());

@@ -25,6 +25,7 @@ struct BoardImage {
   std::string name;
   cv::Mat grey;
   std::optional<calib::DetectedBoard> board;
+  cv::Size board_seen;  // the largest board of any size its views showed (board_seen.h)
 };
 // With `camera_size`, an image of another size is refused (io::InputError naming it), as the
 // tracker refuses it: the camera file is for another camera, and no board would be found.
@@ -32,6 +33,12 @@ std::vector<io::ImageCorners> detect_boards(const std::string& images,
                                             calib::BoardDetector* detector,
                                             const std::function<void(const BoardImage&)>& each,
                                             std::optional<cv::Size> camera_size = std::nullopt);
+
+// For an error where the grid was found in too few images: what the others show, from their
+// BoardImage::board_seen. The size most of them show, as options where it cannot hold the grid
+// ("the images show a board of 6x7 points (--object-width-n 6 --object-height-n 7)"), or that
+// they show none; "" where there are no others.
+std::string boards_seen_note(const std::vector<cv::Size>& seen, cv::Size grid);
 
 // The size of the images in `images` (its first), throwing io::InputError naming it when none
 // can be read.

@@ -330,19 +330,26 @@ std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
   std::optional<cv::Size> camera_size;
   if (!start.mirror)
     camera_size = cv::Size(start.camera->image_width(), start.camera->image_height());
-  const std::vector<io::ImageCorners> corners =
-      detect_boards(o.images, detector.get(), nullptr, camera_size);
+  std::vector<cv::Size> seen;  // in the images without the grid's board
+  const std::vector<io::ImageCorners> corners = detect_boards(
+      o.images, detector.get(),
+      [&](const BoardImage& image) {
+        if (!image.board) seen.push_back(image.board_seen);
+      },
+      camera_size);
   int boards = 0;
   for (const io::ImageCorners& image : corners) boards += image.num_detected() > 0;
   // Fewer views than the staged solve's groups can be told apart from.
   constexpr int kMinBoards = 3;
-  if (boards < kMinBoards)
+  if (boards < kMinBoards) {
+    const std::string note = boards_seen_note(seen, grid);
     throw io::InputError(o.images, 0,
                          "a whole " + std::to_string(grid.width) + "x" +
                              std::to_string(grid.height) + " board was found in " +
                              std::to_string(boards) + " of " + std::to_string(corners.size()) +
-                             " images; calibrating needs at least " +
-                             std::to_string(kMinBoards) + " (is the board's size right?)");
+                             " images; calibrating needs at least " + std::to_string(kMinBoards) +
+                             (note.empty() ? "" : "; " + note));
+  }
   const std::string file = detected_corners_file(o.out);
   io::write_corners(file, corners);
   std::cerr << "omnisfm: found a " << grid.width << "x" << grid.height << " board in " << boards
@@ -502,7 +509,8 @@ void add_calibrate_verb(CLI::App& app) {
       "--images", o->images,
       "Board images (a folder of PNG or JPG files, or a video): the boards are detected as "
       "detect-corners does and their corners written beside --out as OUT-stem.corners.vnl "
-      "(needs --object-spacing, --object-width-n and --object-height-n)");
+      "(needs --object-spacing, --object-width-n and --object-height-n; where fewer than 3 are "
+      "found, says what size of board the images show)");
   auto* mirror = verb->add_option("--mirror", o->mirror,
                                   "Without --camera: start from a generic mirror of this kind, "
                                   "placed by the mirror's picture in --images (or about the "

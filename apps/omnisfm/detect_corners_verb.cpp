@@ -61,9 +61,11 @@ Found detect_all(const DetectCornersOptions& o, const std::optional<calib::Mirro
   const cv::Size grid(o.width_n, o.height_n);
   std::string summary = "# filename found view_azimuth_deg view_elevation_deg view_fov_deg\n";
   Found found;
+  std::vector<cv::Size> seen;  // in the images without the grid's board
   found.corners = detect_boards(
       o.images, detector,
       [&](const BoardImage& image) {
+        if (!image.board) seen.push_back(image.board_seen);
         char line[160];
         if (image.board) {
           ++found.boards;
@@ -80,6 +82,15 @@ Found detect_all(const DetectCornersOptions& o, const std::optional<calib::Mirro
           throw std::runtime_error("cannot write " + file);
       },
       camera_size);
+  // A board size that matches nothing is a mistake, not a result: said, and nothing written.
+  if (found.boards == 0)
+    throw io::InputError(
+        o.images, 0,
+        "no " + std::to_string(o.width_n) + "x" + std::to_string(o.height_n) +
+            " board was found in " +
+            (seen.size() == 1 ? std::string("its one image")
+                              : "any of its " + std::to_string(seen.size()) + " images") +
+            "; " + boards_seen_note(seen, grid));
   io::write_text_atomically((fs::path(report) / "summary.vnl").string(),
                             [&](std::ostream& out) { out << summary; });
   return found;
@@ -138,8 +149,10 @@ void add_detect_corners_verb(CLI::App& app) {
       "virtual perspective views (through the camera model with --camera, else through a generic "
       "one about the mirror's circles, found on the mean image), where the board is nearly "
       "straight for OpenCV's detector; the corners are refined on the raw image. Writes mrcal's "
-      "corners.vnl (`FILE - - -` where no whole board was found) and a report folder OUT-stem.report/ "
-      "beside it: an overlay PNG per image and summary.vnl (which view found each board)");
+      "corners.vnl (`FILE - - -` where no whole board was found) and a report folder "
+      "OUT-stem.report/ beside it: an overlay PNG per image and summary.vnl (which view found each "
+      "board). Where no image holds the board asked for, says what size of board they show, "
+      "writes nothing and exits 2");
   verb->add_option("--images", o->images,
                    "A folder of PNG or JPG images (taken in file-name order) or a video file")
       ->required();

@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "omnisfm/calib/board_seen.h"
 #include "omnisfm/calib/checkerboard_grid.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/checkerboard_files.h"
@@ -334,6 +335,25 @@ TEST_F(RealImages, KaidanBoardsAreFound) {
                     .detect(cv::imread((folder_ / "kaidan" / name).string(), cv::IMREAD_GRAYSCALE))
                     .has_value())
         << name;
+}
+
+// A board size asked for that the image does not show: nothing found, and the board it does
+// show told, either way round (vmr's 6 x 7; every view searched).
+TEST_F(RealImages, TheBoardAnImageShowsIsToldWhereTheGridAskedIsNotFound) {
+  BoardDetector detector(mirror_of("vmr"), cv::Size(9, 7));
+  cv::Size seen;
+  EXPECT_FALSE(
+      detector
+          .detect(cv::imread((folder_ / "vmr/VMRImage8.jpg").string(), cv::IMREAD_GRAYSCALE), &seen)
+          .has_value());
+  EXPECT_EQ(std::min(seen.width, seen.height), 6) << seen;
+  EXPECT_EQ(std::max(seen.width, seen.height), 7) << seen;
+  EXPECT_FALSE(holds(seen, cv::Size(9, 7)));
+  EXPECT_TRUE(holds(seen, cv::Size(7, 6)));
+}
+
+TEST(BoardSeen, AFlatViewShowsNoBoard) {
+  EXPECT_TRUE(board_seen(cv::Mat(480, 480, CV_8UC1, cv::Scalar(128))).empty());
 }
 
 }  // namespace

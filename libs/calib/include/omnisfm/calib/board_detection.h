@@ -7,7 +7,9 @@
 // those whose squares alternate as a checkerboard's (checkerboard_grid.h), ordered as a board of
 // the grid's size comes. Its corners are mapped back
 // through the view's table and refined on the raw image, so that no approximation of the views
-// is left in them.
+// is left in them. A cheaper search for a board of any size (board_seen.h) goes first: an image
+// whose views show no board near the grid's size is passed over, and the full search is made
+// only in views that show a board at all.
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -50,11 +52,16 @@ class BoardDetector {
                 const BoardSearch& search = {});
 
   // The whole board in an 8-bit grey raw image, or nothing. The views' tables are made the first
-  // time each is needed and kept: they depend on the mirror only.
-  std::optional<DetectedBoard> detect(const cv::Mat& raw_grey);
+  // time each is needed and kept: they depend on the mirror only. *largest_seen, if given: the
+  // largest board of any size the views searched showed (board_seen.h), an empty size where none;
+  // where no board is found, every view was searched.
+  std::optional<DetectedBoard> detect(const cv::Mat& raw_grey, cv::Size* largest_seen = nullptr);
 
  private:
   const PerspectiveView& view(std::size_t index);
+  // The whole board in view `index`, rendered from raw_grey, by the full detector.
+  std::optional<DetectedBoard> board_in_view(std::size_t index, const cv::Mat& rendered,
+                                             const cv::Mat& raw_grey);
   // Inside the image, and with the generic views inside the mirror's picture.
   bool usable(cv::Point2f corner, cv::Size image) const;
 
