@@ -22,6 +22,9 @@ constexpr double kMinAlternatingShare = 0.8;
 // blocks scores 1; a grid whose edge ran along a board's border, which a rendered board showed
 // through the parabolic rig 10 px off, about a quarter.
 constexpr double kMinEdgeShare = 0.5;
+// How many rows or columns short of the grid the cheap search may see a board and still have the
+// image searched (detect()).
+constexpr int kRowsShort = 2;
 
 std::vector<ViewDirection> view_directions(const BoardSearch& search) {
   std::vector<ViewDirection> directions;
@@ -96,12 +99,14 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey,
   }
   likely.insert(likely.end(), others.begin(), others.end());
   // The cheap detector (board_seen.h, a third of the full one's time) goes first, for two
-  // things. An image where no view shows a board within a row of holding the grid is passed over:
-  // it may grow a board a row short (one paracatadioptric 6 x 8 board is 6 x 7 at most in every
-  // view), never more on the real sets. And the full detector, in the order above, runs only in
-  // views where it sees a board at all: in each of the 92 vmr views where the full one found a
-  // board, it saw one, if only 3 x 3 of it. An image without the board costs it in every view
-  // instead of the full one (measured 5 s instead of 15-24 a real image, on a busy machine).
+  // things. An image where no view shows a board within kRowsShort rows of holding the grid is
+  // passed over: it may grow a board a row short (one paracatadioptric 6 x 8 board is 6 x 7 at
+  // most in every view), never more on the real sets, and a second row is margin for rigs not
+  // measured (the mistyped sizes measured stay beyond it). And the full detector, in the order
+  // above, runs only in views where it sees a board at all: in each of the 92 vmr views where the
+  // full one found a board, it saw one, if only 3 x 3 of it. An image without the board costs it in
+  // every view instead of the full one (measured 5 s instead of 15-24 a real image, on a busy
+  // machine).
   std::vector<cv::Size> seen(directions_.size(), cv::Size(-1, -1));  // -1: not yet looked at
   const auto seen_in = [&](std::size_t index) {
     if (seen[index].width < 0) seen[index] = board_seen(rendered[index]);
@@ -109,7 +114,8 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey,
   };
   const bool grid_seen = std::any_of(likely.begin(), likely.end(), [&](std::size_t index) {
     const cv::Size board = seen_in(index);
-    return holds(board + cv::Size(1, 0), grid_) || holds(board + cv::Size(0, 1), grid_);
+    return holds(board + cv::Size(kRowsShort, 0), grid_) ||
+           holds(board + cv::Size(0, kRowsShort), grid_);
   });
   std::optional<DetectedBoard> board;
   if (grid_seen)
