@@ -48,6 +48,12 @@ std::string boards_seen_note(const std::vector<cv::Size>& seen, cv::Size grid) {
   for (const cv::Size& size : seen)
     if (!size.empty()) ++images_showing[std::minmax(size.width, size.height)];
   if (images_showing.empty()) return "the images show no checkerboard";
+  // The smallest grid the detector takes is what it grows on any fragment of a board; a board
+  // seen larger anywhere is the better guess.
+  const std::pair<int, int> fragment(3, 3);
+  if (images_showing.size() > 1) images_showing.erase(fragment);
+  if (images_showing.begin()->first == fragment)
+    return "the images show a checkerboard, but no more than 3x3 points of it";
   auto most = images_showing.begin();
   for (auto it = images_showing.begin(); it != images_showing.end(); ++it)
     if (it->second > most->second ||

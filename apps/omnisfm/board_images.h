@@ -35,9 +35,10 @@ std::vector<io::ImageCorners> detect_boards(const std::string& images,
                                             std::optional<cv::Size> camera_size = std::nullopt);
 
 // For an error where the grid was found in too few images: what the others show, from their
-// BoardImage::board_seen. The size most of them show, as options where it cannot hold the grid
-// ("the images show a board of 6x7 points (--object-width-n 6 --object-height-n 7)"), or that
-// they show none; "" where there are no others.
+// BoardImage::board_seen. The size most of them show (3 x 3 fragments only where nothing larger
+// is seen), as options where it cannot hold the grid ("the images show a board of 6x7 points
+// (--object-width-n 6 --object-height-n 7)"), or that they show none; "" where there are no
+// others.
 std::string boards_seen_note(const std::vector<cv::Size>& seen, cv::Size grid);
 
 // The size of the images in `images` (its first), throwing io::InputError naming it when none

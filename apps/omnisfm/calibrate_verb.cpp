@@ -342,7 +342,8 @@ std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
   // Fewer views than the staged solve's groups can be told apart from.
   constexpr int kMinBoards = 3;
   if (boards < kMinBoards) {
-    const std::string note = boards_seen_note(seen, grid);
+    // Where some image holds the grid, its size is right, and the others' is no advice.
+    const std::string note = boards > 0 ? "" : boards_seen_note(seen, grid);
     throw io::InputError(o.images, 0,
                          "a whole " + std::to_string(grid.width) + "x" +
                              std::to_string(grid.height) + " board was found in " +

@@ -14,6 +14,7 @@
 #include "omnisfm/sfm/frame_motion.h"
 #include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/motion_residuals.h"
+#include "omnisfm/sfm/sensor_ranges.h"
 #include "pipeline_steps.h"
 #include "so3.h"
 
@@ -304,6 +305,8 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
                         const SfmSettings& settings, const Progress& progress) {
   if (sensors.empty()) return run_sfm(camera, tracks, settings, progress);
   check_settings(camera, settings);
+  if (const std::string problem = sensors_problem(sensors); !problem.empty())
+    throw std::invalid_argument("MotionSensors: " + problem);
   SfmResult result;
   const std::vector<std::vector<TrackPixel>> by_frame = observations_by_frame(tracks);
   result.num_frames = static_cast<int>(by_frame.size());

@@ -768,9 +768,10 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   } else {
     propagate();
     measurements = measurements_of(seen);
+    refused_in_a_row_ = 0;  // no sensors' motion to refuse
   }
-  // A refused motion's constant-velocity prediction is as loose as the random walk, and updated
-  // as under it.
+  // A refused motion's fallback, the constant velocity or the random walk, is as loose as the
+  // random walk, and updated as under it.
   const bool sensors_predicted = motion != nullptr && motion == given;
 
   std::set<int> rejected_slots;

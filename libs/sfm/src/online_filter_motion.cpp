@@ -108,6 +108,7 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
                               (!scale_started_ && given.wheel_scale_prior_variance > 0);
   if (starts_a_state || at_given_points()) {
     propagate(given);
+    refused_in_a_row_ = 0;
     return measurements_of(seen);
   }
   const BeforePropagation before = before_propagation();
@@ -115,11 +116,12 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   propagate(given);
   std::vector<Measurement> measurements = measurements_of(seen);
   const double misfit = motion_misfit(seen, measurements);
-  // A sensor that fails for good (a wheel that stops counting, a gyro stuck at zero) misfits by
+  // A sensor that fails for good (a wheel that stops counting, a gyro stuck at zero) may misfit by
   // less than the bound each frame, but frame after frame: its excess over a consistent
   // prediction's median (measured 0.1-0.3 on the rover, against 5-17 with the wheel frozen) is
   // summed (a cumulative-sum test, bounded so that a sensor that agrees again is taken back within
-  // about 15 frames); a gross misfit is the single-frame test's.
+  // about 15 frames); a gross misfit is the single-frame test's, frame after frame too where the
+  // fault is larger (35-145 a frame with the wheel frozen on the long drive).
   const double bound = settings_.outlier_chi2;
   const bool gross = misfit > bound;
   if (!std::isnan(misfit) && !gross) {
@@ -143,16 +145,34 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   // lasts, summed or gross frame after frame, leaves no motion to go on from that the sensor did
   // not distort, and the frame takes the random walk, as the images alone would: the constant
   // velocity, fed back its own estimates with no distance measured, diverged within 30 frames on
-  // the long drive (a wheel that stopped counting misfits there by 35-145 a frame).
-  MotionPrediction fallback = gross && refused_in_a_row_ == 0 ? constant_velocity() : random_walk();
-  fallback.bias_walk_variance = given.bias_walk_variance;  // the gyro's bias walks on meanwhile
-  propagate(fallback);
-  std::vector<Measurement> alternative = measurements_of(seen);
-  // The prediction, as loose as the random walk, fits each measurement alone; the images must
-  // also agree on one pose.
-  if (motion_misfit(seen, alternative) > bound || !fits_after_update(alternative)) {
-    // The images agree with neither: they are the suspects, and the sensors' motion stands.
+  // the long drive. Where the walk does not fit either (a step large against the walk's sigma),
+  // the constant velocity is tried before the sensors' motion is kept.
+  std::vector<MotionPrediction> fallbacks;
+  if (gross && refused_in_a_row_ == 0) {
+    fallbacks = {constant_velocity()};
+  } else {
+    fallbacks = {random_walk(), constant_velocity()};
+  }
+  std::vector<Measurement> alternative;
+  bool fits = false;
+  for (MotionPrediction& fallback : fallbacks) {
     restore(before);
+    distance_measured_ = distance_measured;
+    fallback.bias_walk_variance = given.bias_walk_variance;  // the gyro's bias walks on meanwhile
+    propagate(fallback);
+    alternative = measurements_of(seen);
+    // The prediction, as loose as the random walk, fits each measurement alone; the images must
+    // also agree on one pose.
+    fits = motion_misfit(seen, alternative) <= bound && fits_after_update(alternative);
+    if (fits) {
+      fallback_motion_ = fallback;
+      break;
+    }
+  }
+  if (!fits) {
+    // The images agree with none: they are the suspects, and the sensors' motion stands.
+    restore(before);
+    distance_measured_ = distance_measured;
     propagate(given);
     refused_in_a_row_ = 0;
     return measurements;
@@ -164,7 +184,6 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   suspect_frames_.clear();
   refuse_motion_at(frame_);
   ++refused_in_a_row_;
-  fallback_motion_ = fallback;
   *motion = &fallback_motion_;
   return alternative;
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -43,9 +44,13 @@ struct Errors {
   std::vector<int> refused;
 };
 
-Errors run(const Rover& r, const MotionSensors& sensors) {
+// The filter's random walk at its defaults, or tighter.
+Errors run(const Rover& r, const MotionSensors& sensors, double translation_walk_sigma = 0.05,
+           double rotation_walk_sigma = 0.05) {
   SfmSettings settings;
   settings.batch.covariances = false;
+  settings.filter.translation_walk_sigma = translation_walk_sigma;
+  settings.filter.rotation_walk_sigma = rotation_walk_sigma;
   const SfmResult result = run_fused_sfm(r.dataset.camera, r.dataset.observations,
                                          r.dataset.timestamps, sensors, settings);
   const auto rigid = [&](const std::vector<Eigen::Isometry3d>& world_from_cam) {
@@ -68,6 +73,9 @@ int frame_after(const Rover& r, double t) {
 // 1,275 / 1,499-2,799 % with every one of the 110 tracks rejected, a 0.1 rad spike 3.9 / 85-95 %.
 // Jumps down to 10 cm and spikes down to 4 mrad are refused; a 3 cm jump (15 of the odometry's
 // sigmas) is not, and costs the filter 0.7-0.9 deg for a while (the batch 0.08 %).
+// The odometry a metre off at one frame alone refuses that frame and the next (online 0.141 /
+// 0.098 / 0.365 %, batch as clean to 0.01 %); with walks of 2 mm and 2 mrad the second frame
+// takes the constant velocity (without it 1.4 % online, batch 1.3-2.0 % off).
 TEST(SensorGlitch, AJumpOrASpikeIsRefusedAndCostsNextToNothing) {
   for (std::uint64_t seed : {1, 2, 3}) {
     const Rover r = rover(seed);
@@ -99,6 +107,35 @@ TEST(SensorGlitch, AJumpOrASpikeIsRefusedAndCostsNextToNothing) {
       expect_as_clean(rate < 10 ? "gyro spike of 4 mrad" : "gyro spike of 0.1 rad", spike,
                       spike.gyro[i].timestamp);
     }
+    // The odometry a metre off at one frame's time alone (the two readings about it), right again
+    // at the next: two gross frames in a row, the second refused too (the random walk, or where it
+    // does not fit the constant velocity, in its place) and nothing else.
+    const int k = static_cast<int>(r.dataset.timestamps.size()) / 2;
+    MotionSensors outlier = r.sensors;
+    const auto after = std::upper_bound(
+        outlier.odometry.begin(), outlier.odometry.end(), r.dataset.timestamps[k],
+        [](double t, const OdometrySample& sample) { return t < sample.timestamp; });
+    ASSERT_TRUE(after != outlier.odometry.begin() && after != outlier.odometry.end());
+    after->pose.x() += 1.0;
+    std::prev(after)->pose.x() += 1.0;
+    const Errors e = run(r, outlier);
+    std::printf(
+        "seed %d, the odometry 1 m off at frame %d alone: online %.3f %%, batch %.3f %%, "
+        "refused %zu\n",
+        static_cast<int>(seed), k, e.online_percent, e.batch_percent, e.refused.size());
+    ASSERT_FALSE(e.refused.empty()) << "seed " << seed;
+    EXPECT_GE(e.refused.front(), k) << "seed " << seed;
+    EXPECT_LE(e.refused.back(), k + 1) << "seed " << seed;
+    EXPECT_LT(e.online_percent, clean.online_percent + 0.05) << "seed " << seed;
+    EXPECT_NEAR(e.batch_percent, clean.batch_percent, 0.01) << "seed " << seed;
+    EXPECT_EQ(e.outliers, clean.outliers) << "seed " << seed;
+    // With walks of 2 mm and 2 mrad a frame, the walk does not fit the second frame (measured at
+    // seeds 1-3) and the constant velocity takes it, where the sensors' motion stood before.
+    const Errors tight_clean = run(r, r.sensors, 0.002, 0.002);
+    const Errors tight = run(r, outlier, 0.002, 0.002);
+    EXPECT_EQ(tight.refused, e.refused) << "seed " << seed;
+    EXPECT_LT(tight.online_percent, tight_clean.online_percent + 0.05) << "seed " << seed;
+    EXPECT_NEAR(tight.batch_percent, tight_clean.batch_percent, 0.01) << "seed " << seed;
   }
 }
 
@@ -137,7 +174,7 @@ TEST(SensorGlitch, ASensorThatFailsForGoodIsRefusedFromAFewFramesOn) {
     for (size_t i = stuck.gyro.size() / 2; i < stuck.gyro.size(); ++i) stuck.gyro[i].rate.setZero();
     for (const Fault& fault : std::vector<Fault>{{"odometry frozen", frozen, 0.15, 0.5},
                                                  {"gyro stuck", stuck, 0.15, 1.0},
-                                                 {"odometry tripled", tripled, 0.45, 2.5}}) {
+                                                 {"odometry tripled", tripled, 0.3, 2.5}}) {
       const std::string what = fault.what;
       const Errors e = run(r, fault.sensors);
       std::printf(
@@ -151,7 +188,7 @@ TEST(SensorGlitch, ASensorThatFailsForGoodIsRefusedFromAFewFramesOn) {
       // Refused over most of the second half, and never before the fault.
       ASSERT_FALSE(e.refused.empty()) << what << ", seed " << seed;
       EXPECT_GE(e.refused.front(), fault_frame - 1) << what << ", seed " << seed;
-      EXPECT_GT(e.refused.size(), 50u) << what << ", seed " << seed;
+      EXPECT_GE(e.refused.size(), 70u) << what << ", seed " << seed;
       if (what != "odometry tripled") {
         EXPECT_EQ(e.outliers, clean.outliers) << what << ", seed " << seed;
       }

@@ -1,5 +1,6 @@
 // The [sfm] settings: every key lands in its field, a bad value or an unknown key fails naming
-// the file and the line, and the shipped example holds every key at its default.
+// the file and the line, and the shipped example holds every key at its default; settings and
+// sensors set in code meet the same ranges.
 
 #include "omnisfm/sfm/settings_file.h"
 
@@ -15,8 +16,10 @@
 
 #include "omnisfm/io/ini_file.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/sfm/fused_pipeline.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/sfm/pipeline.h"
+#include "omnisfm/sfm/sensor_ranges.h"
 #include "omnisfm/sfm/settings_ranges.h"
 #include "omnisfm/sim/scenario.h"
 
@@ -200,6 +203,43 @@ TEST(SfmSettings, SettingsSetInCodeMeetTheFilesRanges) {
             0u);
   EXPECT_NE(problem_with([](SfmSettings& s) { s.batch.max_iterations = 0; }), "");
   EXPECT_EQ(problem_with([](SfmSettings& s) { s.filter.smoothed_start_frames = 0; }), "");
+}
+
+// The motion sensors' numbers set in code meet the [run] section's ranges: both ends taken, just
+// beyond and NaN refused, by the check and by run_fused_sfm.
+TEST(SensorSettings, SensorsSetInCodeMeetTheRunSectionsRanges) {
+  EXPECT_EQ(sensors_problem(MotionSensors()), "");
+  const camera::CatadioptricCamera camera = sim::default_rig(256, 192);
+  MotionSensors with_a_wheel;
+  with_a_wheel.odometry.resize(1);
+  for (const SensorRange& r : sensor_ranges()) {
+    for (const double value : {r.low, r.high}) {
+      MotionSensors ends;
+      r.field(ends) = value;
+      EXPECT_EQ(sensors_problem(ends), "") << r.key << " = " << value;
+    }
+    const double below = r.low > 0 ? r.low / 2 : -1;
+    for (const double value : {below, 2 * r.high, std::numeric_limits<double>::quiet_NaN()}) {
+      MotionSensors bad = with_a_wheel;
+      r.field(bad) = value;
+      const std::string problem = sensors_problem(bad);
+      EXPECT_EQ(problem.rfind(std::string(r.key) + " = ", 0), 0u) << r.key << ": " << problem;
+      EXPECT_NE(problem.find(" must be "), std::string::npos) << problem;
+      try {
+        run_fused_sfm(camera, {}, {}, bad, SfmSettings());
+        ADD_FAILURE() << r.key << " = " << value << " was taken";
+      } catch (const std::invalid_argument& e) {  // before the tracks, which are none
+        EXPECT_EQ(std::string(e.what()).rfind("MotionSensors: " + std::string(r.key), 0), 0u)
+            << e.what();
+      }
+    }
+  }
+  EXPECT_EQ(sensor_ranges().size(), 7u);  // the odometry's four numbers and the gyro's three
+  MotionSensors bad;
+  bad.odometry_scale = 20;
+  EXPECT_EQ(sensors_problem(bad),
+            "odometry_scale = 20 must be from 0.1 to 10: true distance per distance read (a factor "
+            "of ten off is another unit than MRPT's metres)");
 }
 
 // A setting the file does not put in [sfm] would be silently ignored: a key before any section

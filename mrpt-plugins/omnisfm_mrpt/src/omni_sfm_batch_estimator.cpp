@@ -12,7 +12,11 @@ namespace omnisfm::mrpt_plugin {
 
 OmniSfmBatchEstimator::OmniSfmBatchEstimator(const OmniSfmEstimatorOptions& options,
                                              const sfm::BatchSettings& batch)
-    : options_(options), batch_(batch) {}
+    : options_(options), batch_(batch) {
+  // Said here rather than as the estimate's input's fault.
+  if (const std::string problem = options_.problem(); !problem.empty())
+    throw std::invalid_argument(problem);
+}
 
 namespace {
 

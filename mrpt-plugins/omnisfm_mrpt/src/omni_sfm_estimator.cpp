@@ -17,6 +17,7 @@
 #include "omnisfm/mrpt_plugin/observation_omni_image.h"
 #include "omnisfm/mrpt_plugin/observation_tracked_features.h"
 #include "omnisfm/sfm/motion_prediction.h"
+#include "omnisfm/sfm/sensor_ranges.h"
 #include "omnisfm/sfm/settings_file.h"
 #include "omnisfm/sfm/settings_ranges.h"
 #include "omnisfm/track/track_images.h"
@@ -103,6 +104,18 @@ RunOptions OmniSfmEstimatorOptions::run_options() const {
   return run;
 }
 
+std::string OmniSfmEstimatorOptions::problem() const {
+  if (const std::string wrong = sfm::settings_problem(filter); !wrong.empty())
+    return "OmniSfmEstimatorOptions::filter: " + wrong;
+  sfm::MotionSensors sensors;
+  sensors.odometry_noise = odometry_noise;
+  sensors.gyro_noise = gyro_noise;
+  sensors.odometry_scale = odometry_scale;
+  if (const std::string wrong = sfm::sensors_problem(sensors); !wrong.empty())
+    return "OmniSfmEstimatorOptions: " + wrong;
+  return "";
+}
+
 void OmniSfmEstimatorOptions::set_run_options(const RunOptions& run) {
   tracker = run.replay.tracker;
   vision = run.replay.vision;
@@ -146,8 +159,8 @@ OmniSfmEstimator::OmniSfmEstimator(const OmniSfmEstimatorOptions& estimator_opti
     : options_(estimator_options),
       collector_(estimator_options.sensor_labels, estimator_options.gps_origin) {
   // Said here rather than at the first camera observation, where the filter starts.
-  if (const std::string problem = sfm::settings_problem(options_.filter); !problem.empty())
-    throw std::invalid_argument("OmniSfmEstimatorOptions::filter: " + problem);
+  if (const std::string problem = options_.problem(); !problem.empty())
+    throw std::invalid_argument(problem);
   initialize();
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "omnisfm/io/number_text.h"
+#include "omnisfm/sfm/sensor_ranges.h"
 
 namespace omnisfm::mrpt_plugin {
 namespace {
@@ -43,27 +44,18 @@ void read_run_options(const io::IniSection& s, RunOptions* options) {
       s.fail("gps_origin", "must be latitude (-90..90), longitude (degrees) and height (m)");
     r.gps_origin = GeodeticPoint{origin[0], origin[1], origin[2]};
   }
-  // The bounds hold what a sensor's setting can mean: beyond them a noise is numerically zero or
-  // the sensor says nothing, and the estimators failed, or ran far off, away from the file.
-  sfm::OdometryNoise& o = options->odometry_noise;
-  o.position_sigma = s.get_within("odometry_position_sigma", o.position_sigma, 1e-6, 1,
-                                  "metres per sqrt(metre travelled) (a wheel a metre off per "
-                                  "metre is no odometry)");
-  o.heading_sigma = s.get_within("odometry_heading_sigma", o.heading_sigma, 1e-6, 1,
-                                 "radians per sqrt(metre travelled)");
-  options->odometry_scale = s.get_within(
-      "odometry_scale", options->odometry_scale, 0.1, 10,
-      "true distance per distance read (a factor of ten off is another unit than MRPT's metres)");
-  o.scale_sigma = s.get_within("odometry_scale_sigma", o.scale_sigma, 0, 0.5,
-                               "the scale's relative uncertainty (0 holds it; beyond 0.5 the "
-                               "scale would be negative within two sigmas)");
-  sfm::GyroNoise& g = options->gyro_noise;
-  // The low ends lie below a navigation-grade gyro's (an HG9900's bias is about 1.5e-8 rad/s).
-  g.noise_density =
-      s.get_within("gyro_noise_density", g.noise_density, 1e-10, 1, "rad/s per sqrt(Hz)");
-  g.bias_sigma = s.get_within("gyro_bias_sigma", g.bias_sigma, 1e-10, 1,
-                              "rad/s (a bias of a radian a second is no gyro)");
-  g.bias_walk = s.get_within("gyro_bias_walk", g.bias_walk, 1e-12, 1, "rad/s^2 per sqrt(Hz)");
+  // The bounds hold what a sensor's setting can mean (sfm/sensor_ranges.h).
+  sfm::MotionSensors sensors;
+  sensors.odometry_noise = options->odometry_noise;
+  sensors.odometry_scale = options->odometry_scale;
+  sensors.gyro_noise = options->gyro_noise;
+  for (const sfm::SensorRange& range : sfm::sensor_ranges()) {
+    double& field = range.field(sensors);
+    field = s.get_within(range.key, field, range.low, range.high, range.meaning);
+  }
+  options->odometry_noise = sensors.odometry_noise;
+  options->odometry_scale = sensors.odometry_scale;
+  options->gyro_noise = sensors.gyro_noise;
   r.tracker.max_tracks = s.get_positive_int("max_tracks", r.tracker.max_tracks);
   // As track's --max-tracks: the filter starts from 6 tracks.
   if (r.tracker.max_tracks < 6 || r.tracker.max_tracks > 100000)

@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/mrpt_plugin/omni_sfm_batch_estimator.h"
 #include "omnisfm/mrpt_plugin/omni_sfm_estimator.h"
 
 namespace omnisfm::mrpt_plugin {
@@ -162,6 +163,31 @@ TEST(EstimatorOptions, FilterSettingsBeyondTheirRangeAreRefusedWhenTheEstimatorI
   }
   options.filter.pixel_sigma = 0.3;
   EXPECT_NO_THROW(OmniSfmEstimator{options});
+}
+
+// The sensors' noises set in code meet the [run] section's ranges (sfm/sensor_ranges.h) too, and
+// the batch estimator refuses what the online one does.
+TEST(EstimatorOptions, SensorNoisesBeyondTheirRangeAreRefusedWhenTheEstimatorIsMade) {
+  OmniSfmEstimatorOptions options;
+  options.odometry_scale = 0;
+  try {
+    OmniSfmEstimator estimator(options);
+    ADD_FAILURE() << "a wheel reading no distance was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(
+                  "OmniSfmEstimatorOptions: odometry_scale = 0 must be from 0.1 to 10", 0),
+              0u)
+        << e.what();
+  }
+  options.odometry_scale = 1;
+  options.gyro_noise.bias_walk = -1;
+  EXPECT_THROW(OmniSfmEstimator{options}, std::invalid_argument);
+  EXPECT_THROW(OmniSfmBatchEstimator{options}, std::invalid_argument);
+  options.gyro_noise.bias_walk = 2e-5;
+  EXPECT_NO_THROW(OmniSfmEstimator{options});
+  EXPECT_NO_THROW(OmniSfmBatchEstimator{options});
+  options.filter.pixel_sigma = -1;
+  EXPECT_THROW(OmniSfmBatchEstimator{options}, std::invalid_argument);
 }
 
 }  // namespace

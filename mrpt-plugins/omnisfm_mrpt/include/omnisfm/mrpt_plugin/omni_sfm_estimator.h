@@ -84,6 +84,10 @@ struct OmniSfmEstimatorOptions : public mrpt::config::CLoadableOptions {
   // The same options in the replay's terms, and back (the filter and the camera apart).
   RunOptions run_options() const;
   void set_run_options(const RunOptions& run);
+  // "" when the filter's settings and the sensors' noises are within what they can mean
+  // (sfm/settings_ranges.h, sfm/sensor_ranges.h), else the first that is not, named; the
+  // estimators' constructors throw std::invalid_argument with it.
+  std::string problem() const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                           const std::string& section) override;
