@@ -647,6 +647,8 @@ class OnlineFilter {
   Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
   MotionPrediction fallback_motion_;  // the refused frame's prediction
   int refused_in_a_row_ = 0;          // frames up to the last whose sensors were refused
+  // The distance the wheels measured at the last frame they were taken unsuspected, metres.
+  double consistent_step_m_ = 0;
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
