@@ -125,14 +125,19 @@ std::string range_phrase(double low, double high, bool zero_off) {
   return range + (zero_off ? " (or 0: off)" : "");
 }
 
+std::string range_problem(double value, double low, double high, bool zero_off,
+                          const std::string& meaning) {
+  if ((zero_off && value == 0) || (value >= low && value <= high)) return "";
+  return "must be " + range_phrase(low, high, zero_off) + ": " + meaning;
+}
+
 double IniSection::get_within(const std::string& key, double fallback, double low, double high,
                               const std::string& meaning, bool zero_off) const {
   // The range is the file's to meet: a fallback set in code is the caller's.
   if (!has(key)) return fallback;
   const double v = get_double(key);
-  if (zero_off && v == 0) return v;
-  if (!(v >= low && v <= high))
-    fail(key, "must be " + range_phrase(low, high, zero_off) + ": " + meaning);
+  if (const std::string problem = range_problem(v, low, high, zero_off, meaning); !problem.empty())
+    fail(key, problem);
   return v;
 }
 

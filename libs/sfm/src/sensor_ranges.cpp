@@ -39,9 +39,9 @@ std::string sensors_problem(const MotionSensors& sensors) {
   copy.gyro_noise = sensors.gyro_noise;
   for (const SensorRange& r : sensor_ranges()) {
     const double value = r.field(copy);
-    if (value >= r.low && value <= r.high) continue;
-    return std::string(r.key) + " = " + io::format_double(value) + " must be " +
-           io::range_phrase(r.low, r.high, false) + ": " + r.meaning;
+    if (const std::string problem = io::range_problem(value, r.low, r.high, false, r.meaning);
+        !problem.empty())
+      return std::string(r.key) + " = " + io::format_double(value) + " " + problem;
   }
   return "";
 }

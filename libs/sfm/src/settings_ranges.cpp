@@ -80,9 +80,9 @@ std::string settings_problem(const SfmSettings& settings) {
   SfmSettings copy = settings;  // the fields are reached through the table's references
   for (const SettingRange& r : setting_ranges()) {
     const double value = r.field(copy);
-    if ((r.zero_off && value == 0) || (value >= r.low && value <= r.high)) continue;
-    return std::string(r.key) + " = " + io::format_double(value) + " must be " +
-           io::range_phrase(r.low, r.high, r.zero_off) + ": " + r.meaning;
+    if (const std::string problem = io::range_problem(value, r.low, r.high, r.zero_off, r.meaning);
+        !problem.empty())
+      return std::string(r.key) + " = " + io::format_double(value) + " " + problem;
   }
   for (const CountRange& r : count_ranges()) {
     const int value = r.field(copy);

@@ -153,6 +153,31 @@ TEST(SfmSettings, SettingsBeyondWhatTheyCanMeanAreRefusedAtTheirLine) {
     EXPECT_EQ(error_of("[sfm]\n" + std::string(good) + "\n"), "") << good;
 }
 
+// Every row of a range table: both ends taken by `problem`; just below, beyond (infinity where
+// unbounded) and NaN named by it, each such setting then handed to `refused` for the caller's
+// own checks.
+template <typename Row, typename Settings, typename Problem, typename Refused>
+void expect_rows_judged(const std::vector<Row>& rows, const Settings& base, Problem problem,
+                        Refused refused) {
+  for (const Row& r : rows) {
+    for (const double value : {r.low, r.high}) {
+      Settings ends = base;
+      r.field(ends) = value;
+      EXPECT_EQ(problem(ends), "") << r.key << " = " << value;
+    }
+    const double below = r.low > 0 ? r.low / 2 : -1;
+    const double beyond = r.high < std::numeric_limits<double>::max() ? 2 * r.high : INFINITY;
+    for (const double value : {below, beyond, std::numeric_limits<double>::quiet_NaN()}) {
+      Settings bad = base;
+      r.field(bad) = value;
+      const std::string wrong = problem(bad);
+      EXPECT_EQ(wrong.rfind(std::string(r.key) + " = ", 0), 0u) << r.key << ": " << wrong;
+      EXPECT_NE(wrong.find(" must be "), std::string::npos) << wrong;
+      refused(r, bad, value);
+    }
+  }
+}
+
 // Settings set in code meet the same ranges (settings_ranges.h): each number just beyond its
 // range, NaN, and each count beyond its own is refused by the filter and the pipeline, naming the
 // setting; the ends of each range and the defaults are taken.
@@ -160,27 +185,15 @@ TEST(SfmSettings, SettingsSetInCodeMeetTheFilesRanges) {
   EXPECT_EQ(settings_problem(SfmSettings()), "");
   const camera::CatadioptricCamera camera = sim::default_rig(256, 192);
   int filter_refusals = 0;
-  for (const SettingRange& r : setting_ranges()) {
-    for (const double value : {r.low, r.high}) {
-      SfmSettings ends;
-      r.field(ends) = value;
-      EXPECT_EQ(settings_problem(ends), "") << r.key << " = " << value;
-    }
-    const double below = r.low > 0 ? r.low / 2 : -1;
-    const double beyond = r.high < std::numeric_limits<double>::max() ? 2 * r.high : INFINITY;
-    for (const double value : {below, beyond, std::numeric_limits<double>::quiet_NaN()}) {
-      SfmSettings bad;
-      r.field(bad) = value;
-      const std::string problem = settings_problem(bad);
-      EXPECT_EQ(problem.rfind(std::string(r.key) + " = ", 0), 0u) << r.key << ": " << problem;
-      EXPECT_NE(problem.find(" must be "), std::string::npos) << problem;
-      EXPECT_THROW(run_sfm(camera, {}, bad), std::invalid_argument) << r.key << " = " << value;
-      if (!settings_problem(bad.filter).empty()) {  // the filter's own
-        ++filter_refusals;
-        EXPECT_THROW(OnlineFilter(camera, bad.filter), std::invalid_argument) << r.key;
-      }
-    }
-  }
+  expect_rows_judged(
+      setting_ranges(), SfmSettings(), [](const SfmSettings& s) { return settings_problem(s); },
+      [&](const SettingRange& r, const SfmSettings& bad, double value) {
+        EXPECT_THROW(run_sfm(camera, {}, bad), std::invalid_argument) << r.key << " = " << value;
+        if (!settings_problem(bad.filter).empty()) {  // the filter's own
+          ++filter_refusals;
+          EXPECT_THROW(OnlineFilter(camera, bad.filter), std::invalid_argument) << r.key;
+        }
+      });
   EXPECT_EQ(filter_refusals, 8 * 3);  // the filter's eight numbers, each three ways
   SfmSettings bad;
   bad.filter.pixel_sigma = 0;
@@ -212,28 +225,17 @@ TEST(SensorSettings, SensorsSetInCodeMeetTheRunSectionsRanges) {
   const camera::CatadioptricCamera camera = sim::default_rig(256, 192);
   MotionSensors with_a_wheel;
   with_a_wheel.odometry.resize(1);
-  for (const SensorRange& r : sensor_ranges()) {
-    for (const double value : {r.low, r.high}) {
-      MotionSensors ends;
-      r.field(ends) = value;
-      EXPECT_EQ(sensors_problem(ends), "") << r.key << " = " << value;
-    }
-    const double below = r.low > 0 ? r.low / 2 : -1;
-    for (const double value : {below, 2 * r.high, std::numeric_limits<double>::quiet_NaN()}) {
-      MotionSensors bad = with_a_wheel;
-      r.field(bad) = value;
-      const std::string problem = sensors_problem(bad);
-      EXPECT_EQ(problem.rfind(std::string(r.key) + " = ", 0), 0u) << r.key << ": " << problem;
-      EXPECT_NE(problem.find(" must be "), std::string::npos) << problem;
-      try {
-        run_fused_sfm(camera, {}, {}, bad, SfmSettings());
-        ADD_FAILURE() << r.key << " = " << value << " was taken";
-      } catch (const std::invalid_argument& e) {  // before the tracks, which are none
-        EXPECT_EQ(std::string(e.what()).rfind("MotionSensors: " + std::string(r.key), 0), 0u)
-            << e.what();
-      }
-    }
-  }
+  expect_rows_judged(
+      sensor_ranges(), with_a_wheel, [](const MotionSensors& s) { return sensors_problem(s); },
+      [&](const SensorRange& r, const MotionSensors& bad, double value) {
+        try {
+          run_fused_sfm(camera, {}, {}, bad, SfmSettings());
+          ADD_FAILURE() << r.key << " = " << value << " was taken";
+        } catch (const std::invalid_argument& e) {  // before the tracks, which are none
+          EXPECT_EQ(std::string(e.what()).rfind("MotionSensors: " + std::string(r.key), 0), 0u)
+              << e.what();
+        }
+      });
   EXPECT_EQ(sensor_ranges().size(), 7u);  // the odometry's four numbers and the gyro's three
   MotionSensors bad;
   bad.odometry_scale = 20;

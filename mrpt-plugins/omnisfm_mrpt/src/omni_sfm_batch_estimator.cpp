@@ -44,9 +44,7 @@ OmniSfmBatchResult OmniSfmBatchEstimator::estimate(ReplayInput in,
     throw io::InputError(source, 0,
                          "holds " + std::to_string(in.frame_times.size()) +
                              " camera frames: nothing to estimate from");
-  in.sensors.odometry_noise = options_.odometry_noise;
-  in.sensors.gyro_noise = options_.gyro_noise;
-  in.sensors.odometry_scale = options_.odometry_scale;
+  options_.set_sensor_noises(&in.sensors);
   sfm::SfmSettings settings;
   settings.filter = options_.filter;
   settings.batch = batch_;

@@ -108,12 +108,16 @@ std::string OmniSfmEstimatorOptions::problem() const {
   if (const std::string wrong = sfm::settings_problem(filter); !wrong.empty())
     return "OmniSfmEstimatorOptions::filter: " + wrong;
   sfm::MotionSensors sensors;
-  sensors.odometry_noise = odometry_noise;
-  sensors.gyro_noise = gyro_noise;
-  sensors.odometry_scale = odometry_scale;
+  set_sensor_noises(&sensors);
   if (const std::string wrong = sfm::sensors_problem(sensors); !wrong.empty())
     return "OmniSfmEstimatorOptions: " + wrong;
   return "";
+}
+
+void OmniSfmEstimatorOptions::set_sensor_noises(sfm::MotionSensors* sensors) const {
+  sensors->odometry_noise = odometry_noise;
+  sensors->gyro_noise = gyro_noise;
+  sensors->odometry_scale = odometry_scale;
 }
 
 void OmniSfmEstimatorOptions::set_run_options(const RunOptions& run) {
@@ -171,10 +175,7 @@ void OmniSfmEstimator::initialize(const mrpt::maps::CSimpleMap& initialMap,
   if (!initialMap.empty())
     throw std::invalid_argument("OmniSfmEstimator builds its own map: it takes no initial map");
   collector_ = MotionSensorCollector(options_.sensor_labels, options_.gps_origin);
-  sfm::MotionSensors& sensors = collector_.sensors();
-  sensors.odometry_noise = options_.odometry_noise;
-  sensors.gyro_noise = options_.gyro_noise;
-  sensors.odometry_scale = options_.odometry_scale;
+  options_.set_sensor_noises(&collector_.sensors());
   filter_.reset();
   tracker_.reset();
   image_models_ = ImageCameraModels();

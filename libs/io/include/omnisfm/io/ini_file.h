@@ -17,6 +17,9 @@ namespace omnisfm::io {
 // "from LOW to HIGH" ("a finite number of at least LOW" where high is the largest double), and
 // " (or 0: off)" with zero_off: what IniSection::get_within asks for.
 std::string range_phrase(double low, double high, bool zero_off);
+// "" where value lies from low to high (or is 0 with zero_off), else "must be RANGE: MEANING".
+std::string range_problem(double value, double low, double high, bool zero_off,
+                          const std::string& meaning);
 
 struct IniEntry {
   std::string key;

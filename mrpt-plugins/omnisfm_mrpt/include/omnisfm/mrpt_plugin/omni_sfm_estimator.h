@@ -88,6 +88,8 @@ struct OmniSfmEstimatorOptions : public mrpt::config::CLoadableOptions {
   // (sfm/settings_ranges.h, sfm/sensor_ranges.h), else the first that is not, named; the
   // estimators' constructors throw std::invalid_argument with it.
   std::string problem() const;
+  // Sets `sensors`' noises and wheel scale to these options' (their readings stay).
+  void set_sensor_noises(sfm::MotionSensors* sensors) const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                           const std::string& section) override;
