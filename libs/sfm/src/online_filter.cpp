@@ -800,6 +800,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   record_start_frame(frame, observations, motion, predicted_at);
   record_window_frame(seen, window_tracks);
   note_pose();
+  if (given && !smoothing_start_ && !at_given_points()) judge_motion_parts(*given);
   return updated;
 }
 

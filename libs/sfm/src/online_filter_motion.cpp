@@ -79,6 +79,52 @@ void OnlineFilter::restore(const BeforePropagation& before) {
   state_.P.block<3, 3>(FilterState::kBiasColumn, FilterState::kBiasColumn) = before.bias_block;
 }
 
+namespace {
+
+// Whether a sensor measured some axis of the rotation, where the rest keep the walk's sigma.
+bool measures_rotation(const MotionPrediction& given, const FilterSettings& settings) {
+  const double walk_variance = settings.rotation_walk_sigma * settings.rotation_walk_sigma;
+  return given.covariance.topLeftCorner<3, 3>().diagonal().minCoeff() < 0.25 * walk_variance;
+}
+
+}  // namespace
+
+MotionPrediction OnlineFilter::with_rotation_of(const MotionPrediction& given,
+                                                MotionPrediction walk) {
+  walk.cam_from_previous_cam.linear() = given.cam_from_previous_cam.linear();
+  walk.covariance.topLeftCorner<3, 3>() = given.covariance.topLeftCorner<3, 3>();
+  walk.bias_jacobian.topRows<3>() = given.bias_jacobian.topRows<3>();
+  return walk;
+}
+
+// The frame's estimated motion, last_motion_, has the error of the two poses it joins; the
+// current pose's covariance stands for both (it holds the drift since the state's origin last
+// moved, more than a frame's): a conservative variance, under which a sensor that agrees scores
+// well below 1 and a failed one (a frozen wheel's 3 cm on the long drive, a stuck gyro's turn)
+// tens a frame.
+void OnlineFilter::judge_motion_parts(const MotionPrediction& given) {
+  const Eigen::Matrix<double, 6, 6> estimate = state_.P.topLeftCorner<6, 6>();
+  const double cap = 2 * settings_.outlier_chi2;
+  if (measures_rotation(given, settings_)) {
+    const Eigen::Vector3d error =
+        so3::log(last_motion_.linear() * given.cam_from_previous_cam.linear().transpose());
+    const Eigen::Matrix3d variance =
+        given.covariance.topLeftCorner<3, 3>() + estimate.topLeftCorner<3, 3>();
+    const double score = error.dot(variance.ldlt().solve(error));
+    rotation_misfit_sum_ =
+        std::clamp(rotation_misfit_sum_ + score - kConsistentPartMisfit, 0.0, cap);
+  }
+  const double step = last_motion_.translation().norm();
+  if (given.measures_distance && step > 0) {
+    const Eigen::Vector3d along = last_motion_.translation() / step;
+    const double error = step - given.cam_from_previous_cam.translation().norm();
+    const double variance = along.dot(
+        (given.covariance.bottomRightCorner<3, 3>() + estimate.bottomRightCorner<3, 3>()) * along);
+    distance_misfit_sum_ = std::clamp(
+        distance_misfit_sum_ + error * error / variance - kConsistentPartMisfit, 0.0, cap);
+  }
+}
+
 MotionPrediction OnlineFilter::constant_velocity() const {
   MotionPrediction prediction = random_walk();
   prediction.cam_from_previous_cam = last_motion_;
@@ -160,12 +206,18 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
     // over 600 m, where the set walk's 5 cm let the scale grow 30 %). Where it does not fit (the
     // vehicle changed pace), the set walk, then the constant velocity.
     fallbacks = {random_walk(), constant_velocity()};
+    MotionPrediction paced = random_walk();
     if (consistent_step_m_ > 0) {
-      MotionPrediction paced = random_walk();
       paced.covariance.bottomRightCorner<3, 3>() =
           std::pow(consistent_step_m_ / 2, 2) * Eigen::Matrix3d::Identity();
       fallbacks.insert(fallbacks.begin(), paced);
     }
+    // Where the wheels' distances are at odds with the frames' estimated motion and the gyro's
+    // rotations are not (judge_motion_parts), the gyro's rotation with the paced walk goes first.
+    const bool rotation_at_odds = rotation_misfit_sum_ > bound;
+    const bool distance_at_odds = distance_misfit_sum_ > bound;
+    if (distance_at_odds && !rotation_at_odds && measures_rotation(given, settings_))
+      fallbacks.insert(fallbacks.begin(), with_rotation_of(given, paced));
   }
   std::vector<Measurement> alternative;
   bool fits = false;

@@ -277,9 +277,11 @@ TEST(LongDrive, TakingBackDepthPriorsRemovesTheirPullOnTheScale) {
 // A wheel that stops counting, or a gyro stuck at zero, halfway through 4,000 frames (120 m). On
 // the drive each frame after the fault misfits grossly (35-145, the bound 27.6), not by a little as
 // on the rover: the filter refuses the sensors frame after frame and takes the random walk, paced
-// by the last step the wheels measured, the images holding the second half. Measured at seeds 1-5
-// through the default and hyperbolic rigs: every frame from the fault's on refused, 0-14 tracks
-// rejected, mean rotation error 0.3-1.0 deg, 0.27-0.61 % after a rigid alignment (clean
+// by the last step the wheels measured, the images holding the second half; where the wheels
+// alone are at odds with the frames' estimated motion, with the gyro's rotation. Measured at seeds
+// 1-5 through the default and hyperbolic rigs: every frame from the fault's on refused, 0-14 tracks
+// rejected, mean rotation error 0.25-1.02 deg; after a rigid alignment 0.12-0.29 % with the wheel
+// frozen (0.27-0.52 % without the gyro's rotation), 0.30-0.61 % with the gyro stuck (clean
 // 0.05-0.21 %). With the set walk's 5 cm instead of the paced one the scale grew: 19-20 % after a
 // rigid alignment, 6.5 % after a similarity. When each gross frame took the constant velocity,
 // fed back its own estimates it diverged within 30 frames: at seed 1, with the wheel frozen, 1,998
@@ -320,7 +322,9 @@ TEST(LongDrive, ASensorThatFailsForGoodLeavesTheDriveToTheImagesAtTheWheelsPace)
       EXPECT_GE(r.refused_motion_frames.size(), 0.99 * (kFrames - fault_frame)) << at;
       EXPECT_LT(r.outliers.size(), 0.01 * tracks.size()) << at;
       EXPECT_LT(rigid.mean_rotation_error_deg, 2.0) << at;
-      EXPECT_LT(rigid.translation_error_percent, 1.0) << at;
+      // A frozen wheel leaves the gyro's rotation (0.13-0.16 % at seeds 1-3; 0.27-0.39 % without).
+      EXPECT_LT(rigid.translation_error_percent, what == std::string("wheel frozen") ? 0.25 : 1.0)
+          << at;
     }
   }
 }

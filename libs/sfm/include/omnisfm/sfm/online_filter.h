@@ -467,6 +467,13 @@ class OnlineFilter {
   // The motion between the last two frames as the filter estimated them, with the random walk's
   // covariance.
   MotionPrediction constant_velocity() const;
+  // After a frame the vehicle's sensors predicted: the rotation and the distance they measured,
+  // each against the frame's motion the filter estimated, summed as sensor_misfit_sum_ is, so
+  // that once one sensor's lasting fault refuses the sensors' motion, the other's part may stay.
+  void judge_motion_parts(const MotionPrediction& given);
+  // `walk` with the rotation of the refused `given` (the gyro's), and its error's dependence on
+  // the gyro's bias.
+  static MotionPrediction with_rotation_of(const MotionPrediction& given, MotionPrediction walk);
   // Counts the frame's predicted motion as refused and says so (on_motion_refused).
   void refuse_motion_at(int frame);
   // No motion, with the random walk's covariance (FilterSettings::rotation_walk_sigma,
@@ -649,6 +656,12 @@ class OnlineFilter {
   int refused_in_a_row_ = 0;          // frames up to the last whose sensors were refused
   // The distance the wheels measured at the last frame they were taken unsuspected, metres.
   double consistent_step_m_ = 0;
+  // The rotation's and the distance's summed excess misfit against the filter's estimate
+  // (judge_motion_parts), and the excess's threshold: the squared error over its variance, which
+  // takes both the sensor's and the estimate's, is 1 on average for an honest error.
+  double rotation_misfit_sum_ = 0;
+  double distance_misfit_sum_ = 0;
+  static constexpr double kConsistentPartMisfit = 1;
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
