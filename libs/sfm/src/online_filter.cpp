@@ -535,21 +535,28 @@ double OnlineFilter::motion_misfit(const std::map<int, Eigen::Vector2d>& seen,
   return core::percentile(scores, 0.5);
 }
 
-bool OnlineFilter::fits_after_update(const std::vector<Measurement>& measurements) const {
+double OnlineFilter::misfit_after_update(const std::vector<Measurement>& measurements,
+                                         double quantile) const {
+  constexpr double kNotJudged = std::numeric_limits<double>::quiet_NaN();
   std::vector<int> established;
   for (size_t k = 0; k < measurements.size(); ++k)
     if (state_.anchor(measurements[k].slot).updates >= kEstablishedUpdates)
       established.push_back(static_cast<int>(k));
-  if (static_cast<int>(established.size()) < kMinPointsToJudgeMotion) return false;
+  if (static_cast<int>(established.size()) < kMinPointsToJudgeMotion) return kNotJudged;
   Candidate candidate;
   update(measurements, false, &candidate);
-  if (candidate.PHt.size() == 0) return false;
+  if (candidate.PHt.size() == 0) return kNotJudged;
   const std::vector<double> all =
       posterior_chi2(candidate.S_factor, candidate.residual, pixel_sigma() * pixel_sigma(),
                      candidate.unestimated.size() > 0 ? &candidate.unestimated : nullptr);
   std::vector<double> scores;
   for (int k : established) scores.push_back(all[k]);
-  return core::percentile(scores, 0.5) <= settings_.outlier_chi2;
+  return core::percentile(scores, quantile);
+}
+
+bool OnlineFilter::fits_after_update(const std::vector<Measurement>& measurements) const {
+  // NaN (not judged) compares false.
+  return misfit_after_update(measurements, 0.5) <= settings_.outlier_chi2;
 }
 
 double OnlineFilter::prior_chi2(const Measurement& m) const {

@@ -452,7 +452,9 @@ class OnlineFilter {
   void restore(const BeforePropagation& before);
   // Propagated by `motion`, the frame's measurements at the propagated state; where the images
   // refuse it (on_motion_refused), by the constant-velocity prediction instead (a single frame's
-  // gross misfit) or the random walk (a fault that lasts), which `motion` then points to.
+  // gross misfit) or the random walk (a fault that lasts; with the gyro's rotation where only the
+  // wheels are at odds), which `motion` then points to. A prediction that leaves part of the
+  // rotation to the walk (odometry without a gyro) is judged after a trial update too.
   std::vector<Measurement> propagate_checked(const std::map<int, Eigen::Vector2d>& seen,
                                              const MotionPrediction** motion);
   // The established points' median innovation score (chi-square, 2 dof) under a prediction:
@@ -461,8 +463,10 @@ class OnlineFilter {
   // kMinPointsToJudgeMotion of them (online_filter.cpp).
   double motion_misfit(const std::map<int, Eigen::Vector2d>& seen,
                        const std::vector<Measurement>& measurements) const;
-  // Whether, updated by `measurements`, the established points' median score after the update
-  // lies within the outlier bound: the images agree on one pose.
+  // The established points' scores' `quantile` (chi-square, 2 dof) after an update by
+  // `measurements`, NaN as motion_misfit's; and whether their median lies within the outlier
+  // bound: the images agree on one pose.
+  double misfit_after_update(const std::vector<Measurement>& measurements, double quantile) const;
   bool fits_after_update(const std::vector<Measurement>& measurements) const;
   // The motion between the last two frames as the filter estimated them, with the random walk's
   // covariance.
