@@ -454,7 +454,8 @@ class OnlineFilter {
   // refuse it (on_motion_refused), by the constant-velocity prediction instead (a single frame's
   // gross misfit) or the random walk (a fault that lasts; with the gyro's rotation where only the
   // wheels are at odds), which `motion` then points to. A prediction that leaves part of the
-  // rotation to the walk (odometry without a gyro) is judged after a trial update too.
+  // rotation to the walk (odometry without a gyro) is judged after a trial update too, and one
+  // that leaves the translation to it (a gyro alone) after a trial update only.
   std::vector<Measurement> propagate_checked(const std::map<int, Eigen::Vector2d>& seen,
                                              const MotionPrediction** motion);
   // The established points' median innovation score (chi-square, 2 dof) under a prediction:
@@ -653,6 +654,9 @@ class OnlineFilter {
   double sensor_misfit_sum_ = 0;
   std::deque<int> suspect_frames_;
   static constexpr double kConsistentMisfit = 2;
+  // Chi-square's (2 dof) 1 - 1e-3 quantile, for the scores after a trial update
+  // (propagate_checked).
+  static constexpr double kGrossAfterUpdate = 13.82;
   // The last two frames' estimated poses in the world (constant_velocity()).
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
