@@ -659,6 +659,11 @@ void OnlineFilter::measure_noise(const std::vector<double>& established_scores) 
   take_noise(core::percentile(recent_scores_, 0.5) / kChiSquare2Median);
 }
 
+double OnlineFilter::noise_ratio() const {
+  if (recent_scores_.size() < kMinScoresForNoise) return 1;
+  return core::percentile(recent_scores_, 0.5) / kChiSquare2Median / (noise_scale_ * noise_scale_);
+}
+
 void OnlineFilter::take_noise(double implied_scale2) {
   // Taken beyond twice the stated variance, let go below 1.5 times (a median of 400 scores
   // wobbles by about 7 %, and without the gap the noise taken flipped near the threshold), and
@@ -807,7 +812,8 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   record_start_frame(frame, observations, motion, predicted_at);
   record_window_frame(seen, window_tracks);
   note_pose();
-  if (given && !smoothing_start_ && !at_given_points()) judge_motion_parts(*given);
+  // A frame the images did not update has the sensors' own motion: no judge of them.
+  if (given && updated && !smoothing_start_ && !at_given_points()) judge_motion_parts(*given);
   return updated;
 }
 

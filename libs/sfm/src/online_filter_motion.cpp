@@ -1,6 +1,7 @@
 // The filter's propagation by the vehicle's predicted motion (odometry, gyro), in place of the
 // random walk.
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -81,16 +82,20 @@ void OnlineFilter::restore(const BeforePropagation& before) {
 
 namespace {
 
-// Whether a sensor measured some axis of the rotation (the odometry's yaw, the gyro's three),
-// where the rest keep the walk's sigma; and whether it measured all three.
-bool measures_rotation(const MotionPrediction& given, const FilterSettings& settings) {
+// How many axes of the rotation a sensor measured (the odometry's yaw: 1; a gyro: 3), where the
+// rest keep the walk's sigma: the rotation covariance's eigenvalues, whichever way the camera is
+// mounted, well below the walk's variance.
+int measured_rotation_axes(const MotionPrediction& given, const FilterSettings& settings) {
   const double walk_variance = settings.rotation_walk_sigma * settings.rotation_walk_sigma;
-  return given.covariance.topLeftCorner<3, 3>().diagonal().minCoeff() < 0.25 * walk_variance;
+  const Eigen::Vector3d variances =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(given.covariance.topLeftCorner<3, 3>(),
+                                                     Eigen::EigenvaluesOnly)
+          .eigenvalues();
+  return static_cast<int>((variances.array() < 0.25 * walk_variance).count());
 }
 
 bool measures_whole_rotation(const MotionPrediction& given, const FilterSettings& settings) {
-  const double walk_variance = settings.rotation_walk_sigma * settings.rotation_walk_sigma;
-  return given.covariance.topLeftCorner<3, 3>().diagonal().maxCoeff() < 0.25 * walk_variance;
+  return measured_rotation_axes(given, settings) == 3;
 }
 
 }  // namespace
@@ -106,28 +111,34 @@ MotionPrediction OnlineFilter::with_rotation_of(const MotionPrediction& given,
 // The frame's estimated motion, last_motion_, has the error of the two poses it joins; the
 // current pose's covariance stands for both (it holds the drift since the state's origin last
 // moved, more than a frame's): a conservative variance, under which a sensor that agrees scores
-// well below 1 and a failed one (a frozen wheel's 3 cm on the long drive, a stuck gyro's turn)
-// tens a frame.
+// well below its degrees of freedom and a failed one (a frozen wheel's 3 cm on the long drive, a
+// stuck gyro's turn) tens a frame. Once a fallback keeps the gyro's rotation, the estimate leans
+// on the gyro and judges it less sharply; a gyro that fails then too is still caught by the whole
+// prediction's misfit, which refuses both.
 void OnlineFilter::judge_motion_parts(const MotionPrediction& given) {
   const Eigen::Matrix<double, 6, 6> estimate = state_.P.topLeftCorner<6, 6>();
   const double cap = 2 * settings_.outlier_chi2;
-  if (measures_rotation(given, settings_)) {
+  if (const int axes = measured_rotation_axes(given, settings_); axes > 0) {
     const Eigen::Vector3d error =
         so3::log(last_motion_.linear() * given.cam_from_previous_cam.linear().transpose());
     const Eigen::Matrix3d variance =
         given.covariance.topLeftCorner<3, 3>() + estimate.topLeftCorner<3, 3>();
     const double score = error.dot(variance.ldlt().solve(error));
-    rotation_misfit_sum_ =
-        std::clamp(rotation_misfit_sum_ + score - kConsistentPartMisfit, 0.0, cap);
+    rotation_misfit_sum_ = std::clamp(rotation_misfit_sum_ + score - axes, 0.0, cap);
   }
   const double step = last_motion_.translation().norm();
   if (given.measures_distance && step > 0) {
     const Eigen::Vector3d along = last_motion_.translation() / step;
     const double error = step - given.cam_from_previous_cam.translation().norm();
-    const double variance = along.dot(
-        (given.covariance.bottomRightCorner<3, 3>() + estimate.bottomRightCorner<3, 3>()) * along);
-    distance_misfit_sum_ = std::clamp(
-        distance_misfit_sum_ + error * error / variance - kConsistentPartMisfit, 0.0, cap);
+    // The wheels' scale's own error too, the same in every frame (a considered state).
+    const double scale_term = along.dot(given.wheel_scale_jacobian.tail<3>());
+    const double variance =
+        along.dot(
+            (given.covariance.bottomRightCorner<3, 3>() + estimate.bottomRightCorner<3, 3>()) *
+            along) +
+        scale_term * scale_term * state_.P(FilterState::kScaleColumn, FilterState::kScaleColumn);
+    distance_misfit_sum_ =
+        std::clamp(distance_misfit_sum_ + error * error / variance - 1, 0.0, cap);
   }
 }
 
@@ -179,14 +190,22 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   // pose after a trial update judges the prediction too: the upper quartile of the established
   // points' scores (0.6-1.6 when consistent; 4-20 with the wheel frozen, 26 and 87 in a stuck
   // gyro's first frames on the rover), gross beyond chi-square's 1 - 1e-3 quantile, where a
-  // quarter of the points lie where one in a thousand should.
+  // quarter of the points lie where one in a thousand should. A consistent prediction's quartile
+  // stays below kConsistentAfterUpdate, as its median below kConsistentMisfit.
+  double consistent = kConsistentMisfit;
   if (!std::isnan(misfit) &&
       (!given.measures_distance || !measures_whole_rotation(given, settings_))) {
     const double after = misfit_after_update(measurements, 0.75);
     if (!std::isnan(after)) {
-      const bool walk_translation = !given.measures_distance;
+      // Points that do not project at the prediction count against it whatever is left.
+      const bool walk_translation = !given.measures_distance && !std::isinf(misfit);
       misfit = walk_translation ? after : std::max(misfit, after);
       gross = (!walk_translation && gross) || after > kGrossAfterUpdate;
+      // A trial update's scores follow the tracks' noise itself, which may be well below the
+      // stated (0.6-1.6 for the quartile on the drive and the rover at 0.2 px, 0.3 stated) or up
+      // to twice its variance before the filter takes it: held to chi-square's quartile at the
+      // stated noise, a clean sensor at 0.3 px was refused for good.
+      consistent = kConsistentAfterUpdate * noise_ratio();
     }
   }
   // A sensor that fails for good (a wheel that stops counting, a gyro stuck at zero) may misfit by
@@ -196,14 +215,14 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   // about 15 frames); a gross misfit is the single-frame test's, frame after frame too where the
   // fault is larger (35-145 a frame with the wheel frozen on the long drive). After a refused
   // frame, the sensors are taken back only once they fit as a consistent prediction does: a
-  // fault that misfits grossly and then by less is one fault (on the rover, a frozen wheel
-  // without a gyro misfit grossly for 14 frames, then by 23, and taken, rejected 92 good tracks).
+  // fault that misfits grossly and then by less is one fault (on the rover at seed 1, a frozen
+  // wheel without a gyro misfit grossly for 14 frames, then by 23, and taken, rejected 92 good
+  // tracks).
   if (!std::isnan(misfit) && !gross) {
-    sensor_misfit_sum_ =
-        std::clamp(sensor_misfit_sum_ + misfit - kConsistentMisfit, 0.0, 2 * bound);
+    sensor_misfit_sum_ = std::clamp(sensor_misfit_sum_ + misfit - consistent, 0.0, 2 * bound);
     if (sensor_misfit_sum_ == 0) suspect_frames_.clear();
   }
-  const bool still_at_odds = refused_in_a_row_ > 0 && misfit > kConsistentMisfit;
+  const bool still_at_odds = refused_in_a_row_ > 0 && misfit > consistent;
   const bool lasting = !gross && (sensor_misfit_sum_ > bound || still_at_odds);
   if (!gross && !lasting) {
     // The last few: a sum that hovers above 0 over an endless drive would otherwise keep them all.
@@ -231,7 +250,7 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
     // Once the wheels are refused nothing but the walk weighs the map's scale, which settles
     // where a frame's step is about two of the walk's sigmas (docs/shape-from-motion.md, "Endless
     // sequences"): a walk paced by the last step the wheels measured unsuspected keeps the scale
-    // they had (the long drive with its wheel frozen halfway 0.56-0.73 % after a rigid alignment
+    // they had (the long drive with its gyro stuck halfway 0.56-0.63 % after a rigid alignment
     // over 600 m, where the set walk's 5 cm let the scale grow 30 %). Where it does not fit (the
     // vehicle changed pace), the set walk, then the constant velocity.
     fallbacks = {random_walk(), constant_velocity()};

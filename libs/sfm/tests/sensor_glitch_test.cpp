@@ -246,7 +246,7 @@ TEST(SensorGlitch, ALoneSensorThatFailsForGoodIsRefused) {
       ASSERT_FALSE(e.refused.empty()) << at;
       EXPECT_GE(e.refused.front(), frame_after(r, lone.fault_time) - 1) << at;
       EXPECT_GE(e.refused.size(), 70u) << at;
-      EXPECT_LE(e.outliers, clean.outliers + 3) << at;
+      EXPECT_LE(e.outliers, clean.outliers + 5) << at;  // 0-3 more measured; before, 94-113
       if (lone.measures_scale) {
         EXPECT_LT(e.batch_percent, clean.batch_percent + 0.15) << at;
         EXPECT_LT(e.online_percent, 1.0) << at;

@@ -641,6 +641,9 @@ class OnlineFilter {
   void measure_noise(const std::vector<double>& established_scores);
   // Takes the noise whose variance is `implied_scale2` times the stated one, or lets it go.
   void take_noise(double implied_scale2);
+  // The recent established points' scores' median over chi-square's, at the noise taken: about
+  // the tracks' noise variance over the one the filter scores at (1 before enough are measured).
+  double noise_ratio() const;
   // How far a pixel may be from a solution that explains it, at the noise the filter takes.
   double residual_limit_px() const;
   LinearisationPoints linearisation_points_;
@@ -654,9 +657,11 @@ class OnlineFilter {
   double sensor_misfit_sum_ = 0;
   std::deque<int> suspect_frames_;
   static constexpr double kConsistentMisfit = 2;
-  // Chi-square's (2 dof) 1 - 1e-3 quantile, for the scores after a trial update
-  // (propagate_checked).
+  // For the upper quartile of the scores after a trial update (propagate_checked): chi-square's
+  // (2 dof) 1 - 1e-3 quantile, and its upper quartile (2.77) with the margin kConsistentMisfit
+  // leaves over its median (1.39), at the tracks' noise (noise_ratio()).
   static constexpr double kGrossAfterUpdate = 13.82;
+  static constexpr double kConsistentAfterUpdate = 4;
   // The last two frames' estimated poses in the world (constant_velocity()).
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
@@ -665,11 +670,10 @@ class OnlineFilter {
   // The distance the wheels measured at the last frame they were taken unsuspected, metres.
   double consistent_step_m_ = 0;
   // The rotation's and the distance's summed excess misfit against the filter's estimate
-  // (judge_motion_parts), and the excess's threshold: the squared error over its variance, which
-  // takes both the sensor's and the estimate's, is 1 on average for an honest error.
+  // (judge_motion_parts): the squared error over its variance, which takes both the sensor's and
+  // the estimate's, in excess of its degrees of freedom (an honest error's mean score).
   double rotation_misfit_sum_ = 0;
   double distance_misfit_sum_ = 0;
-  static constexpr double kConsistentPartMisfit = 1;
   bool started_ = false;
   FilterState state_;
   bool bias_started_ = false;   // its prior set by the first prediction with a gyro
