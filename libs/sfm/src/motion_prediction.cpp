@@ -1,5 +1,6 @@
 #include "omnisfm/sfm/motion_prediction.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "so3.h"
@@ -86,6 +87,20 @@ MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, 
                                        const SensorStates& states) {
   return predict_camera_motion(frame_motion(sensors, t0, t1, states.gyro_bias), sensors, settings,
                                states.wheel_scale);
+}
+
+int measured_rotation_axes(const MotionPrediction& prediction, double rotation_walk_sigma) {
+  const Eigen::Vector3d variances =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(prediction.covariance.topLeftCorner<3, 3>(),
+                                                     Eigen::EigenvaluesOnly)
+          .eigenvalues();
+  const double walk_variance = rotation_walk_sigma * rotation_walk_sigma;
+  return static_cast<int>((variances.array() < 0.25 * walk_variance).count());
+}
+
+bool measures_whole_motion(const MotionPrediction& prediction, double rotation_walk_sigma) {
+  return prediction.measures_distance &&
+         measured_rotation_axes(prediction, rotation_walk_sigma) == 3;
 }
 
 }  // namespace omnisfm::sfm

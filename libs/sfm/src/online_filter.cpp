@@ -9,6 +9,7 @@
 
 #include "filter_linear_algebra.h"
 #include "omnisfm/core/percentile.h"
+#include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/settings_ranges.h"
 #include "so3.h"
 
@@ -52,7 +53,8 @@ const Eigen::MatrixXd& checked_uncertainty(const camera::CatadioptricCamera& cam
 }
 
 // Whether the state's frame takes the camera's orientation as it moves
-// (FilterSettings::origin_turns_with_camera), in a frame propagated by the sensors or not.
+// (FilterSettings::origin_turns_with_camera), in a frame whose whole motion the sensors measured
+// or not.
 bool turns_with_camera(const FilterSettings& settings, bool with_sensors) {
   const OriginTurnsWithCamera turns = settings.origin_turns_with_camera;
   return turns == OriginTurnsWithCamera::kAlways ||
@@ -769,7 +771,8 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     // The window lives in one state frame: it closes before the frame moves, and opens after.
     const bool window = window_open_ && !motion && window_on();
     if (window) close_window();
-    state_.move_origin_to_camera(!turns_with_camera(settings_, motion != nullptr));
+    state_.move_origin_to_camera(!turns_with_camera(
+        settings_, motion && measures_whole_motion(*motion, settings_.rotation_walk_sigma)));
     if (window) open_window();
   }
   const SensorStates predicted_at = state_.mean.sensors;

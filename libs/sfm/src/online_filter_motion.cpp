@@ -1,10 +1,10 @@
 // The filter's propagation by the vehicle's predicted motion (odometry, gyro), in place of the
 // random walk.
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
+#include "omnisfm/sfm/motion_prediction.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "so3.h"
 
@@ -80,26 +80,6 @@ void OnlineFilter::restore(const BeforePropagation& before) {
   state_.P.block<3, 3>(FilterState::kBiasColumn, FilterState::kBiasColumn) = before.bias_block;
 }
 
-namespace {
-
-// How many axes of the rotation a sensor measured (the odometry's yaw: 1; a gyro: 3), where the
-// rest keep the walk's sigma: the rotation covariance's eigenvalues, whichever way the camera is
-// mounted, well below the walk's variance.
-int measured_rotation_axes(const MotionPrediction& given, const FilterSettings& settings) {
-  const double walk_variance = settings.rotation_walk_sigma * settings.rotation_walk_sigma;
-  const Eigen::Vector3d variances =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(given.covariance.topLeftCorner<3, 3>(),
-                                                     Eigen::EigenvaluesOnly)
-          .eigenvalues();
-  return static_cast<int>((variances.array() < 0.25 * walk_variance).count());
-}
-
-bool measures_whole_rotation(const MotionPrediction& given, const FilterSettings& settings) {
-  return measured_rotation_axes(given, settings) == 3;
-}
-
-}  // namespace
-
 MotionPrediction OnlineFilter::with_rotation_of(const MotionPrediction& given,
                                                 MotionPrediction walk) {
   walk.cam_from_previous_cam.linear() = given.cam_from_previous_cam.linear();
@@ -118,7 +98,7 @@ MotionPrediction OnlineFilter::with_rotation_of(const MotionPrediction& given,
 void OnlineFilter::judge_motion_parts(const MotionPrediction& given) {
   const Eigen::Matrix<double, 6, 6> estimate = state_.P.topLeftCorner<6, 6>();
   const double cap = 2 * settings_.outlier_chi2;
-  if (const int axes = measured_rotation_axes(given, settings_); axes > 0) {
+  if (const int axes = measured_rotation_axes(given, settings_.rotation_walk_sigma); axes > 0) {
     const Eigen::Vector3d error =
         so3::log(last_motion_.linear() * given.cam_from_previous_cam.linear().transpose());
     const Eigen::Matrix3d variance =
@@ -193,8 +173,7 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
   // quarter of the points lie where one in a thousand should. A consistent prediction's quartile
   // stays below kConsistentAfterUpdate, as its median below kConsistentMisfit.
   double consistent = kConsistentMisfit;
-  if (!std::isnan(misfit) &&
-      (!given.measures_distance || !measures_whole_rotation(given, settings_))) {
+  if (!std::isnan(misfit) && !measures_whole_motion(given, settings_.rotation_walk_sigma)) {
     const double after = misfit_after_update(measurements, 0.75);
     if (!std::isnan(after)) {
       // Points that do not project at the prediction count against it whatever is left.
@@ -264,7 +243,8 @@ std::vector<OnlineFilter::Measurement> OnlineFilter::propagate_checked(
     // rotations are not (judge_motion_parts), the gyro's rotation with the paced walk goes first.
     const bool rotation_at_odds = rotation_misfit_sum_ > bound;
     const bool distance_at_odds = distance_misfit_sum_ > bound;
-    if (distance_at_odds && !rotation_at_odds && measures_whole_rotation(given, settings_))
+    if (distance_at_odds && !rotation_at_odds &&
+        measured_rotation_axes(given, settings_.rotation_walk_sigma) == 3)
       fallbacks.insert(fallbacks.begin(), with_rotation_of(given, paced));
   }
   std::vector<Measurement> alternative;

@@ -51,4 +51,12 @@ MotionPrediction predict_camera_motion(const MotionSensors& sensors, double t0, 
                                        const FilterSettings& settings,
                                        const SensorStates& states = SensorStates());
 
+// How many axes of the rotation `prediction` measures (the odometry's yaw: 1; a gyro: 3), where
+// the rest keep the walk's sigma: its rotation covariance's eigenvalues, whichever way the camera
+// is mounted, well below the walk's variance (rotation_walk_sigma squared).
+int measured_rotation_axes(const MotionPrediction& prediction, double rotation_walk_sigma);
+
+// Whether `prediction` measures the whole motion: all three axes of the rotation and the distance.
+bool measures_whole_motion(const MotionPrediction& prediction, double rotation_walk_sigma);
+
 }  // namespace omnisfm::sfm
