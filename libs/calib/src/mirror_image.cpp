@@ -99,6 +99,54 @@ Edge steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, double
   return {radius, best};
 }
 
+// The radius in [from, to] about `centre` where the grey steps most across the circle, either way
+// (a mirror whose picture ends against a mount as bright as the scene it shows): at each radius
+// the median over angles of the step's size; and the median of those more than 10 px from it, how
+// much the scene alone steps. A mirror's edge is one sharp circle, a texture's steps are
+// everywhere.
+struct UnsignedEdge {
+  double radius = 0;
+  double step = 0;        // the median step's size across the circle, grey levels over 6 px
+  double background = 0;  // the scene's, at the other radii
+};
+UnsignedEdge strongest_unsigned_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre,
+                                     double from, double to) {
+  constexpr int kAngles = 720;
+  constexpr int kStep = 3;
+  constexpr double kEdgeWidth = 10;
+  auto grey = [&](double r, double a, double* g) {
+    const int x = static_cast<int>(std::lround(centre.x() + r * std::cos(a)));
+    const int y = static_cast<int>(std::lround(centre.y() + r * std::sin(a)));
+    if (x < 0 || y < 0 || x >= blurred.cols || y >= blurred.rows) return false;
+    *g = blurred.at<std::uint8_t>(y, x);
+    return true;
+  };
+  UnsignedEdge edge{from, 0, 0};
+  std::vector<std::pair<double, double>> profile;  // radius, median step
+  std::vector<double> steps;
+  for (int r = static_cast<int>(from); r <= static_cast<int>(to); ++r) {
+    steps.clear();
+    for (int k = 0; k < kAngles; ++k) {
+      const double a = 2 * M_PI * k / kAngles;
+      double inside, outside;
+      if (grey(r - kStep, a, &inside) && grey(r + kStep, a, &outside))
+        steps.push_back(std::abs(outside - inside));
+    }
+    if (steps.size() < kAngles / 4) continue;  // too little of the circle in the image
+    std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+    profile.emplace_back(r, steps[steps.size() / 2]);
+    if (profile.back().second > edge.step) edge = {static_cast<double>(r), profile.back().second};
+  }
+  steps.clear();
+  for (const auto& [r, step] : profile)
+    if (std::abs(r - edge.radius) > kEdgeWidth) steps.push_back(step);
+  if (!steps.empty()) {
+    std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+    edge.background = steps[steps.size() / 2];
+  }
+  return edge;
+}
+
 // The circle through the edge of the dark disc about `centre` of radius near `radius`: along each
 // of many rays, the steepest rise within 20 % of it, and a least-squares circle through those
 // (Kasa's algebraic fit: x^2 + y^2 + D x + E y + F = 0, linear in D, E, F). The Hough transform's
@@ -181,13 +229,23 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
   // About that centre: the strongest circle may be the mount's rather than the mirror's own edge,
   // and the picture ends where the grey falls most steeply, a little inside that (the edge is
   // blurred).
-  const Edge picture_edge =
-      steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2], false);
-  mirror.outer_radius = 0.98 * picture_edge.radius;
+  Edge picture_edge = steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2], false);
   // Hough finds some circle in anything; a mirror's edges stand out of the grey about them (the
   // shared sets': 35-62 grey levels for the camera's reflection, 43-101 for the picture's end, on
   // their mean or on one image).
   constexpr double kMinEdgeStep = 10;
+  if (picture_edge.step < kMinEdgeStep) {
+    // A mount as bright as the scene: the picture's end steps either way around the circle and
+    // its mean cancels (opencv_contrib's omnidir sample: 5.3 grey levels on average, a median of
+    // 18 either way, where the scene steps 3 at other radii; the bricks' texture, 9 and 3).
+    constexpr double kMinAboveScene = 4;
+    if (const UnsignedEdge either_way =
+            strongest_unsigned_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2]);
+        either_way.step >= kMinEdgeStep &&
+        either_way.step >= kMinAboveScene * either_way.background)
+      picture_edge = {either_way.radius, either_way.step};
+  }
+  mirror.outer_radius = 0.98 * picture_edge.radius;
   if (self_edge.step < kMinEdgeStep || picture_edge.step < kMinEdgeStep) {
     char why[200];
     std::snprintf(why, sizeof why,

@@ -31,6 +31,17 @@ std::string source_file(const std::string& relative) {
   return source ? (fs::path(source) / relative).string() : relative;
 }
 
+// The circles found on a drawn mirror: its centre within 0.5 px, the camera's reflection within
+// 1 px, the picture's end a little inside the drawn one (within 15 px), never beyond it.
+void expect_mirror(const cv::Mat& image, cv::Point centre, double inner, double outer) {
+  const MirrorImage mirror = find_mirror_image(image);
+  EXPECT_NEAR(mirror.centre.x(), centre.x, 0.5);
+  EXPECT_NEAR(mirror.centre.y(), centre.y, 0.5);
+  EXPECT_NEAR(mirror.inner_radius, inner, 1);
+  EXPECT_LE(mirror.outer_radius, outer);
+  EXPECT_GE(mirror.outer_radius, outer - 15);
+}
+
 // A mirror as a camera shows it: a bright picture ending in a dark rim ring, the camera's own dark
 // reflection at its centre, and the image's corners dark beyond the mount.
 TEST(MirrorImage, FindsTheRimAndTheCamerasReflection) {
@@ -40,13 +51,20 @@ TEST(MirrorImage, FindsTheRimAndTheCamerasReflection) {
   cv::circle(image, centre, 270, cv::Scalar(35), cv::FILLED);    // the rim's dark ring
   cv::circle(image, centre, 250, cv::Scalar(170), cv::FILLED);   // the mirror's picture
   cv::circle(image, centre, 50, cv::Scalar(25), cv::FILLED);     // the camera's reflection
-  const MirrorImage mirror = find_mirror_image(image);
-  EXPECT_NEAR(mirror.centre.x(), centre.x, 0.5);
-  EXPECT_NEAR(mirror.centre.y(), centre.y, 0.5);
-  EXPECT_NEAR(mirror.inner_radius, 50, 1);
-  // A little inside the picture's edge, never beyond it.
-  EXPECT_LE(mirror.outer_radius, 250);
-  EXPECT_GE(mirror.outer_radius, 235);
+  expect_mirror(image, centre, 50, 250);
+}
+
+// A mirror whose picture ends against a mount as bright as the scene: half the scene is brighter
+// than the mount, half darker, so the grey's mean along a circle does not step at the picture's
+// end (it did not: "no circle stands out"), but each angle's does, one way or the other.
+TEST(MirrorImage, APictureEndingAgainstAMountAsBrightAsTheSceneIsFound) {
+  cv::Mat image(600, 800, CV_8UC1, cv::Scalar(110));  // the mount, to the image's edges
+  const cv::Point centre(390, 310);
+  for (int sector = 0; sector < 12; ++sector)  // the scene: 30-degree sectors, 60 and 165
+    cv::ellipse(image, centre, cv::Size(250, 250), 0, 30 * sector, 30 * (sector + 1),
+                cv::Scalar(sector % 2 ? 165 : 60), cv::FILLED);
+  cv::circle(image, centre, 45, cv::Scalar(20), cv::FILLED);  // the camera's reflection
+  expect_mirror(image, centre, 45, 250);
 }
 
 TEST(MirrorImage, AnImageWithoutAMirrorIsRefused) {
@@ -350,6 +368,33 @@ TEST_F(RealImages, TheBoardAnImageShowsIsToldWhereTheGridAskedIsNotFound) {
   EXPECT_EQ(std::max(seen.width, seen.height), 7) << seen;
   EXPECT_FALSE(holds(seen, cv::Size(9, 7)));
   EXPECT_TRUE(holds(seen, cv::Size(7, 6)));
+}
+
+// A rig none of the shared sets shows (opencv_contrib's omnidir sample, its mirror ending against
+// a bright mount), from its one image: the board is found, and agrees with the corners OpenCV
+// found on the full-size image (measured: median 0.18 px, 90 % within 0.81, the worst 2.0, where
+// OpenCV's corner lies 2 px off the saddle, in a black square; tests/data/opencv-omnidir).
+TEST(UnseenRig, TheOmnidirSamplesBoardAgreesWithOpenCvsCorners) {
+  const fs::path folder = source_file("tests/data/opencv-omnidir");
+  const cv::Mat image = cv::imread((folder / "sample.jpg").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(image.empty());
+  MeanImage mean;
+  mean.add(image);
+  const MirrorImage mirror = find_mirror_image(mean.mean());
+  // The rim's circle runs past the image's top and bottom; its centre, by eye, near (314, 218).
+  EXPECT_NEAR(mirror.centre.x(), 314, 3);
+  EXPECT_NEAR(mirror.centre.y(), 218, 3);
+  BoardDetector detector(mirror, cv::Size(9, 6));
+  const auto board = detector.detect(image);
+  ASSERT_TRUE(board.has_value());
+  ASSERT_EQ(board->corners.size(), 54u);
+  const std::vector<io::ImageCorners> published =
+      io::read_corners((folder / "corners.vnl").string());
+  ASSERT_EQ(published.size(), 1u);
+  const std::vector<double> d = distances(published[0].pixels, board->corners);
+  EXPECT_LT(d[d.size() / 2], 0.3);
+  EXPECT_LT(d[d.size() * 9 / 10], 1.0);
+  EXPECT_LT(d.back(), 2.5);
 }
 
 TEST(BoardSeen, AFlatViewShowsNoBoard) {
