@@ -70,9 +70,11 @@ Found detect_all(const DetectCornersOptions& o, const std::optional<calib::Mirro
         if (image.board) {
           ++found.boards;
           constexpr double kDeg = 180 / M_PI;
-          const calib::ViewDirection& view = image.board->view;
-          std::snprintf(line, sizeof line, " 1 %.0f %.0f %.0f\n", view.azimuth * kDeg,
-                        view.elevation * kDeg, view.field_of_view * kDeg);
+          if (const std::optional<calib::ViewDirection>& view = image.board->view)
+            std::snprintf(line, sizeof line, " 1 %.0f %.0f %.0f\n", view->azimuth * kDeg,
+                          view->elevation * kDeg, view->field_of_view * kDeg);
+          else  // in the raw image itself
+            std::snprintf(line, sizeof line, " 1 - - -\n");
         } else {
           std::snprintf(line, sizeof line, " 0 - - -\n");
         }
@@ -148,7 +150,8 @@ void add_detect_corners_verb(CLI::App& app) {
       "Find checkerboard corners in raw catadioptric images: each image is looked at through "
       "virtual perspective views (through the camera model with --camera, else through a generic "
       "one about the mirror's circles, found on the mean image), where the board is nearly "
-      "straight for OpenCV's detector; the corners are refined on the raw image. Writes mrcal's "
+      "straight for OpenCV's detector (and, where no view holds the whole board, the raw image "
+      "itself); the corners are refined on the raw image. Writes mrcal's "
       "corners.vnl (`FILE - - -` where no whole board was found) and a report folder "
       "OUT-stem.report/ beside it: an overlay PNG per image and summary.vnl (which view found each "
       "board). Where no image holds the board asked for, says what size of board they show, "

@@ -129,6 +129,18 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey,
           break;
       if (board) break;
     }
+  // Where no view gives it, the raw image itself: a board far out in a mirror that bends little
+  // there can be straighter in it than in any generic view (the omnidir tutorial's rig: one of
+  // its 18 boards, found in no view, the views showing at most 6 x 6 of its 9 x 6). Searched
+  // where some view showed a board at all; the cheap search is no guide on a raw image (4 x 5 of
+  // that board), and the full one costs 1-2 s on 1280 x 960.
+  const bool board_in_some_view =
+      std::any_of(seen.begin(), seen.end(), [](cv::Size s) { return s.width > 0; });
+  if (!board && board_in_some_view) {
+    std::vector<cv::Point2f> found;
+    cv::Size found_size;
+    if (find_board(raw_grey, &found, &found_size)) board = board_from(found, found_size, raw_grey);
+  }
   if (largest_seen) {
     *largest_seen = cv::Size();
     for (const cv::Size& size : seen)
@@ -141,16 +153,31 @@ std::optional<DetectedBoard> BoardDetector::board_in_view(std::size_t index,
                                                           const cv::Mat& rendered,
                                                           const cv::Mat& raw_grey) {
   std::vector<cv::Point2f> found;
-  cv::Mat meta;  // the board found, a cell per corner: its size
-  if (!cv::findChessboardCornersSB(
-          rendered, grid_, found,
-          cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY | cv::CALIB_CB_LARGER, meta))
-    return std::nullopt;
-  const cv::Size found_size = meta.empty() ? grid_ : cv::Size(meta.cols, meta.rows);
-  if (static_cast<std::size_t>(found_size.area()) != found.size()) return std::nullopt;
-  order_clockwise(&found, found_size);
+  cv::Size found_size;
+  if (!find_board(rendered, &found, &found_size)) return std::nullopt;
   const PerspectiveView& v = view(index);
   for (cv::Point2f& c : found) c = v.raw_pixel(c);
+  std::optional<DetectedBoard> board = board_from(found, found_size, raw_grey);
+  if (board) board->view = directions_[index];
+  return board;
+}
+
+bool BoardDetector::find_board(const cv::Mat& image, std::vector<cv::Point2f>* found,
+                               cv::Size* found_size) const {
+  cv::Mat meta;  // the board found, a cell per corner: its size
+  if (!cv::findChessboardCornersSB(
+          image, grid_, *found,
+          cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY | cv::CALIB_CB_LARGER, meta))
+    return false;
+  *found_size = meta.empty() ? grid_ : cv::Size(meta.cols, meta.rows);
+  if (static_cast<std::size_t>(found_size->area()) != found->size()) return false;
+  order_clockwise(found, *found_size);
+  return true;
+}
+
+std::optional<DetectedBoard> BoardDetector::board_from(const std::vector<cv::Point2f>& found,
+                                                       cv::Size found_size,
+                                                       const cv::Mat& raw_grey) const {
   // Of a board larger than the grid (OpenCV returns one only where it holds the grid turned a
   // quarter too), the block whose squares the mirror squeezes least: next to the camera's
   // reflection they shrink to a few pixels, where a corner is easily a square off (on the
@@ -174,7 +201,6 @@ std::optional<DetectedBoard> BoardDetector::board_in_view(std::size_t index,
   cv::cornerSubPix(raw_grey, corners, cv::Size(half, half), cv::Size(-1, -1),
                    cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
   DetectedBoard board;
-  board.view = directions_[index];
   for (const cv::Point2f& c : corners) board.corners.emplace_back(c.x, c.y);
   return board;
 }

@@ -67,6 +67,25 @@ TEST(MirrorImage, APictureEndingAgainstAMountAsBrightAsTheSceneIsFound) {
   expect_mirror(image, centre, 45, 250);
 }
 
+// A mirror tilted a little against the camera: its rim's circle and the camera's reflection are
+// not concentric, and the reflection's edge rises only 16 grey levels out of a dark scene (the
+// omnidir tutorial's mean image: 12). About the rim's centre, 6 px off, the edge's rise smears
+// below the 10 asked of a mirror's (it did, to 5.9: "no circle stands out"); about its own it
+// does not (14.7).
+TEST(MirrorImage, AReflectionOffTheRimsCentreIsMeasuredAboutItsOwn) {
+  cv::Mat image(960, 1280, CV_8UC1, cv::Scalar(20));
+  const cv::Point rim_centre(640, 480), centre(645, 477);
+  // The picture, a dark scene cut by the image's top and bottom, and the camera's reflection.
+  cv::circle(image, rim_centre, 520, cv::Scalar(47), cv::FILLED);
+  cv::circle(image, centre, 64, cv::Scalar(31), cv::FILLED);
+  cv::Mat blurred;
+  cv::GaussianBlur(image, blurred, cv::Size(5, 5), 1.5);
+  const MirrorImage mirror = find_mirror_image(blurred);
+  EXPECT_NEAR(mirror.centre.x(), centre.x, 0.5);
+  EXPECT_NEAR(mirror.centre.y(), centre.y, 0.5);
+  EXPECT_NEAR(mirror.inner_radius, 64, 1);
+}
+
 TEST(MirrorImage, AnImageWithoutAMirrorIsRefused) {
   const cv::Mat flat(480, 640, CV_8UC1, cv::Scalar(128));
   EXPECT_THROW(find_mirror_image(flat), std::runtime_error);
@@ -368,6 +387,25 @@ TEST_F(RealImages, TheBoardAnImageShowsIsToldWhereTheGridAskedIsNotFound) {
   EXPECT_EQ(std::max(seen.width, seen.height), 7) << seen;
   EXPECT_FALSE(holds(seen, cv::Size(9, 7)));
   EXPECT_TRUE(holds(seen, cv::Size(7, 6)));
+}
+
+// Where no view holds the whole board, the raw image is searched too: views of 25 degrees each
+// show a part of the sample's board, and the raw image, where this mirror bends it little, the
+// whole (before, nothing was found).
+TEST(UnseenRig, ABoardNoViewHoldsIsSearchedInTheRawImage) {
+  const fs::path folder = source_file("tests/data/opencv-omnidir");
+  const cv::Mat image = cv::imread((folder / "sample.jpg").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(image.empty());
+  BoardSearch narrow;
+  narrow.fields_of_view_deg = {25};
+  BoardDetector detector(find_mirror_image(image), cv::Size(9, 6), narrow);
+  const auto board = detector.detect(image);
+  ASSERT_TRUE(board.has_value());
+  EXPECT_FALSE(board->view.has_value());
+  ASSERT_EQ(board->corners.size(), 54u);
+  const std::vector<double> d =
+      distances(io::read_corners((folder / "corners.vnl").string()).at(0).pixels, board->corners);
+  EXPECT_LT(d[d.size() / 2], 0.3);  // measured: 0.18 px, as through the views
 }
 
 // A rig none of the shared sets shows (opencv_contrib's omnidir sample, its mirror ending against

@@ -37,7 +37,7 @@ struct DetectedBoard {
   // Raw-image pixels, width_n per row, rows in order: mrcal's board order, up to the board's
   // symmetries (which a rigid motion of the board explains).
   std::vector<Eigen::Vector2d> corners;
-  ViewDirection view;  // where it was found
+  std::optional<ViewDirection> view;  // where it was found; none: in the raw image itself
 };
 
 // An image's row block of corners.vnl: the board's corners, or none (`FILE - - -`).
@@ -62,6 +62,13 @@ class BoardDetector {
   // The whole board in view `index`, rendered from raw_grey, by the full detector.
   std::optional<DetectedBoard> board_in_view(std::size_t index, const cv::Mat& rendered,
                                              const cv::Mat& raw_grey);
+  // OpenCV's full detector on `image`: the board (of the grid, or larger), ordered clockwise.
+  bool find_board(const cv::Mat& image, std::vector<cv::Point2f>* found,
+                  cv::Size* found_size) const;
+  // The grid's block of a board found, in raw pixels, that the checks take, refined on the raw
+  // image.
+  std::optional<DetectedBoard> board_from(const std::vector<cv::Point2f>& found,
+                                          cv::Size found_size, const cv::Mat& raw_grey) const;
   // Inside the image, and with the generic views inside the mirror's picture.
   bool usable(cv::Point2f corner, cv::Size image) const;
 
