@@ -1157,6 +1157,22 @@ TEST_F(CliTest, CalibrateStartsFromTheCornersOfARigTheSharedSetsDoNotShow) {
   EXPECT_LT(rms, 0.6) << start_free.err;
   EXPECT_LT(rms, 1.01 * figure_after(from_hand.err, "RMS ")) << start_free.err;
   EXPECT_LT(figure_after(start_free.err, "pooled held-out RMS "), 0.62) << start_free.err;
+
+  // A mirror the corners contradict: an equiangular start does not converge where a conic one
+  // fits; said, with what fits, and nothing written (it had written the non-converged report).
+  const Outcome contradicted =
+      omnisfm("calibrate" + board + " --image-size 1280x960 --mirror equiangular --out eq.ini");
+  EXPECT_EQ(contradicted.status, 2) << contradicted.err;
+  EXPECT_EQ(contradicted.err.rfind("omnisfm: --mirror: the images contradict an equiangular mirror "
+                                   "before a pinhole lens",
+                                   0),
+            0u)
+      << contradicted.err;
+  EXPECT_NE(contradicted.err.find("a conic mirror before a pinhole lens fits them (RMS 0.50"),
+            std::string::npos)
+      << contradicted.err;
+  EXPECT_FALSE(fs::exists(dir_ / "eq.ini"));
+  EXPECT_FALSE(fs::exists(dir_ / "eq.report"));
 }
 
 // Calibration with no starting file: from the raw images in one go, and from corners alone; the
@@ -1228,6 +1244,17 @@ TEST_F(CliTest, CalibrateStartsFromTheImagesWithoutACameraFile) {
                 "--object-height-n 7)\n");
     }
   }
+  // A mirror three vmr images contradict: the corners it detected are taken back too.
+  copy_images(data / "vmr", dir_ / "three", {"VMRImage3.jpg", "VMRImage5.jpg", "VMRImage8.jpg"});
+  const Outcome contradicted = omnisfm(
+      "calibrate --images three --object-spacing 0.03"
+      " --object-width-n 6 --object-height-n 7"
+      " --mirror equiangular --out eq.ini");
+  EXPECT_EQ(contradicted.status, 2) << contradicted.err;
+  EXPECT_NE(contradicted.err.find("give --mirror conic --inner pinhole"), std::string::npos)
+      << contradicted.err;
+  for (const std::string written : {"eq.ini", "eq.corners.vnl", "eq.report"})
+    EXPECT_FALSE(fs::exists(dir_ / written)) << written;
   const Outcome few = omnisfm("calibrate --images few --object-spacing 0.03 --object-width-n 6"
                               " --object-height-n 7 --mirror conic --out x.ini");
   EXPECT_EQ(few.status, 2);

@@ -314,6 +314,40 @@ Start starting_camera(const CalibrateOptions& o) {
   return start;
 }
 
+// A start-free calibration that did not converge: the generic mirrors and lenses not named, each
+// calibrated from its own start on the same views; the one that converges with the least RMS,
+// described as the option to give, or "" where none does. A --mirror (or --inner) that the
+// images contradict is then told as such rather than as a solve that failed.
+std::string other_kind_that_fits(const CalibrateOptions& o,
+                                 const std::vector<calib::CalibrationView>& views,
+                                 calib::StagedSettings settings) {
+  settings.progress = nullptr;
+  std::string fits;
+  double best = INFINITY;
+  for (const auto& [mirror, inner] : {std::pair<std::string, std::string>{"conic", "pinhole"},
+                                      {"conic", "orthographic"},
+                                      {"equiangular", "pinhole"}}) {
+    if (mirror == o.mirror && inner == o.inner) continue;
+    CalibrateOptions other = o;
+    other.mirror = mirror;
+    other.inner = inner;
+    camera::CatadioptricCamera camera = *starting_camera(other).camera;
+    std::vector<calib::CalibrationView> solved = views;
+    const calib::StagedReport report = calib::calibrate_in_stages(&camera, &solved, settings);
+    if (!report.final.converged || !(report.final.rms_px < best)) continue;
+    best = report.final.rms_px;
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "%s %s mirror before a %s lens fits them (RMS %.4g px per "
+                  "coordinate): give --mirror %s --inner %s",
+                  mirror == "equiangular" ? "an" : "a", mirror.c_str(),
+                  inner == "orthographic" ? "telecentric" : "pinhole", best, mirror.c_str(),
+                  inner.c_str());
+    fits = text;
+  }
+  return fits;
+}
+
 // --images: the boards detected (through the start's generic views, or the --camera model) and
 // written as OUT-stem.corners.vnl beside the camera file, which the calibration then reads.
 std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
@@ -409,6 +443,20 @@ void run_calibrate(CalibrateOptions o) {
   const std::string folder = report_folder_for(o.out);
   const calib::CalibrationReport& final = report.final;
 
+  // A generic start of the kind named that does not converge where another kind does: the
+  // images contradict --mirror (or --inner); said, and nothing written.
+  if (!final.converged && o.camera.empty()) {
+    if (const std::string fits = other_kind_that_fits(o, all_views, settings); !fits.empty()) {
+      if (!o.images.empty()) fs::remove(o.corners);
+      throw CLI::ValidationError(
+          "--mirror",
+          "the images contradict " + std::string(o.mirror == "equiangular" ? "an " : "a ") +
+              o.mirror + " mirror before a " +
+              (o.inner == "orthographic" ? "telecentric" : "pinhole") +
+              " lens (from its generic start the calibration did not converge: " + final.message +
+              "); " + fits);
+    }
+  }
   // The report of a solve that did not converge is kept: its residuals per view show why.
   if (!final.converged) {
     const std::string note = write_report(folder, outcome);
