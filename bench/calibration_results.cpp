@@ -30,6 +30,7 @@
 #include <opengv/absolute_pose/methods.hpp>
 #include <opengv/sac/Ransac.hpp>
 #include <opengv/sac_problems/absolute_pose/AbsolutePoseSacProblem.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -370,6 +371,8 @@ void real_data(const std::string& root) {
           .string();
   {
     auto start = omnisfm::io::read_camera_file(share + "vmr-initial.ini");
+    if (start.inner().kind() != omnisfm::camera::InnerKind::kPinhole)
+      throw std::runtime_error("vmr-initial.ini: the start assumed a pinhole lens");
     auto lens = static_cast<const omnisfm::camera::PinholeCamera&>(start.inner()).intrinsics();
     lens.cx = 639.5;
     lens.cy = 479.5;
@@ -381,6 +384,7 @@ void real_data(const std::string& root) {
   const std::string omnidir_corners =
       (fs::path(OMNISFM_SOURCE_DIR) / "tests/data/opencv-omnidir/tutorial-corners.vnl").string();
   // The Kaidan board's square is not published; 30 mm is assumed, which scales its poses only.
+  // The omnidir tutorial's focal length by the rule: its picture's edge at 518 px.
   // mrcal's seeding fails on every fold from the rule's focal length (76 px for its picture's
   // edge at 218 px) and takes 120.
   const std::vector<RealSet> sets = {

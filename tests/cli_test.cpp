@@ -1159,17 +1159,19 @@ TEST_F(CliTest, CalibrateStartsFromTheCornersOfARigTheSharedSetsDoNotShow) {
   EXPECT_LT(figure_after(start_free.err, "pooled held-out RMS "), 0.62) << start_free.err;
 
   // A mirror the corners contradict: an equiangular start does not converge where a conic one
-  // fits; said, with what fits, and nothing written (it had written the non-converged report).
+  // does; said, with what converges, and nothing written (it had written the non-converged
+  // report).
   const Outcome contradicted =
       omnisfm("calibrate" + board + " --image-size 1280x960 --mirror equiangular --out eq.ini");
   EXPECT_EQ(contradicted.status, 2) << contradicted.err;
-  EXPECT_EQ(contradicted.err.rfind("omnisfm: --mirror: the images contradict an equiangular mirror "
-                                   "before a pinhole lens",
-                                   0),
-            0u)
-      << contradicted.err;
-  EXPECT_NE(contradicted.err.find("a conic mirror before a pinhole lens fits them (RMS 0.50"),
+  EXPECT_NE(contradicted.err.find("tutorial-corners.vnl: from a generic start, an equiangular "
+                                  "mirror before a pinhole lens did not converge on these corners"),
             std::string::npos)
+      << contradicted.err;
+  EXPECT_NE(contradicted.err.find("where a conic mirror before a pinhole lens converges (RMS 0.50"),
+            std::string::npos)
+      << contradicted.err;
+  EXPECT_NE(contradicted.err.find("give --mirror conic; nothing written"), std::string::npos)
       << contradicted.err;
   EXPECT_FALSE(fs::exists(dir_ / "eq.ini"));
   EXPECT_FALSE(fs::exists(dir_ / "eq.report"));
@@ -1251,9 +1253,22 @@ TEST_F(CliTest, CalibrateStartsFromTheImagesWithoutACameraFile) {
       " --object-width-n 6 --object-height-n 7"
       " --mirror equiangular --out eq.ini");
   EXPECT_EQ(contradicted.status, 2) << contradicted.err;
-  EXPECT_NE(contradicted.err.find("give --mirror conic --inner pinhole"), std::string::npos)
+  EXPECT_NE(contradicted.err.find("give --mirror conic; eq.corners.vnl, the corners detected, "
+                                  "removed; nothing written"),
+            std::string::npos)
       << contradicted.err;
   for (const std::string written : {"eq.ini", "eq.corners.vnl", "eq.report"})
+    EXPECT_FALSE(fs::exists(dir_ / written)) << written;
+  // A lens they contradict: the telecentric set's corners from a pinhole's start.
+  const Outcome pinhole =
+      omnisfm("calibrate" + para + " --image-size 1280x1024 --mirror conic --out eq.ini");
+  EXPECT_EQ(pinhole.status, 2) << pinhole.err;
+  EXPECT_NE(pinhole.err.find("a conic mirror before a telecentric lens converges (RMS 0.47"),
+            std::string::npos)
+      << pinhole.err;
+  EXPECT_NE(pinhole.err.find("give --inner orthographic; nothing written"), std::string::npos)
+      << pinhole.err;
+  for (const std::string written : {"eq.ini", "eq.report"})
     EXPECT_FALSE(fs::exists(dir_ / written)) << written;
   const Outcome few = omnisfm("calibrate --images few --object-spacing 0.03 --object-width-n 6"
                               " --object-height-n 7 --mirror conic --out x.ini");

@@ -264,12 +264,51 @@ calib::MirrorImage mirror_around_corners(const std::string& corners_file, cv::Si
   return mirror;
 }
 
+// A generic start's kind in words: "conic mirror before a pinhole lens".
+std::string kind_words(const std::string& mirror, const std::string& inner) {
+  return mirror + " mirror before a " + (inner == "orthographic" ? "telecentric" : "pinhole") +
+         " lens";
+}
+std::string kind_phrase(const std::string& mirror, const std::string& inner) {
+  return (mirror == "equiangular" ? "an " : "a ") + kind_words(mirror, inner);
+}
+
+// Where a generic start's picture lies: the mirror found in the images, or about the image's
+// centre around the corners.
+struct StartPicture {
+  cv::Size size;
+  calib::MirrorImage mirror;
+  bool from_images = false;
+};
+
+StartPicture start_picture(const CalibrateOptions& o) {
+  if (!o.images.empty()) return {image_size_of(o.images), mirror_of(o.images), true};
+  const cv::Size size = parse_image_size(o.image_size);
+  return {size, mirror_around_corners(o.corners, size), false};
+}
+
+// The generic camera of a --mirror and --inner kind about a picture.
+camera::CatadioptricCamera generic_start(const std::string& mirror, const std::string& inner,
+                                         const StartPicture& picture) {
+  const calib::StartingMirror mirror_kind =
+      mirror == "equiangular" ? calib::StartingMirror::kEquiangular : calib::StartingMirror::kConic;
+  const calib::StartingInner inner_kind = inner == "orthographic"
+                                              ? calib::StartingInner::kOrthographic
+                                              : calib::StartingInner::kPinhole;
+  try {
+    return calib::starting_camera(picture.mirror, picture.size.width, picture.size.height,
+                                  mirror_kind, inner_kind);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--mirror", e.what());
+  }
+}
+
 // The starting camera and how the report names it: the --camera file, or a generic start of the
 // --mirror and --inner kinds from the mirror's picture in the images (or around the corners).
 struct Start {
   std::unique_ptr<camera::CatadioptricCamera> camera;
   std::string description;
-  std::optional<calib::MirrorImage> mirror;  // found in the images
+  std::optional<StartPicture> picture;  // of a generic start
 };
 
 Start starting_camera(const CalibrateOptions& o) {
@@ -279,73 +318,51 @@ Start starting_camera(const CalibrateOptions& o) {
     start.description = o.camera;
     return start;
   }
-  cv::Size size;
-  calib::MirrorImage mirror;
-  std::string from;
-  if (!o.images.empty()) {
-    size = image_size_of(o.images);
-    mirror = mirror_of(o.images);
-    start.mirror = mirror;
-    from = "the images' mirror";
-  } else {
-    size = parse_image_size(o.image_size);
-    mirror = mirror_around_corners(o.corners, size);
-    from = "the corners' spread";
-  }
-  const calib::StartingMirror mirror_kind =
-      o.mirror == "equiangular" ? calib::StartingMirror::kEquiangular : calib::StartingMirror::kConic;
-  const calib::StartingInner inner_kind = o.inner == "orthographic"
-                                              ? calib::StartingInner::kOrthographic
-                                              : calib::StartingInner::kPinhole;
-  try {
-    start.camera = std::make_unique<camera::CatadioptricCamera>(
-        calib::starting_camera(mirror, size.width, size.height, mirror_kind, inner_kind));
-  } catch (const std::invalid_argument& e) {
-    throw CLI::ValidationError("--mirror", e.what());
-  }
+  const StartPicture picture = start_picture(o);
+  start.camera =
+      std::make_unique<camera::CatadioptricCamera>(generic_start(o.mirror, o.inner, picture));
   char text[200];
-  std::snprintf(text, sizeof text,
-                "a generic %s mirror before a %s lens, from %s: centre (%.1f, %.1f), picture "
-                "%.0f-%.0f px",
-                o.mirror.c_str(), o.inner == "orthographic" ? "telecentric" : "pinhole",
-                from.c_str(), mirror.centre.x(), mirror.centre.y(), mirror.inner_radius,
-                mirror.outer_radius);
-  start.description = text;
+  std::snprintf(text, sizeof text, "from %s: centre (%.1f, %.1f), picture %.0f-%.0f px",
+                picture.from_images ? "the images' mirror" : "the corners' spread",
+                picture.mirror.centre.x(), picture.mirror.centre.y(), picture.mirror.inner_radius,
+                picture.mirror.outer_radius);
+  start.description = "a generic " + kind_words(o.mirror, o.inner) + ", " + text;
+  start.picture = picture;
   return start;
 }
 
-// A start-free calibration that did not converge: the generic mirrors and lenses not named, each
-// calibrated from its own start on the same views; the one that converges with the least RMS,
-// described as the option to give, or "" where none does. A --mirror (or --inner) that the
-// images contradict is then told as such rather than as a solve that failed.
-std::string other_kind_that_fits(const CalibrateOptions& o,
-                                 const std::vector<calib::CalibrationView>& views,
-                                 calib::StagedSettings settings) {
+// A start-free calibration that did not converge: the generic kinds not named, each calibrated
+// from its own start about the same picture on the same views; of those that converge, the one
+// with the least RMS, said as the options to give, or "" where none converges (a start that
+// finds no pose for some view does not).
+std::string other_kind_that_converges(const CalibrateOptions& o, const StartPicture& picture,
+                                      const std::vector<calib::CalibrationView>& views,
+                                      calib::StagedSettings settings) {
   settings.progress = nullptr;
-  std::string fits;
+  std::string converges;
   double best = INFINITY;
   for (const auto& [mirror, inner] : {std::pair<std::string, std::string>{"conic", "pinhole"},
                                       {"conic", "orthographic"},
                                       {"equiangular", "pinhole"}}) {
     if (mirror == o.mirror && inner == o.inner) continue;
-    CalibrateOptions other = o;
-    other.mirror = mirror;
-    other.inner = inner;
-    camera::CatadioptricCamera camera = *starting_camera(other).camera;
+    camera::CatadioptricCamera camera = generic_start(mirror, inner, picture);
     std::vector<calib::CalibrationView> solved = views;
-    const calib::StagedReport report = calib::calibrate_in_stages(&camera, &solved, settings);
+    calib::StagedReport report;
+    try {
+      report = calib::calibrate_in_stages(&camera, &solved, settings);
+    } catch (const std::exception&) {
+      continue;
+    }
     if (!report.final.converged || !(report.final.rms_px < best)) continue;
     best = report.final.rms_px;
-    char text[160];
-    std::snprintf(text, sizeof text,
-                  "%s %s mirror before a %s lens fits them (RMS %.4g px per "
-                  "coordinate): give --mirror %s --inner %s",
-                  mirror == "equiangular" ? "an" : "a", mirror.c_str(),
-                  inner == "orthographic" ? "telecentric" : "pinhole", best, mirror.c_str(),
-                  inner.c_str());
-    fits = text;
+    char text[120];
+    std::snprintf(text, sizeof text, " converges (RMS %.4g px per coordinate, %d outliers): give",
+                  best, report.final.num_outliers);
+    converges = kind_phrase(mirror, inner) + text;
+    if (mirror != o.mirror) converges += " --mirror " + mirror;
+    if (inner != o.inner) converges += " --inner " + inner;
   }
-  return fits;
+  return converges;
 }
 
 // --images: the boards detected (through the start's generic views, or the --camera model) and
@@ -359,10 +376,10 @@ std::string detect_corners_for(const CalibrateOptions& o, const Start& start) {
                                    std::to_string(grid.width) + " and " +
                                    std::to_string(grid.height));
   std::unique_ptr<calib::BoardDetector> detector =
-      start.mirror ? std::make_unique<calib::BoardDetector>(*start.mirror, grid)
-                   : std::make_unique<calib::BoardDetector>(*start.camera, grid);
+      start.picture ? std::make_unique<calib::BoardDetector>(start.picture->mirror, grid)
+                    : std::make_unique<calib::BoardDetector>(*start.camera, grid);
   std::optional<cv::Size> camera_size;
-  if (!start.mirror)
+  if (!start.picture)
     camera_size = cv::Size(start.camera->image_width(), start.camera->image_height());
   std::vector<cv::Size> seen;  // in the images without the grid's board
   const std::vector<io::ImageCorners> corners = detect_boards(
@@ -445,16 +462,19 @@ void run_calibrate(CalibrateOptions o) {
 
   // A generic start of the kind named that does not converge where another kind does: the
   // images contradict --mirror (or --inner); said, and nothing written.
-  if (!final.converged && o.camera.empty()) {
-    if (const std::string fits = other_kind_that_fits(o, all_views, settings); !fits.empty()) {
-      if (!o.images.empty()) fs::remove(o.corners);
-      throw CLI::ValidationError(
-          "--mirror",
-          "the images contradict " + std::string(o.mirror == "equiangular" ? "an " : "a ") +
-              o.mirror + " mirror before a " +
-              (o.inner == "orthographic" ? "telecentric" : "pinhole") +
-              " lens (from its generic start the calibration did not converge: " + final.message +
-              "); " + fits);
+  if (!final.converged && start_camera.picture) {
+    if (const std::string converges =
+            other_kind_that_converges(o, *start_camera.picture, all_views, settings);
+        !converges.empty()) {
+      const bool detected = !o.images.empty();
+      if (detected) fs::remove(o.corners);
+      throw io::InputError(
+          detected ? o.images : o.corners, 0,
+          "from a generic start, " + kind_phrase(o.mirror, o.inner) +
+              " did not converge on these " + (detected ? "images" : "corners") + " (" +
+              final.message + "), where " + converges +
+              (detected ? "; " + o.corners + ", the corners detected, removed" : "") +
+              "; nothing written");
     }
   }
   // The report of a solve that did not converge is kept: its residuals per view show why.

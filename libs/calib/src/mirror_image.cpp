@@ -63,6 +63,22 @@ double edge_fraction(const SearchImage& search) {
   return cv::countNonZero(edges) / static_cast<double>(edges.total());
 }
 
+// The grey at angle `a` on the circle of radius r about `centre` (the nearest pixel), or false
+// outside the image.
+bool grey_on_circle(const cv::Mat& blurred, const Eigen::Vector2d& centre, double r, double a,
+                    double* grey) {
+  const int x = static_cast<int>(std::lround(centre.x() + r * std::cos(a)));
+  const int y = static_cast<int>(std::lround(centre.y() + r * std::sin(a)));
+  if (x < 0 || y < 0 || x >= blurred.cols || y >= blurred.rows) return false;
+  *grey = blurred.at<std::uint8_t>(y, x);
+  return true;
+}
+
+// Circles are sampled at this many angles, and an edge's step is taken this many pixels either
+// side of it (the edge is blurred).
+constexpr int kCircleAngles = 360;
+constexpr int kStepHalfWidth = 3;
+
 // The radius in [from, to] about `centre` where the mean grey along circles rises fastest
 // (rising = true: the edge of a dark disc, the camera's reflection, against the scene around it)
 // or falls fastest (the mirror's picture against the dark ring of its rim). Circles are sampled
@@ -73,22 +89,18 @@ struct Edge {
 };
 Edge steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, double from, double to,
                    bool rising) {
-  constexpr int kAngles = 360;
   std::vector<double> profile;
   for (int r = static_cast<int>(from); r <= static_cast<int>(to); ++r) {
-    double sum = 0;
+    double sum = 0, grey;
     int n = 0;
-    for (int k = 0; k < kAngles; ++k) {
-      const double a = 2 * M_PI * k / kAngles;
-      const int x = static_cast<int>(std::lround(centre.x() + r * std::cos(a)));
-      const int y = static_cast<int>(std::lround(centre.y() + r * std::sin(a)));
-      if (x < 0 || y < 0 || x >= blurred.cols || y >= blurred.rows) continue;
-      sum += blurred.at<std::uint8_t>(y, x);
-      ++n;
-    }
+    for (int k = 0; k < kCircleAngles; ++k)
+      if (grey_on_circle(blurred, centre, r, 2 * M_PI * k / kCircleAngles, &grey)) {
+        sum += grey;
+        ++n;
+      }
     profile.push_back(n > 0 ? sum / n : 0);
   }
-  constexpr int kStep = 3;  // pixels either side: the edge is blurred
+  constexpr int kStep = kStepHalfWidth;
   double best = 0, radius = from;  // a range too short to hold an edge has none
   for (int i = kStep; i + kStep < static_cast<int>(profile.size()); ++i)
     if (const double rise = (rising ? 1 : -1) * (profile[i + kStep] - profile[i - kStep]);
@@ -103,7 +115,8 @@ Edge steepest_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre, double
 // (a mirror whose picture ends against a mount as bright as the scene it shows): at each radius
 // the median over angles of the step's size; and the median of those more than 10 px from it, how
 // much the scene alone steps. A mirror's edge is one sharp circle, a texture's steps are
-// everywhere.
+// everywhere. Radii with less than a quarter of their circle in the image are not counted; with
+// fewer than 10 radii left to tell the scene by, the background is infinite (nothing stands out).
 struct UnsignedEdge {
   double radius = 0;
   double step = 0;        // the median step's size across the circle, grey levels over 6 px
@@ -111,36 +124,29 @@ struct UnsignedEdge {
 };
 UnsignedEdge strongest_unsigned_edge(const cv::Mat& blurred, const Eigen::Vector2d& centre,
                                      double from, double to) {
-  constexpr int kAngles = 720;
-  constexpr int kStep = 3;
   constexpr double kEdgeWidth = 10;
-  auto grey = [&](double r, double a, double* g) {
-    const int x = static_cast<int>(std::lround(centre.x() + r * std::cos(a)));
-    const int y = static_cast<int>(std::lround(centre.y() + r * std::sin(a)));
-    if (x < 0 || y < 0 || x >= blurred.cols || y >= blurred.rows) return false;
-    *g = blurred.at<std::uint8_t>(y, x);
-    return true;
-  };
-  UnsignedEdge edge{from, 0, 0};
+  constexpr std::size_t kMinBackgroundRadii = 10;
+  UnsignedEdge edge{from, 0, INFINITY};
   std::vector<std::pair<double, double>> profile;  // radius, median step
   std::vector<double> steps;
   for (int r = static_cast<int>(from); r <= static_cast<int>(to); ++r) {
     steps.clear();
-    for (int k = 0; k < kAngles; ++k) {
-      const double a = 2 * M_PI * k / kAngles;
+    for (int k = 0; k < kCircleAngles; ++k) {
+      const double a = 2 * M_PI * k / kCircleAngles;
       double inside, outside;
-      if (grey(r - kStep, a, &inside) && grey(r + kStep, a, &outside))
+      if (grey_on_circle(blurred, centre, r - kStepHalfWidth, a, &inside) &&
+          grey_on_circle(blurred, centre, r + kStepHalfWidth, a, &outside))
         steps.push_back(std::abs(outside - inside));
     }
-    if (steps.size() < kAngles / 4) continue;  // too little of the circle in the image
+    if (steps.size() < kCircleAngles / 4) continue;
     std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
     profile.emplace_back(r, steps[steps.size() / 2]);
-    if (profile.back().second > edge.step) edge = {static_cast<double>(r), profile.back().second};
+    if (profile.back().second > edge.step) edge.step = profile.back().second, edge.radius = r;
   }
   steps.clear();
   for (const auto& [r, step] : profile)
     if (std::abs(r - edge.radius) > kEdgeWidth) steps.push_back(step);
-  if (!steps.empty()) {
+  if (steps.size() >= kMinBackgroundRadii) {
     std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
     edge.background = steps[steps.size() / 2];
   }
@@ -227,11 +233,13 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
     mirror.inner_radius = radius;
   }
   // How far the reflection's edge rises, measured about its own centre: about the rim's, which
-  // may be off by tens of pixels where the rim runs past the image's edges, the circles cross
-  // the edge and blur its rise (the omnidir tutorial's mean, 26 px off: 9.2 grey levels, about
-  // the reflection's centre 12.3).
-  self_edge = steepest_edge(blurred, mirror.centre, 0.8 * mirror.inner_radius,
-                            1.2 * mirror.inner_radius, true);
+  // may be off by several pixels where the rim runs past the image's edges, the circles cross
+  // the edge and blur its rise (the omnidir tutorial's mean, 5 px off: 9.2 grey levels, about
+  // the reflection's centre 12.3). The range holds the step's width either side of a small
+  // reflection's edge too.
+  const double reach = std::max(0.2 * mirror.inner_radius, 2.0 * kStepHalfWidth + 2);
+  self_edge = steepest_edge(blurred, mirror.centre, std::max(0.0, mirror.inner_radius - reach),
+                            mirror.inner_radius + reach, true);
   // About that centre: the strongest circle may be the mount's rather than the mirror's own edge,
   // and the picture ends where the grey falls most steeply, a little inside that (the edge is
   // blurred).
@@ -240,25 +248,30 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
   // shared sets': 35-62 grey levels for the camera's reflection, 43-101 for the picture's end, on
   // their mean or on one image).
   constexpr double kMinEdgeStep = 10;
+  bool either_way = false;
   if (picture_edge.step < kMinEdgeStep) {
     // A mount as bright as the scene: the picture's end steps either way around the circle and
     // its mean cancels (opencv_contrib's omnidir sample: 5.3 grey levels on average, a median of
-    // 18 either way, where the scene steps 3 at other radii; the bricks' texture, 9 and 3).
+    // 18 either way, where the scene steps 3 at other radii). A texture steps as much at every
+    // radius: a photograph of gravel, 30 against 23.
     constexpr double kMinAboveScene = 4;
-    if (const UnsignedEdge either_way =
+    if (const UnsignedEdge unsigned_edge =
             strongest_unsigned_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2]);
-        either_way.step >= kMinEdgeStep &&
-        either_way.step >= kMinAboveScene * either_way.background)
-      picture_edge = {either_way.radius, either_way.step};
+        unsigned_edge.step >= kMinEdgeStep &&
+        unsigned_edge.step >= kMinAboveScene * unsigned_edge.background) {
+      picture_edge = {unsigned_edge.radius, unsigned_edge.step};
+      either_way = true;
+    }
   }
   mirror.outer_radius = 0.98 * picture_edge.radius;
   if (self_edge.step < kMinEdgeStep || picture_edge.step < kMinEdgeStep) {
     char why[200];
     std::snprintf(why, sizeof why,
                   "the mirror was not found: no circle stands out (the camera's reflection would "
-                  "end in a rise of %.1f grey levels, the mirror's picture in a fall of %.1f; a "
+                  "end in a rise of %.1f grey levels, the mirror's picture in a %s of %.1f; a "
                   "mirror's are %.0f or more)",
-                  self_edge.step, picture_edge.step, kMinEdgeStep);
+                  self_edge.step, either_way ? "step either way" : "fall", picture_edge.step,
+                  kMinEdgeStep);
     throw std::runtime_error(why);
   }
   return mirror;

@@ -8,8 +8,10 @@
 // the grid's size comes. Its corners are mapped back
 // through the view's table and refined on the raw image, so that no approximation of the views
 // is left in them. A cheaper search for a board of any size (board_seen.h) goes first: an image
-// whose views show no board near the grid's size is passed over, and the full search is made
-// only in views that show a board at all.
+// whose views show no board near the grid's size is passed over by them, and the full search is
+// made first in views that show a board at all. Where no view gives the board but some view
+// shows a board, the raw image itself is searched last: where the mirror bends a board little
+// it can be straighter there than in any view.
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -62,8 +64,10 @@ class BoardDetector {
   // The whole board in view `index`, rendered from raw_grey, by the full detector.
   std::optional<DetectedBoard> board_in_view(std::size_t index, const cv::Mat& rendered,
                                              const cv::Mat& raw_grey);
-  // OpenCV's full detector on `image`: the board (of the grid, or larger), ordered clockwise.
-  bool find_board(const cv::Mat& image, std::vector<cv::Point2f>* found,
+  // OpenCV's full detector on `image`: the board (of the grid, or larger), ordered clockwise as
+  // the views show it. `mirrored`: the image is a mirror image of the views (the raw image is: a
+  // view looks out at the scene, the raw image at its reflection).
+  bool find_board(const cv::Mat& image, bool mirrored, std::vector<cv::Point2f>* found,
                   cv::Size* found_size) const;
   // The grid's block of a board found, in raw pixels, that the checks take, refined on the raw
   // image.
