@@ -4,7 +4,8 @@
 //     its larger boards): omnisfm's noncentral model, calibrated from the shipped starting
 //     guesses, next to OpenCV's cv::omnidir::calibrate (Mei's unified model) and mrcal's splined
 //     stereographic model (bench/mrcal_cross_validation.py, run with Debian's python3-mrcal) on
-//     the same corners: RMS over all views and leave-one-view-out RMS; and the same on a rig none
+//     the same corners: RMS over all views and leave-one-view-out RMS (Kaidan also from the
+//     generic conic start of calibrate --mirror conic); and the same on a rig none
 //     of those shows, the 15 views' corners of opencv_contrib's omnidir tutorial
 //     (tests/data/opencv-omnidir);
 //   - the paper's method on the simulated lab (0.1 px noise): the mirror's errors.
@@ -38,6 +39,7 @@
 #include "omnisfm/calib/calibration_views.h"
 #include "omnisfm/calib/cross_validation.h"
 #include "omnisfm/calib/staged_calibration.h"
+#include "omnisfm/calib/starting_camera.h"
 #include "omnisfm/camera/camera_kinds.h"
 #include "omnisfm/camera/pinhole_camera.h"
 #include "omnisfm/io/camera_file.h"
@@ -58,6 +60,8 @@ struct RealSet {
   // radius over 2 tan(55 deg), for a rim 20-25 degrees above the horizon).
   std::string mrcal_board;
   double mrcal_focal = 0;
+  // Starts of other kinds the set is also calibrated from (calibrate --mirror's generic ones).
+  std::vector<std::string> other_starts;
 };
 
 struct Fit {
@@ -341,11 +345,13 @@ void print_row(const std::string& set, const std::string& method, const Fit& fit
 
 // The boards in a folder of images, found as `omnisfm detect-corners` finds them (read as it
 // reads them, the mirror on their mean), written to `path` as corners.vnl; returns `path`.
-std::string detected_corners(const std::string& folder, cv::Size grid, const std::string& path) {
+std::string detected_corners(const std::string& folder, cv::Size grid, const std::string& path,
+                             omnisfm::calib::MirrorImage* mirror) {
   omnisfm::calib::MeanImage mean;
   omnisfm::track::SequenceFrame frame;
   for (omnisfm::track::ImageSequence images(folder); images.next(&frame);) mean.add(frame.image);
-  omnisfm::calib::BoardDetector detector(omnisfm::calib::find_mirror_image(mean.mean()), grid);
+  *mirror = omnisfm::calib::find_mirror_image(mean.mean());
+  omnisfm::calib::BoardDetector detector(*mirror, grid);
   std::vector<omnisfm::io::ImageCorners> found;
   for (omnisfm::track::ImageSequence images(folder); images.next(&frame);) {
     found.push_back(omnisfm::calib::image_corners(fs::path(frame.file).filename().string(),
@@ -358,11 +364,25 @@ std::string detected_corners(const std::string& folder, cv::Size grid, const std
 void real_data(const std::string& root) {
   const std::string share = std::string(OMNISFM_SHARE_DIR) + "/cameras/";
   const std::vector<std::string> groups = {"mirror-pose", "intrinsics", "mirror-shape"};
-  const std::string kaidan_corners =
-      detected_corners(root + "/kaidan", cv::Size(7, 5),
-                       (fs::temp_directory_path() /
-                        ("omnisfm-kaidan-corners-" + std::to_string(getpid()) + ".vnl"))
-                           .string());
+  omnisfm::calib::MirrorImage kaidan_mirror;
+  const std::string kaidan_corners = detected_corners(
+      root + "/kaidan", cv::Size(7, 5),
+      (fs::temp_directory_path() / ("omnisfm-kaidan-corners-" + std::to_string(getpid()) + ".vnl"))
+          .string(),
+      &kaidan_mirror);
+  // Kaidan's mirror is sold as equiangular; the generic conic start (calibrate --mirror conic)
+  // is tried too.
+  const std::string kaidan_conic_start =
+      (fs::temp_directory_path() / ("omnisfm-kaidan-conic-" + std::to_string(getpid()) + ".ini"))
+          .string();
+  {
+    const auto equiangular = omnisfm::io::read_camera_file(share + "kaidan-initial.ini");
+    omnisfm::io::write_camera_file(
+        kaidan_conic_start,
+        omnisfm::calib::starting_camera(
+            kaidan_mirror, equiangular.image_width(), equiangular.image_height(),
+            omnisfm::calib::StartingMirror::kConic, omnisfm::calib::StartingInner::kPinhole));
+  }
   // A rig none of the shared sets shows, its 15 views' corners from opencv_contrib's omnidir
   // tutorial (tests/data/opencv-omnidir): started from vmr's hand-written start with the image's
   // size and centre, as a user would copy it (calibrate's start-free fit is the same).
@@ -395,9 +415,14 @@ void real_data(const std::string& root) {
        share + "paracatadioptric-initial.ini",
        omnisfm::io::read_board(root + "/paracatadioptric/board.vnl"), groups,
        "--object-spacing 0.041 --object-width-n 6 --object-height-n 8", 124},
-      {"kaidan", kaidan_corners, share + "kaidan-initial.ini",
-       omnisfm::io::regular_board(0.03, 7, 5), groups,
-       "--object-spacing 0.03 --object-width-n 7 --object-height-n 5", 120},
+      {"kaidan",
+       kaidan_corners,
+       share + "kaidan-initial.ini",
+       omnisfm::io::regular_board(0.03, 7, 5),
+       groups,
+       "--object-spacing 0.03 --object-width-n 7 --object-height-n 5",
+       120,
+       {kaidan_conic_start}},
       {"omnidir tutorial", omnidir_corners, omnidir_start, omnisfm::io::regular_board(0.2, 6, 9),
        groups, "--object-spacing 0.2 --object-width-n 6 --object-height-n 9", 181}};
   std::printf("Real checkerboards (%s).\nRMS per coordinate (in brackets: RMS of the residual "
@@ -423,6 +448,17 @@ void real_data(const std::string& root) {
     // An orthographic camera has no distortion to add.
     if (camera.inner().kind() == omnisfm::camera::InnerKind::kPinhole)
       print_row(set.name, model + ", all (+ distortion)", omnisfm_fit(set, views, {"all"}, false));
+    for (const std::string& other : set.other_starts) {
+      RealSet from_other = set;
+      from_other.initial_camera = other;
+      const auto start = omnisfm::io::read_camera_file(other);
+      const std::string kinds = std::string("omnisfm ") +
+                                omnisfm::camera::name_of(start.mirror().kind()) + "+" +
+                                omnisfm::camera::name_of(start.inner().kind()) +
+                                " (generic start), pose+intrinsics+shape";
+      print_row(set.name, kinds, omnisfm_fit(from_other, views, groups, false));
+      print_row(set.name, kinds + ", 4-sigma rej.", omnisfm_fit(from_other, views, groups, true));
+    }
     print_row(set.name, "OpenCV omnidir (Mei, 10 parameters)",
               omnidir_fit(views, cv::Size(camera.image_width(), camera.image_height())));
     print_row(set.name, "mrcal splined stereographic (8x6 knots, 300 deg)",
@@ -431,6 +467,7 @@ void real_data(const std::string& root) {
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   fs::remove(kaidan_corners);
+  fs::remove(kaidan_conic_start);
   fs::remove(omnidir_start);
   std::printf(
       "\nomnisfm starts from share/omnisfm/cameras/<set>-initial.ini (the omnidir tutorial from "
