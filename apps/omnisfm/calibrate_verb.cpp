@@ -568,9 +568,12 @@ void add_calibrate_verb(CLI::App& app) {
       "Calibrate from surveyed targets (the mirror-to-camera transform, the paper's method) or "
       "checkerboards (any camera parameters: their corners, or their raw images with --images, "
       "and from a starting --camera file or, with --mirror, from none); writes the camera file "
-      "with its covariance and a report folder OUT-stem.report/ beside it. A solve that does not converge exits 1 and "
+      "with its covariance and a report folder OUT-stem.report/ beside it. A solve that does not "
+      "converge exits 1 and "
       "writes no camera file, but still writes its report folder (replacing an earlier one "
-      "whole; status: NOT CONVERGED), to show why");
+      "whole; status: NOT CONVERGED), to show why; but where a --mirror start does not "
+      "converge and another generic kind does, the images contradict --mirror or --inner: it "
+      "exits 2 naming the kind that converges, and writes nothing");
   auto* camera = verb->add_option("--camera", o->camera,
                                   "Starting camera file (the nominal design); or --mirror")
                      ->check(CLI::ExistingFile);

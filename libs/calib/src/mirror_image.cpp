@@ -191,28 +191,21 @@ bool fit_disc_edge(const cv::Mat& blurred, Eigen::Vector2d* centre, double* radi
   return true;
 }
 
-}  // namespace
+// The mirror's circles about a candidate rim (a Hough circle): the camera's reflection found
+// within it and the picture's end about the reflection's centre, with how far each steps.
+struct MirrorCandidate {
+  MirrorImage mirror;
+  double reflection_rise = 0;  // grey levels
+  double picture_step = 0;     // grey levels, falling (or either way where either_way)
+  bool either_way = false;
+};
+// Hough finds some circle in anything; a mirror's edges stand out of the grey about them (the
+// shared sets': 35-62 grey levels for the camera's reflection, 43-101 for the picture's end, on
+// their mean or on one image).
+constexpr double kMinEdgeStep = 10;
 
-MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
-  CV_Assert(mean_grey.type() == CV_8UC1);
-  cv::Mat blurred;
-  cv::GaussianBlur(mean_grey, blurred, cv::Size(5, 5), 2);
-  const double side = std::min(mean_grey.cols, mean_grey.rows);
-  const SearchImage search = search_image(blurred);
-  // Edges everywhere (noise: 38 % of the pixels, where the shared sets' images and means have
-  // 5-12 %) hide any circle, and the transform would take a minute to say so.
-  constexpr double kMaxEdgeFraction = 0.25;
-  if (const double edges = edge_fraction(search); edges > kMaxEdgeFraction) {
-    char why[160];
-    std::snprintf(why, sizeof why,
-                  "the mirror was not found: the image is edges nearly everywhere (%.0f %% of its "
-                  "pixels, as noise or a close texture gives; a mirror's images, 5-12 %%)",
-                  100 * edges);
-    throw std::runtime_error(why);
-  }
-  const std::vector<cv::Vec3f> rims = circles(search, 0.25 * side, 0.7 * side, 40);
-  if (rims.empty()) throw std::runtime_error("the mirror's rim (a circle) was not found");
-  const cv::Vec3f rim = rims.front();
+MirrorCandidate mirror_about(const cv::Vec3f& rim, const cv::Mat& blurred,
+                             const SearchImage& search) {
   MirrorImage mirror;
   mirror.centre = Eigen::Vector2d(rim[0], rim[1]);
   // The reflection's radius from the radial profile, where Hough's votes favour big circles;
@@ -244,10 +237,6 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
   // and the picture ends where the grey falls most steeply, a little inside that (the edge is
   // blurred).
   Edge picture_edge = steepest_edge(blurred, mirror.centre, 0.5 * rim[2], 1.05 * rim[2], false);
-  // Hough finds some circle in anything; a mirror's edges stand out of the grey about them (the
-  // shared sets': 35-62 grey levels for the camera's reflection, 43-101 for the picture's end, on
-  // their mean or on one image).
-  constexpr double kMinEdgeStep = 10;
   bool either_way = false;
   if (picture_edge.step < kMinEdgeStep) {
     // A mount as bright as the scene: the picture's end steps either way around the circle and
@@ -264,17 +253,59 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
     }
   }
   mirror.outer_radius = 0.98 * picture_edge.radius;
-  if (self_edge.step < kMinEdgeStep || picture_edge.step < kMinEdgeStep) {
+  return {mirror, self_edge.step, picture_edge.step, either_way};
+}
+
+}  // namespace
+
+MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
+  CV_Assert(mean_grey.type() == CV_8UC1);
+  cv::Mat blurred;
+  cv::GaussianBlur(mean_grey, blurred, cv::Size(5, 5), 2);
+  const double side = std::min(mean_grey.cols, mean_grey.rows);
+  const SearchImage search = search_image(blurred);
+  // Edges everywhere (noise: 38 % of the pixels, where the shared sets' images and means have
+  // 5-12 %) hide any circle, and the transform would take a minute to say so.
+  constexpr double kMaxEdgeFraction = 0.25;
+  if (const double edges = edge_fraction(search); edges > kMaxEdgeFraction) {
+    char why[160];
+    std::snprintf(why, sizeof why,
+                  "the mirror was not found: the image is edges nearly everywhere (%.0f %% of its "
+                  "pixels, as noise or a close texture gives; a mirror's images, 5-12 %%)",
+                  100 * edges);
+    throw std::runtime_error(why);
+  }
+  // The strongest circle on the reduced image may be another than the mirror's where few images
+  // were averaged and the scene's edges stay (boards' arcs on the mean of three vmr images: its
+  // reflection rises 10.9 grey levels and its picture falls 4.6), where the full image's is the
+  // mirror's (50.5 and 107): that one is tried next (slower: the transform's cost grows with the
+  // radii). Only the strongest of each: more circles tried, more of a texture's pass (of a
+  // photograph of bricks' five strongest, one does).
+  const auto stands_out = [](const MirrorCandidate& c) {
+    return std::min(c.reflection_rise, c.picture_step);
+  };
+  MirrorCandidate best;
+  bool any_rim = false;
+  for (const SearchImage& image : {search, SearchImage{blurred, 1}}) {
+    if (any_rim && (stands_out(best) >= kMinEdgeStep || search.scale == 1)) break;
+    const std::vector<cv::Vec3f> rims = circles(image, 0.25 * side, 0.7 * side, 40);
+    if (rims.empty()) continue;
+    const MirrorCandidate candidate = mirror_about(rims.front(), blurred, search);
+    if (!any_rim || stands_out(candidate) > stands_out(best)) best = candidate;
+    any_rim = true;
+  }
+  if (!any_rim) throw std::runtime_error("the mirror's rim (a circle) was not found");
+  if (best.reflection_rise < kMinEdgeStep || best.picture_step < kMinEdgeStep) {
     char why[200];
     std::snprintf(why, sizeof why,
                   "the mirror was not found: no circle stands out (the camera's reflection would "
                   "end in a rise of %.1f grey levels, the mirror's picture in a %s of %.1f; a "
                   "mirror's are %.0f or more)",
-                  self_edge.step, either_way ? "step either way" : "fall", picture_edge.step,
-                  kMinEdgeStep);
+                  best.reflection_rise, best.either_way ? "step either way" : "fall",
+                  best.picture_step, kMinEdgeStep);
     throw std::runtime_error(why);
   }
-  return mirror;
+  return best.mirror;
 }
 
 }  // namespace omnisfm::calib
