@@ -331,10 +331,25 @@ Start starting_camera(const CalibrateOptions& o) {
   return start;
 }
 
+// The RMS per coordinate over every observation a calibration could project, its outliers too:
+// fits that rejected different observations compare by it (on the omnidir rig's 18 images a
+// telecentric lens fits its inliers at 0.2438 px rejecting 28, a pinhole at 0.2558 rejecting 12;
+// over every observation the pinhole fits better).
+double rms_over_all(const calib::CalibrationReport& report) {
+  double sum2 = 0;
+  int count = 0;
+  for (const calib::ObservationResidual& r : report.residuals)
+    if (r.residual.allFinite()) {
+      sum2 += r.residual.squaredNorm();
+      ++count;
+    }
+  return count > 0 ? std::sqrt(sum2 / (2 * count)) : INFINITY;
+}
+
 // A start-free calibration that did not converge: the generic kinds not named, each calibrated
 // from its own start about the same picture on the same views; of those that converge, the one
-// with the least RMS, said as the options to give, or "" where none converges (a start that
-// finds no pose for some view does not).
+// with the least RMS over every observation, said as the options to give, or "" where none
+// converges (a start that finds no pose for some view does not).
 std::string other_kind_that_converges(const CalibrateOptions& o, const StartPicture& picture,
                                       const std::vector<calib::CalibrationView>& views,
                                       calib::StagedSettings settings) {
@@ -353,11 +368,11 @@ std::string other_kind_that_converges(const CalibrateOptions& o, const StartPict
     } catch (const std::exception&) {
       continue;
     }
-    if (!report.final.converged || !(report.final.rms_px < best)) continue;
-    best = report.final.rms_px;
+    if (!report.final.converged || !(rms_over_all(report.final) < best)) continue;
+    best = rms_over_all(report.final);
     char text[120];
     std::snprintf(text, sizeof text, " converges (RMS %.4g px per coordinate, %d outliers): give",
-                  best, report.final.num_outliers);
+                  report.final.rms_px, report.final.num_outliers);
     converges = kind_phrase(mirror, inner) + text;
     if (mirror != o.mirror) converges += " --mirror " + mirror;
     if (inner != o.inner) converges += " --inner " + inner;
