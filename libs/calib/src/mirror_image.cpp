@@ -284,10 +284,12 @@ MirrorImage find_mirror_image(const cv::Mat& mean_grey) {
   const auto stands_out = [](const MirrorCandidate& c) {
     return std::min(c.reflection_rise, c.picture_step);
   };
+  std::vector<SearchImage> images{search};
+  if (search.scale < 1) images.push_back({blurred, 1});
   MirrorCandidate best;
   bool any_rim = false;
-  for (const SearchImage& image : {search, SearchImage{blurred, 1}}) {
-    if (any_rim && (stands_out(best) >= kMinEdgeStep || search.scale == 1)) break;
+  for (const SearchImage& image : images) {
+    if (any_rim && stands_out(best) >= kMinEdgeStep) break;
     const std::vector<cv::Vec3f> rims = circles(image, 0.25 * side, 0.7 * side, 40);
     if (rims.empty()) continue;
     const MirrorCandidate candidate = mirror_about(rims.front(), blurred, search);
