@@ -10,13 +10,14 @@
 // alone, 2 always. TAKE_BACK 0: the depth priors kept (FilterSettings::take_back_depth_priors).
 // CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
 // NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px); which inputs the filter gets (vision,
-// gyro, odometry: 0 or 1); the simulated sensors' noise (gyro_noise_density, gyro_bias_sigma,
-// gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting of the filter
-// (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth, inverse_depth_sigma,
-// predicted_settle_sigmas, outlier_chi2, smoothed_start_frames, wheel_scale_from_images,
-// origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations, measure_noise,
-// smoothing_window_frames: the sliding window, 0 off). With the window, the solves it took and
-// refused are printed at the end.
+// gyro, odometry: 0 or 1; axes=1 adds a line per block with the rotation's error and sigma about
+// each of the camera's axes, z up); the simulated sensors' noise (gyro_noise_density,
+// gyro_bias_sigma, gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting
+// of the filter (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth,
+// inverse_depth_sigma, predicted_settle_sigmas, outlier_chi2, smoothed_start_frames,
+// wheel_scale_from_images, origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations,
+// measure_noise, smoothing_window_frames: the sliding window, 0 off). With the window, the solves
+// it took and refused are printed at the end.
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
 //              [ESTIMATE_WHEEL_SCALE=1] [SENSORS=1] [ORIGIN=2] [TAKE_BACK=1] [CAMERA.ini]
 //              [NAME=VALUE...]
@@ -63,6 +64,7 @@ struct Study {
   bool with_vision = true;
   bool with_gyro = true;
   bool with_odometry = true;
+  bool per_axis = false;  // the rotation's error and sigma about each of the camera's axes too
 };
 
 bool apply(const std::string& assignment, Study* study) {
@@ -73,6 +75,7 @@ bool apply(const std::string& assignment, Study* study) {
       {"vision", [&](double v) { study->with_vision = v != 0; }},
       {"gyro", [&](double v) { study->with_gyro = v != 0; }},
       {"odometry", [&](double v) { study->with_odometry = v != 0; }},
+      {"axes", [&](double v) { study->per_axis = v != 0; }},
       {"gyro_noise_density", [&](double v) { options.gyro_noise_density = v; }},
       {"gyro_bias_sigma", [&](double v) { options.gyro_bias_sigma = v; }},
       {"gyro_bias_walk", [&](double v) { options.gyro_bias_walk = v; }},
@@ -186,6 +189,10 @@ int main(int argc_given, char** argv_given) {
                   nees / counted, nees_rotation / counted, nees_translation / counted,
                   filter.wheel_scale(), std::sqrt(filter.wheel_scale_variance()),
                   spans > 0 ? direction_error / spans : NAN, spans > 0 ? scale / spans : NAN);
+      if (study.per_axis)
+        std::printf("#   about x y z: error %.3f %.3f %.3f deg, sigma %.3f %.3f %.3f deg\n",
+                    e(0) * kDeg, e(1) * kDeg, e(2) * kDeg, std::sqrt(P(0, 0)) * kDeg,
+                    std::sqrt(P(1, 1)) * kDeg, std::sqrt(P(2, 2)) * kDeg);
       nees = nees_rotation = nees_translation = 0;
       counted = 0;
     }
