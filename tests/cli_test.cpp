@@ -1727,6 +1727,31 @@ TEST_F(CliTest, RunTakesTheWheelScaleThatAGpsRunEstimated) {
   EXPECT_NE(eval.err.find("against 0 .. 74.5"), std::string::npos) << eval.err;
 }
 
+// A straight drive's fixes lie on a line, and the rotation about it is not theirs to fix: run
+// leaves them out and says so, where it had refused the rawlog simulate made (--strict still
+// does, writing nothing).
+TEST_F(CliTest, RunLeavesOutGpsFixesThatLieOnALine) {
+  ASSERT_EQ(omnisfm("simulate --scenario drive --frames 60 --out straight --rawlog --gps").status,
+            0);
+  const Outcome run = omnisfm("run straight/dataset.rawlog --out result");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("warning: "), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("lie on a line"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("the fixes are left out"), std::string::npos) << run.err;
+  const std::string report = read_all(dir_ / "result/report.txt");
+  EXPECT_NE(report.find("warning: GPS: the fixes lie on a line"), std::string::npos) << report;
+  EXPECT_EQ(report.find("GPS: the estimate is in ENU"), std::string::npos) << report;
+  EXPECT_TRUE(fs::exists(dir_ / "result/batch.tum"));
+  EXPECT_FALSE(fs::exists(dir_ / "result/geodetic.vnl"));
+
+  const Outcome strict = omnisfm("run straight/dataset.rawlog --out strict --strict");
+  EXPECT_EQ(strict.status, 2);
+  EXPECT_NE(strict.err.find("straight/dataset.rawlog: GPS: the fixes lie on a line"),
+            std::string::npos)
+      << strict.err;
+  EXPECT_FALSE(fs::exists(dir_ / "strict"));
+}
+
 #ifdef OMNISFM_WITH_MRPT_PLUGIN
 // With [sfm] batch = false, run replays the rawlog through the online estimator object by object:
 // the same online estimate as the fused pipeline holding the whole rawlog.

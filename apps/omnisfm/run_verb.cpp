@@ -225,7 +225,9 @@ void add_run_options(CLI::App* verb, RunVerbOptions* o) {
   verb->add_option("--ground-truth", o->ground_truth,
                    "A TUM trajectory of the truth, one pose per frame: adds the error figures "
                    "(after a similarity and a rigid alignment) and plots");
-  verb->add_flag("--strict", o->strict, "A damaged rawlog is an error (exit 2), not a warning");
+  verb->add_flag("--strict", o->strict,
+                 "A damaged rawlog, or GPS fixes too few or on a line to place the estimate, is an "
+                 "error (exit 2), not a warning");
   verb->add_option("--slam-rawlog", o->slam_rawlog,
                    "Also write the batch's estimate as a rawlog of stock MRPT classes for stock "
                    "SLAM apps (kf-slam with share/omnisfm/config/kf-slam-6d.ini): per frame the "
@@ -285,6 +287,14 @@ std::string batch_run_report(const RunVerbOptions& o, const RunSettings& setting
   return report.str();
 }
 
+// The camera frames' times up to the last frame with tracks: those the estimate spans.
+std::vector<double> tracked_frame_times(const mrpt_plugin::ReplayInput& in) {
+  int frames = 0;
+  for (const core::TrackObservation& o : in.tracks) frames = std::max(frames, o.frame + 1);
+  frames = std::min(frames, static_cast<int>(in.frame_times.size()));
+  return std::vector<double>(in.frame_times.begin(), in.frame_times.begin() + frames);
+}
+
 // The rawlog replayed whole, fused by the filter and the batch, and every output written.
 void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
                     const std::vector<io::StampedPose>& truth) {
@@ -299,6 +309,18 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
   in.sensors.odometry_noise = settings.odometry_noise;
   in.sensors.odometry_scale = settings.odometry_scale;
   in.sensors.gyro_noise = settings.gyro_noise;
+  // Fixes that cannot place the estimate in ENU (a straight drive, a rawlog cut short) are left
+  // out, as a damaged rawlog's end is: said, and an error with --strict.
+  std::string gps_left_out;
+  const std::string gps_problem = sfm::gps_frame_problem(in.sensors, tracked_frame_times(in));
+  if (!gps_problem.empty()) {
+    if (o.strict) throw io::InputError(o.rawlog, 0, gps_problem);
+    gps_left_out = gps_problem +
+                   ": the fixes are left out, the estimate stays in the first "
+                   "camera's frame";
+    std::cerr << "omnisfm: warning: " << io::printable_text(o.rawlog + ": " + gps_left_out) << "\n";
+    in.sensors.gps.clear();
+  }
 
   sfm::SfmResult result;
   try {
@@ -325,6 +347,7 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
     throw std::runtime_error("the batch adjustment failed: " + result.batch.message);
 
   std::ostringstream report;
+  if (!gps_left_out.empty()) report << "warning: " << gps_left_out << "\n";
   report << batch_run_report(o, settings, in, result);
   const std::vector<Eigen::Isometry3d>& trajectory = result.batch.world_from_cam;
   // With fixes the fused estimate is in their ENU frame (run_fused_sfm places it there).
@@ -377,7 +400,9 @@ void add_run_verb(CLI::App& app) {
       "fixes; writes what the sfm verb writes plus scene.3Dscene (for SceneViewer3D) and, with "
       "GPS, geodetic.vnl. A truncated or corrupt rawlog is replayed up to the damaged object: a "
       "warning names the object's index and what is wrong, and report.txt repeats it "
-      "(--strict: exit 2 instead, writing nothing). With [sfm] batch = false, the online "
+      "(--strict: exit 2 instead, writing nothing); so are GPS fixes too few or on a line (a "
+      "straight drive) to place the estimate, which is then left in the first camera's frame. "
+      "With [sfm] batch = false, the online "
       "estimator alone, the rawlog read and the results written object by object in constant "
       "memory (online.tum, points, outliers and the report; GPS fixes are not used)");
   add_run_options(verb, o.get());

@@ -238,22 +238,29 @@ std::vector<int> fixes_at_odds(const std::vector<FixPlacement>& all,
   return refused;
 }
 
-// At least 3 fixes, not on a line within their noise (the rotation about it is not observable
-// otherwise); `after` ends the message.
-void check_fixes_fix_the_frame(const std::vector<FixPlacement>& placed,
-                               const MotionSensors& sensors, const std::string& after) {
+// Why `placed` cannot fix the ENU frame ("" when they can): fewer than 3 fixes, or all on a line
+// within their noise (the rotation about it is not observable); `after` ends the reason's first
+// part.
+std::string frame_fix_problem(const std::vector<FixPlacement>& placed, const MotionSensors& sensors,
+                              const std::string& after) {
   if (placed.size() < 3)
-    throw std::invalid_argument("GPS: " + std::to_string(placed.size()) +
-                                " fixes within the frames' time span" + after +
-                                "; at least 3 are needed");
+    return "GPS: " + std::to_string(placed.size()) + " fixes within the frames' time span" + after +
+           "; at least 3 are needed";
   Eigen::Matrix3Xd to(3, placed.size());
   for (size_t i = 0; i < placed.size(); ++i) to.col(i) = placed[i].fix->enu;
   const Eigen::Matrix3Xd centred = to.colwise() - to.rowwise().mean();
   const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
   const double sigma = sensors.gps.front().horizontal_sigma;
   if (!(spread[1] > 3 * sigma * std::sqrt(static_cast<double>(placed.size()))))
-    throw std::invalid_argument("GPS: the fixes lie on a line (within their noise)" + after +
-                                "; the heading about it cannot be fixed");
+    return "GPS: the fixes lie on a line (within their noise)" + after +
+           "; the heading about it cannot be fixed";
+  return "";
+}
+
+void check_fixes_fix_the_frame(const std::vector<FixPlacement>& placed,
+                               const MotionSensors& sensors, const std::string& after) {
+  if (const std::string problem = frame_fix_problem(placed, sensors, after); !problem.empty())
+    throw std::invalid_argument(problem);
 }
 
 void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
@@ -341,6 +348,12 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   result.odometry_scale_sigma = terms.scale_sigma();
   result.gyro_bias_sigma = terms.bias_sigma();
   return result;
+}
+
+std::string gps_frame_problem(const MotionSensors& sensors,
+                              const std::vector<double>& frame_timestamps) {
+  if (sensors.gps.empty() || frame_timestamps.size() < 2) return "";
+  return frame_fix_problem(place_fixes(sensors.gps, frame_timestamps), sensors, "");
 }
 
 GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& world_from_cam,

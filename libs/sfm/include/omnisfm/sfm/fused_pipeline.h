@@ -22,6 +22,7 @@
 // when there is no batch or scale_sigma is 0), with their standard deviations when the batch
 // computes covariances.
 
+#include <string>
 #include <vector>
 
 #include "omnisfm/sfm/motion_sensors.h"
@@ -37,6 +38,12 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
                         const std::vector<core::TrackObservation>& tracks,
                         const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
                         const SfmSettings& settings, const Progress& progress = nullptr);
+
+// Why the GPS fixes within the frames' time span cannot place the estimate in ENU (fewer than 3,
+// or all on a line within their noise: a straight drive), the message run_fused_sfm would throw;
+// "" when they can or there are none. A caller may then leave them out instead.
+std::string gps_frame_problem(const MotionSensors& sensors,
+                              const std::vector<double>& frame_timestamps);
 
 // The GPS fixes within the frames' time span (but the `refused_fixes`, indices into
 // sensors.gps) against an estimate in their ENU frame: each fix against the antenna's position
