@@ -433,9 +433,9 @@ TEST_F(CliTest, ExportMrcalRejectsBadInputAndWritesNothing) {
         "export-mrcal --distance -1 --out approx.cameramodel",
         "export-mrcal --distance nan --out approx.cameramodel",
         "export-mrcal --distance inf --out approx.cameramodel",
+        "export-mrcal --distance 1e300 --out approx.cameramodel",
         "export-mrcal --distance one --out approx.cameramodel",
-        "export-mrcal --out approx.cameramodel",
-        "export-mrcal --distance 1",
+        "export-mrcal --out approx.cameramodel", "export-mrcal --distance 1",
         "export-mrcal --distance 1 --knots 3 --out approx.cameramodel",
         "export-mrcal --distance 1 --grid-step 0 --out approx.cameramodel",
         "export-mrcal --camera missing.ini --distance 1 --out approx.cameramodel",
@@ -498,6 +498,23 @@ TEST_F(CliTest, SfmThenEvalOnASimulatedCrane) {
   const size_t open = figures.out.find("m mean (");
   ASSERT_NE(open, std::string::npos) << figures.out;
   EXPECT_LT(std::stod(figures.out.substr(open + 8)), 0.79) << figures.out;
+}
+
+// Positions on a line leave Horn's alignment the rotation about it: an input error naming both
+// files, where it had been an internal error (exit 1) naming neither.
+TEST_F(CliTest, EvalRefusesPositionsOnALine) {
+  std::string straight;
+  for (int k = 0; k < 5; ++k)
+    straight += std::to_string(k) + " " + std::to_string(0.1 * k) + " 0 0 0 0 0 1\n";
+  write("estimate.tum", straight);
+  write("truth.tum", straight);
+  const Outcome eval = omnisfm("eval --estimate estimate.tum --ground-truth truth.tum");
+  EXPECT_EQ(eval.status, 2);
+  EXPECT_NE(eval.err.find("estimate.tum: its 5 positions paired with "), std::string::npos)
+      << eval.err;
+  EXPECT_NE(eval.err.find("truth.tum's lie on one line or coincide"), std::string::npos)
+      << eval.err;
+  EXPECT_TRUE(eval.out.empty()) << eval.out;
 }
 
 // The drive scenario, and the filter alone on it: with [sfm] batch = false the tracks are read
@@ -589,6 +606,27 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
   write("few.vnl", "# frame track u v\n0 0 500 400\n1 0 501 401\n");
   EXPECT_EQ(omnisfm("sfm --camera lab/camera.ini --tracks few.vnl --out result").status, 2);
   EXPECT_FALSE(fs::exists(dir_ / "result"));
+  // Frames count the images from 0: tracks from frame 10 on leave frame 0 empty.
+  std::string later_rows = "# frame track u v\n";
+  for (int f = 10; f < 12; ++f)
+    for (int t = 0; t < 7; ++t)
+      later_rows += std::to_string(f) + " " + std::to_string(t) + " " +
+                    std::to_string(400 + 20 * t + f) + " 400\n";
+  write("later.vnl", later_rows);
+  const Outcome later = omnisfm("sfm --camera lab/camera.ini --tracks later.vnl --out result");
+  EXPECT_EQ(later.status, 2);
+  EXPECT_NE(later.err.find("later.vnl: frame 0 has 0 tracks; at least 6 are needed to start "
+                           "(frames count the images from 0; the first with tracks is 10)"),
+            std::string::npos)
+      << later.err;
+  EXPECT_FALSE(fs::exists(dir_ / "result"));
+  write("huge.vnl", "# frame track u v\n0 2147483647 500 400\n");
+  const Outcome huge = omnisfm("sfm --camera lab/camera.ini --tracks huge.vnl --out result");
+  EXPECT_EQ(huge.status, 2);
+  EXPECT_NE(huge.err.find("huge.vnl:2: column 'track': '2147483647' is not a whole number from 0 "
+                          "to 2000000000"),
+            std::string::npos)
+      << huge.err;
   write("start.ini", "[sfm]\nsmoothed_start_frames = 1\n");
   const Outcome start = omnisfm(
       "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result --config start.ini");
@@ -1573,7 +1611,8 @@ TEST_F(CliTest, TrackRejectsBadImagesAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir_ / "drawn"));
   const Outcome nowhere = omnisfm("track --images big/images --out no/such/tracks.vnl");
   EXPECT_EQ(nowhere.status, 2) << nowhere.err;
-  EXPECT_NE(nowhere.err.find("no is not a writable folder"), std::string::npos) << nowhere.err;
+  EXPECT_NE(nowhere.err.find("cannot write here: the folder "), std::string::npos) << nowhere.err;
+  EXPECT_NE(nowhere.err.find("/no does not exist"), std::string::npos) << nowhere.err;
   // A folder it would have made is not left behind.
   const Outcome fresh = omnisfm("track --images empty --out fresh/tracks.vnl");
   EXPECT_EQ(fresh.status, 2) << fresh.err;

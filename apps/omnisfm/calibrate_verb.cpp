@@ -590,8 +590,7 @@ void add_calibrate_verb(CLI::App& app) {
       "converge and another generic kind does, the images contradict --mirror or --inner: it "
       "exits 2 naming the kind that converges, and writes nothing");
   auto* camera = verb->add_option("--camera", o->camera,
-                                  "Starting camera file (the nominal design); or --mirror")
-                     ->check(CLI::ExistingFile);
+                                  "Starting camera file (the nominal design); or --mirror");
   auto* images = verb->add_option(
       "--images", o->images,
       "Board images (a folder of PNG or JPG files, or a video): the boards are detected as "

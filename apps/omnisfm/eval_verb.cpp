@@ -4,6 +4,8 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "omnisfm/eval/timestamp_pairing.h"
 #include "omnisfm/eval/trajectory_errors.h"
@@ -45,8 +47,17 @@ void add_eval_verb(CLI::App& app) {
                                " (timestamps " + span(estimate) + " against " + span(truth) +
                                "; `run --ground-truth` pairs poses by frame instead)");
     }
-    const eval::TrajectoryErrors e =
-        eval::trajectory_errors(paired.estimate, paired.truth, !o->rigid);
+    eval::TrajectoryErrors e;
+    try {
+      e = eval::trajectory_errors(paired.estimate, paired.truth, !o->rigid);
+    } catch (const std::invalid_argument&) {
+      // Horn's alignment of the positions leaves the rotation about their line free.
+      throw io::InputError(o->estimate, 0,
+                           "its " + std::to_string(paired.estimate.size()) +
+                               " positions paired with " + o->ground_truth +
+                               "'s lie on one line or coincide: no alignment of the positions "
+                               "fixes the rotation about it");
+    }
     std::cout << "poses " << paired.estimate.size() << "\n"
               << eval::figures_line(o->rigid ? "rigid" : "similar", e);
     finish_stdout();

@@ -61,9 +61,10 @@ void add_export_mrcal_verb(CLI::App& app) {
       "infinity");
   verb->add_option("--camera", options->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--distance", options->distance_m,
-                   "Distance of the fitted points from the mirror along each ray, metres")
+                   "Distance of the fitted points from the mirror along each ray, metres "
+                   "(1e-6 to 1e9)")
       ->required()
-      ->check(positive_number());
+      ->check(number_between(1e-6, 1e9));
   verb->add_option("--out", options->out, "The .cameramodel to write (replaced whole)")->required();
   verb->add_option("--knots", options->knots, "Spline control points per axis")
       ->capture_default_str()

@@ -105,9 +105,13 @@ std::string stream_online_sfm(const camera::CatadioptricCamera& camera,
   std::vector<sfm::TrackPixel> pixels;
   while (stream.next_frame(&frame, &rows)) {
     if (next == 0 && (frame != 0 || rows.size() < 6))
-      throw io::InputError(tracks_path, stream.line(0),
-                           "the first frame has " + std::to_string(frame == 0 ? rows.size() : 0) +
-                               " tracks; at least 6 are needed to start");
+      throw io::InputError(
+          tracks_path, stream.line(0),
+          "frame 0 has " + std::to_string(frame == 0 ? rows.size() : 0) +
+              " tracks; at least 6 are needed to start" +
+              (frame > 0 ? " (frames count the images from 0; the first with tracks is " +
+                               std::to_string(frame) + ")"
+                         : ""));
     // Frames without observations: the filter only propagates.
     for (; next < frame; ++next) process(next, {});
     pixels.clear();

@@ -132,9 +132,15 @@ CLI::Validator seed_number() {
 }
 
 void require_writable_folder(const std::string& path, const std::filesystem::path& folder) {
-  if (!std::filesystem::is_directory(folder) || ::access(folder.c_str(), W_OK) != 0)
+  std::error_code ec;
+  if (!std::filesystem::exists(folder, ec))
     throw io::InputError(path, 0,
-                         "cannot write here: " + folder.string() + " is not a writable folder");
+                         "cannot write here: the folder " + folder.string() + " does not exist");
+  if (!std::filesystem::is_directory(folder, ec))
+    throw io::InputError(path, 0, "cannot write here: " + folder.string() + " is not a folder");
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw io::InputError(path, 0,
+                         "cannot write here: the folder " + folder.string() + " is not writable");
 }
 
 void require_writable_folder_of(const std::string& path) {

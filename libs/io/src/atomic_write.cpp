@@ -145,10 +145,14 @@ void check_folder_replaceable(const std::string& dir, const std::vector<std::str
   if (!target.has_relative_path()) throw InputError(dir, 0, "is the root folder");
   const fs::path parent = target.parent_path();
   std::error_code ec;
+  if (!fs::exists(parent, ec))
+    throw InputError(dir, 0,
+                     "cannot write here: the folder " + parent.string() + " does not exist");
   if (!fs::is_directory(parent, ec))
     throw InputError(dir, 0, "cannot write here: " + parent.string() + " is not a folder");
   if (::access(parent.c_str(), W_OK) != 0)
-    throw InputError(dir, 0, "cannot write here: " + parent.string() + " is not a writable folder");
+    throw InputError(dir, 0,
+                     "cannot write here: the folder " + parent.string() + " is not writable");
   // A link would be replaced by a folder of its own, its target left as it was.
   if (fs::is_symlink(fs::symlink_status(target, ec)))
     throw InputError(dir, 0, "is a symbolic link: give the folder it names");

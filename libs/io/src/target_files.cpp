@@ -16,7 +16,7 @@ int id_field(const VnlogTable& table, std::size_t row, std::size_t column,
   if (!std::isfinite(value) || value < 0 || value != std::floor(value) || value > 2e9) {
     throw InputError(table.file(), table.line(row),
                      "column '" + name + "': '" + table.text(row, column) +
-                         "' is not a non-negative integer");
+                         "' is not a whole number from 0 to 2000000000");
   }
   return static_cast<int>(value);
 }

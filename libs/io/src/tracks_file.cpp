@@ -16,7 +16,7 @@ int integer_field(const VnlogReader& reader, size_t column, const std::string& n
   if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > 2e9)
     throw InputError(reader.file(), reader.line(),
                      "column '" + name + "': '" + reader.text(column) +
-                         "' is not a non-negative integer");
+                         "' is not a whole number from 0 to 2000000000");
   return static_cast<int>(v);
 }
 

@@ -194,7 +194,9 @@ TEST_F(AtomicWriteTest, AFolderIsReplacedOnlyWhereNothingIsLost) {
   EXPECT_EQ(refused((dir_ / "new").string()), "");
   EXPECT_NE(refused((own / "holiday.jpg").string()).find("exists and is not a folder"),
             std::string::npos);
-  EXPECT_NE(refused((dir_ / "missing" / "new").string()).find("is not a folder"),
+  EXPECT_NE(refused((dir_ / "missing" / "new").string()).find("missing does not exist"),
+            std::string::npos);
+  EXPECT_NE(refused((own / "holiday.jpg" / "new").string()).find("holiday.jpg is not a folder"),
             std::string::npos);
   EXPECT_NE(refused(""), "");
   EXPECT_NE(refused("/"), "");

@@ -39,9 +39,17 @@ std::vector<std::vector<TrackPixel>> observations_by_frame(
   if (num_frames < 2) throw std::invalid_argument("the tracks span fewer than 2 frames");
   std::vector<std::vector<TrackPixel>> by_frame(num_frames);
   for (const auto& o : tracks) by_frame[o.frame].push_back({o.track, o.pixel});
-  if (by_frame[0].size() < 6)
-    throw std::invalid_argument("the first frame has " + std::to_string(by_frame[0].size()) +
-                                " tracks; at least 6 are needed to start");
+  if (by_frame[0].size() < 6) {
+    // Frames count the images from 0: tracks that start later leave frame 0 empty.
+    int first = 0;
+    while (by_frame[first].empty()) ++first;
+    throw std::invalid_argument(
+        "frame 0 has " + std::to_string(by_frame[0].size()) +
+        " tracks; at least 6 are needed to start" +
+        (first > 0 ? " (frames count the images from 0; the first with tracks is " +
+                         std::to_string(first) + ")"
+                   : ""));
+  }
   return by_frame;
 }
 
