@@ -1066,6 +1066,18 @@ TEST_F(CliTest, CalibrateConvergesOnRealCatadioptricCheckerboards) {
                                   " --estimate mirror-pose,intrinsics,mirror-shape --out vmr2.ini");
   ASSERT_EQ(spacing.status, 0) << spacing.err;
   EXPECT_NEAR(figure_after(spacing.err, "RMS "), figure_after(run.err, "RMS "), 1e-4);
+  // Given as 7 x 6, the same 42 points calibrated to 38 px and were written; the corners' order
+  // shows rows of 6.
+  const Outcome swapped = omnisfm("calibrate" + vmr +
+                                  " --object-spacing 0.03 --object-width-n 7 --object-height-n 6"
+                                  " --out swapped.ini");
+  EXPECT_EQ(swapped.status, 2);
+  EXPECT_NE(swapped.err.find("corners.vnl: its corners run in rows of 6, not 7: the board is 6x7 "
+                             "points; swap --object-width-n and --object-height-n"),
+            std::string::npos)
+      << swapped.err;
+  EXPECT_FALSE(fs::exists(dir_ / "swapped.ini"));
+  EXPECT_FALSE(fs::exists(dir_ / "swapped.report"));
 
   // Cross-validated in 5 folds: each pair of views held out fits about as well as the views fit
   // (measured: pooled 0.2438 px against 0.2357), and report.txt gives each fold.

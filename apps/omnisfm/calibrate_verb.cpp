@@ -82,6 +82,43 @@ void require_inside_image(const Eigen::Vector2d& pixel, const camera::Catadioptr
   throw io::InputError(file, line, message.str());
 }
 
+// The mean distance between the corners that a board `across` points wide, in rows, makes
+// neighbours (along a row and down a column), over the images where every corner was found: the
+// right width's neighbours are a square apart, a wrong one's include jumps across the board.
+double neighbour_distance(const std::vector<io::ImageCorners>& images, int across, int down) {
+  double sum = 0;
+  long pairs = 0;
+  for (const io::ImageCorners& image : images) {
+    if (static_cast<int>(image.pixels.size()) != across * down ||
+        image.num_detected() != across * down)
+      continue;
+    for (int k = 0; k < across * down; ++k) {
+      if (k % across + 1 < across) sum += (image.pixels[k + 1] - image.pixels[k]).norm(), ++pairs;
+      if (k + across < across * down)
+        sum += (image.pixels[k + across] - image.pixels[k]).norm(), ++pairs;
+    }
+  }
+  return pairs > 0 ? sum / static_cast<double>(pairs) : NAN;
+}
+
+// A W x H board given as H x W has as many points, and calibrates to tens of pixels: refused,
+// naming the size the corners' order shows.
+void check_board_orientation(const std::vector<io::ImageCorners>& images,
+                             const CalibrateOptions& o) {
+  constexpr double kClearlyFurther = 1.5;
+  const int w = o.object_width_n, h = o.object_height_n;
+  if (w == h) return;
+  const double as_given = neighbour_distance(images, w, h),
+               swapped = neighbour_distance(images, h, w);
+  if (as_given > kClearlyFurther * swapped)
+    throw io::InputError(o.corners, 0,
+                         "its corners run in rows of " + std::to_string(h) + ", not " +
+                             std::to_string(w) + ": the board is " + std::to_string(h) + "x" +
+                             std::to_string(w) +
+                             " points; swap --object-width-n and "
+                             "--object-height-n");
+}
+
 Inputs read_inputs(const CalibrateOptions& o, const std::string& camera_description,
                    const camera::CatadioptricCamera& camera) {
   const std::string size_source =
@@ -119,6 +156,7 @@ Inputs read_inputs(const CalibrateOptions& o, const std::string& camera_descript
     board_source = source.str();
   }
   const auto images = io::read_corners(o.corners);
+  if (o.board.empty()) check_board_orientation(images, o);
   for (const io::ImageCorners& corners : images)
     for (std::size_t k = 0; k < corners.pixels.size(); ++k)
       if (corners.detected[k])
@@ -617,7 +655,9 @@ void add_calibrate_verb(CLI::App& app) {
   auto* spacing = verb->add_option("--object-spacing", o->object_spacing,
                                    "Board point spacing, metres (instead of --board)")
                       ->check(positive_number());
-  auto* width_n = verb->add_option("--object-width-n", o->object_width_n, "Board points across")
+  auto* width_n = verb->add_option("--object-width-n", o->object_width_n,
+                                   "Board points across (a row of --corners' points; given "
+                                   "swapped, the order of the corners says so)")
                       ->check(whole_number_between(2, 1000));
   auto* height_n = verb->add_option("--object-height-n", o->object_height_n, "Board points down")
                        ->check(whole_number_between(2, 1000));
