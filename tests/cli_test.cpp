@@ -381,7 +381,10 @@ TEST_F(CliTest, SimulateRejectsBadInputAndWritesNothing) {
        {"simulate --scenario moon --out x", "simulate --scenario lab --out x --noise -1",
         "simulate --scenario lab --out x --width 0", "simulate --scenario lab --out no/such/x",
         "simulate --scenario lab", "simulate --scenario lab --out x --seed -1",
-        "simulate --scenario lab --out x --seed 18446744073709551616"}) {
+        "simulate --scenario lab --out x --seed 18446744073709551616",
+        // Settings that would be ignored: no images, no surveyed targets.
+        "simulate --scenario lab --out x --samples 4",
+        "simulate --scenario crane --out x --survey-error 0.01"}) {
     const Outcome run = omnisfm(args);
     EXPECT_EQ(run.status, 2) << args;
     EXPECT_EQ(run.err.rfind("omnisfm: ", 0), 0u) << args << ": " << run.err;

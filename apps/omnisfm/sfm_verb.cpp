@@ -148,11 +148,13 @@ void add_sfm_verb(CLI::App& app) {
   CLI::App* verb = app.add_subcommand(
       "sfm",
       "Shape-from-motion from tracks: the online filter then the batch adjustment; writes "
-      "online.tum, batch.tum, points.vnl, points.ply, outliers.vnl, report.txt and the residual "
-      "plots (residuals.png, residuals_per_frame.png); with --ground-truth also the paper's "
-      "figures and trajectory plots (motion.png, path.png). With [sfm] batch = false, the filter "
-      "alone: the tracks are read and the results written frame by frame, in constant memory "
-      "(no batch.tum and no residual plots)");
+      "online.tum, batch.tum, points.vnl, points.ply, outliers.vnl, report.txt, the batch as an "
+      "MRPT pose graph (batch.graph, batch.graphbin) and the residual plots (residuals.png, "
+      "residuals_per_frame.png, with their .vnl tables and gnuplot scripts); with "
+      "--ground-truth also the paper's figures and trajectory plots (motion.png, path.png, with "
+      "motion.dat and the scripts). With [sfm] batch = false, the filter alone: the tracks are "
+      "read and the results written frame by frame, in constant memory (no batch.tum, no graph "
+      "and no residual plots)");
   verb->add_option("--camera", o->camera, "Camera file (default: the shipped equiangular)");
   verb->add_option("--tracks", o->tracks, "tracks.vnl (# frame track u v)")->required();
   verb->add_option("--out", o->out,

@@ -27,15 +27,21 @@ struct SimulateOptions {
   std::string imaging = "clean";
   bool rawlog = false;
   bool gps = false;
-  // Whether --frames and --imaging were given.
+  // Whether --frames, --imaging, --samples and --survey-error were given.
   CLI::Option* frames_option = nullptr;
   CLI::Option* imaging_option = nullptr;
+  CLI::Option* samples_option = nullptr;
+  CLI::Option* survey_error_option = nullptr;
 };
 
 // Options that mean nothing together, refused as usage errors.
 void refuse_meaningless_combinations(const SimulateOptions& o) {
   if (o.imaging_option->count() > 0 && !o.render)
     throw CLI::ValidationError("--imaging", "images are made only with --render");
+  if (o.samples_option->count() > 0 && !o.render)
+    throw CLI::ValidationError("--samples", "images are made only with --render");
+  if (o.survey_error_option->count() > 0 && o.simulation.scenario != "lab")
+    throw CLI::ValidationError("--survey-error", "only the lab has surveyed targets");
   if (o.frames_option->count() > 0 && o.simulation.scenario != "drive")
     throw CLI::ValidationError("--frames", "only the drive has a length of your choosing");
   if (o.render && o.simulation.scenario == "drive")
@@ -118,20 +124,21 @@ void add_simulate_verb(CLI::App& app) {
                    "Gaussian tracking noise, pixels per coordinate")
       ->capture_default_str()
       ->check(number_between(0, 100));
-  verb->add_option("--survey-error", o->simulation.survey_error_m,
-                   "Gaussian error of the lab's target survey, metres per coordinate")
-      ->capture_default_str()
-      ->check(number_between(0, 1));
+  o->survey_error_option =
+      verb->add_option("--survey-error", o->simulation.survey_error_m,
+                       "Gaussian error of the lab's target survey, metres per coordinate")
+          ->capture_default_str()
+          ->check(number_between(0, 1));
   verb->add_option("--width", o->simulation.image_width, "Image width, pixels")
       ->capture_default_str();
   verb->add_option("--height", o->simulation.image_height, "Image height, pixels")
       ->capture_default_str();
   verb->add_flag("--render", o->render,
                  "Also ray-trace the images through the mirror into images/ (PNG)");
-  verb->add_option("--samples", o->samples,
-                   "Samples per pixel when rendering (a square: 1, 4, 9...)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({1, 4, 9, 16, 25}));
+  o->samples_option = verb->add_option("--samples", o->samples,
+                                       "Samples per pixel when rendering (a square: 1, 4, 9...)")
+                          ->capture_default_str()
+                          ->check(CLI::IsMember({1, 4, 9, 16, 25}));
   o->imaging_option =
       verb->add_option("--imaging", o->imaging,
                        "With --render: clean (the ray-traced light as it is, procedural "
