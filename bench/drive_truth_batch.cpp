@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
         J * r.cam_from_world_covariances[f].topLeftCorner<3, 3>() * J.transpose();
     // Both in the first frame's gauge, which the batch holds at the truth.
     const Eigen::Matrix3d truth = d.world_from_cam[f].linear().transpose();
-    const Eigen::Vector3d e = log_so3(R * truth.transpose());
+    // As eval::filter_pose_error takes it (drive_nees): the truth against the estimate.
+    const Eigen::Vector3d e = log_so3(truth * R.transpose());
     std::printf("%d  %.3f %.3f %.3f  %.3f %.3f %.3f\n", f, e(0) * kDeg, e(1) * kDeg, e(2) * kDeg,
                 std::sqrt(C(0, 0)) * kDeg, std::sqrt(C(1, 1)) * kDeg, std::sqrt(C(2, 2)) * kDeg);
   }

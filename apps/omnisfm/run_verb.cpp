@@ -287,14 +287,6 @@ std::string batch_run_report(const RunVerbOptions& o, const RunSettings& setting
   return report.str();
 }
 
-// The camera frames' times up to the last frame with tracks: those the estimate spans.
-std::vector<double> tracked_frame_times(const mrpt_plugin::ReplayInput& in) {
-  int frames = 0;
-  for (const core::TrackObservation& o : in.tracks) frames = std::max(frames, o.frame + 1);
-  frames = std::min(frames, static_cast<int>(in.frame_times.size()));
-  return std::vector<double>(in.frame_times.begin(), in.frame_times.begin() + frames);
-}
-
 // The rawlog replayed whole, fused by the filter and the batch, and every output written.
 void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
                     const std::vector<io::StampedPose>& truth) {
@@ -309,29 +301,28 @@ void run_with_batch(const RunVerbOptions& o, const RunSettings& settings,
   in.sensors.odometry_noise = settings.odometry_noise;
   in.sensors.odometry_scale = settings.odometry_scale;
   in.sensors.gyro_noise = settings.gyro_noise;
-  // Fixes that cannot place the estimate in ENU (a straight drive, a rawlog cut short) are left
-  // out, as a damaged rawlog's end is: said, and an error with --strict.
-  std::string gps_left_out;
-  const std::string gps_problem = sfm::gps_frame_problem(in.sensors, tracked_frame_times(in));
-  if (!gps_problem.empty()) {
-    if (o.strict) throw io::InputError(o.rawlog, 0, gps_problem);
-    gps_left_out = gps_problem +
-                   ": the fixes are left out, the estimate stays in the first "
-                   "camera's frame";
-    std::cerr << "omnisfm: warning: " << io::printable_text(o.rawlog + ": " + gps_left_out) << "\n";
-    in.sensors.gps.clear();
-  }
 
   sfm::SfmResult result;
   try {
     TerminalProgress progress("filter", "frames");
-    result = sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, settings.sfm,
+    // Fixes that cannot place the estimate in ENU (a straight drive, a rawlog cut short) are
+    // left out, as a damaged rawlog's end is: said, and an error with --strict.
+    sfm::SfmSettings fused = settings.sfm;
+    fused.leave_out_unplaceable_gps = !o.strict;
+    result = sfm::run_fused_sfm(*in.camera, in.tracks, in.frame_times, in.sensors, fused,
                                 progress.callback());
   } catch (const std::invalid_argument& e) {
     throw io::InputError(o.rawlog, 0, e.what());
   }
   // Camera frames after the last one with tracks have no pose: their times go too.
   in.frame_times.resize(result.num_frames);
+  const std::string gps_left_out =
+      result.gps_left_out.empty() ? ""
+                                  : result.gps_left_out +
+                                        ": the fixes are left out, the estimate stays in the first "
+                                        "camera's frame";
+  if (!gps_left_out.empty())
+    std::cerr << "omnisfm: warning: " << io::printable_text(o.rawlog + ": " + gps_left_out) << "\n";
   if (!result.refused_gps_fixes.empty())
     std::cerr << "omnisfm: warning: GPS"
               << sfm::refused_fixes_phrase(in.sensors, result.refused_gps_fixes) << "\n";

@@ -133,7 +133,10 @@ CLI::Validator seed_number() {
 
 void require_writable_folder(const std::string& path, const std::filesystem::path& folder) {
   std::error_code ec;
-  if (!std::filesystem::exists(folder, ec))
+  const bool exists = std::filesystem::exists(folder, ec);
+  if (ec)  // a folder above it that cannot be searched, say
+    throw io::InputError(path, 0, "cannot write here: " + folder.string() + ": " + ec.message());
+  if (!exists)
     throw io::InputError(path, 0,
                          "cannot write here: the folder " + folder.string() + " does not exist");
   if (!std::filesystem::is_directory(folder, ec))

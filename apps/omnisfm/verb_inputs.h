@@ -36,15 +36,16 @@ io::VnlogTable read_table_or_stdin(const std::string& path);
 // Flushes standard output; throws std::runtime_error when anything written was lost.
 void finish_stdout();
 
-// Throws io::InputError naming `path` ("cannot write here: FOLDER is not a writable folder")
-// unless `folder`, where `path` goes, is a folder this process may write in.
+// Throws io::InputError naming `path` ("cannot write here: the folder FOLDER does not exist", "...
+// is not a folder", "... is not writable") unless `folder`, where `path` goes, is a folder this
+// process may write in.
 void require_writable_folder(const std::string& path, const std::filesystem::path& folder);
 // The same for the folder that holds `path` (a file, or a folder to be made).
 void require_writable_folder_of(const std::string& path);
 
 // A file the verb writes into a folder that is made when missing, as sfm makes its --out folder:
 // throws io::InputError naming `given` when `out` is a folder, or when the folder's (or, when it
-// is missing, its parent's) is not a writable folder.
+// is missing, its parent's) is not a folder this process may write in.
 void check_output_file(const std::string& given, const std::filesystem::path& out);
 // Throws io::InputError naming `output` when it is one of `inputs` (the same file by any path;
 // empty entries are skipped): writing it would destroy what the run reads.

@@ -145,7 +145,10 @@ void check_folder_replaceable(const std::string& dir, const std::vector<std::str
   if (!target.has_relative_path()) throw InputError(dir, 0, "is the root folder");
   const fs::path parent = target.parent_path();
   std::error_code ec;
-  if (!fs::exists(parent, ec))
+  const bool parent_exists = fs::exists(parent, ec);
+  if (ec)  // a folder above it that cannot be searched, say
+    throw InputError(dir, 0, "cannot write here: " + parent.string() + ": " + ec.message());
+  if (!parent_exists)
     throw InputError(dir, 0,
                      "cannot write here: the folder " + parent.string() + " does not exist");
   if (!fs::is_directory(parent, ec))

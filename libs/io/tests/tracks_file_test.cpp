@@ -53,7 +53,7 @@ TEST(TracksFile, MalformedTracksNameTheLine) {
   expect_error(header + "0 0 5 5\n1 0 6 6\n1 1 7 7\n", "single observation", 4);
   expect_error(header + "0 0 5 5\n1 0 6 6\n1 0 7 7\n", "twice", 4);
   expect_error(header + "0 0 5 5\n1 0 700 6\n", "outside", 3);
-  expect_error(header + "0 0.5 5 5\n", "integer", 2);
+  expect_error(header + "0 0.5 5 5\n", "whole number from 0 to 2000000000", 2);
   expect_error("# frame track u\n0 0 5\n", "v", 0);
 }
 

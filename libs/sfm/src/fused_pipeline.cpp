@@ -257,24 +257,29 @@ std::string frame_fix_problem(const std::vector<FixPlacement>& placed, const Mot
   return "";
 }
 
-void check_fixes_fix_the_frame(const std::vector<FixPlacement>& placed,
-                               const MotionSensors& sensors, const std::string& after) {
-  if (const std::string problem = frame_fix_problem(placed, sensors, after); !problem.empty())
-    throw std::invalid_argument(problem);
-}
-
-void move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
-                   std::vector<Eigen::Isometry3d>* online_cam_from_world, SfmResult* result) {
+// Moves the estimate into the fixes' ENU frame. Where they cannot place it
+// (frame_fix_problem), throws, or with `leave_out` returns false having said why in the result.
+bool move_into_enu(const MotionSensors& sensors, const std::vector<double>& times, bool metric,
+                   bool leave_out, std::vector<Eigen::Isometry3d>* online_cam_from_world,
+                   SfmResult* result) {
   const Eigen::Vector3d antenna = antenna_in_cam(sensors);
+  const auto placeable = [&](const std::vector<FixPlacement>& placed, const std::string& after) {
+    const std::string problem = frame_fix_problem(placed, sensors, after);
+    if (problem.empty()) return true;
+    if (!leave_out) throw std::invalid_argument(problem);
+    result->gps_left_out = problem;
+    result->refused_gps_fixes.clear();
+    return false;
+  };
   std::vector<FixPlacement> placed = place_fixes(sensors.gps, times);
-  check_fixes_fix_the_frame(placed, sensors, "");
+  if (!placeable(placed, "")) return false;
   result->refused_gps_fixes = fixes_at_odds(placed, *online_cam_from_world, antenna, metric);
   if (!result->refused_gps_fixes.empty()) {
     placed = place_fixes(sensors.gps, times, result->refused_gps_fixes);
     // One fix off a straight path spreads them; without it they may lie on the line again.
-    check_fixes_fix_the_frame(placed, sensors,
-                              " once the " + std::to_string(result->refused_gps_fixes.size()) +
-                                  " at odds with the rest are left out");
+    if (!placeable(placed, " once the " + std::to_string(result->refused_gps_fixes.size()) +
+                               " at odds with the rest are left out"))
+      return false;
   }
   const Eigen::Matrix4d S = enu_from_filter(placed, *online_cam_from_world, antenna, metric);
   const double scale = S.topLeftCorner<3, 3>().col(0).norm();
@@ -288,6 +293,7 @@ void move_into_enu(const MotionSensors& sensors, const std::vector<double>& time
   result->online_world_from_cam = core::inverted(*online_cam_from_world);
   for (auto& [track, X] : result->online_points) X = scale * R * X + t;
   result->world_is_enu = true;
+  return true;
 }
 
 void check_timestamps(const std::vector<double>& times, int num_frames) {
@@ -332,14 +338,22 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   result.odometry_scale = sensors.odometry_scale;
 
   refuse_degenerate_motion(result, settings.filter, !sensors.odometry.empty());
-  if (!sensors.gps.empty())
-    move_into_enu(sensors, times, !sensors.odometry.empty(), &online_cam_from_world, &result);
+  // Fixes that cannot place the estimate, when left out, are out of the batch's terms too.
+  MotionSensors without_gps;
+  const MotionSensors* terms_sensors = &sensors;
+  if (!sensors.gps.empty() &&
+      !move_into_enu(sensors, times, !sensors.odometry.empty(), settings.leave_out_unplaceable_gps,
+                     &online_cam_from_world, &result)) {
+    without_gps = sensors;
+    without_gps.gps.clear();
+    terms_sensors = &without_gps;
+  }
   if (!settings.run_batch) return result;
 
   const std::set<int> refused(result.refused_motion_frames.begin(),
                               result.refused_motion_frames.end());
   MotionTerms terms(
-      sensors, times,
+      *terms_sensors, times,
       bias_from_filter(motions, online_cam_from_world, sensors.body_from_cam, refused), refused,
       result.refused_gps_fixes);
   adjust_on_inliers(camera, tracks, settings, online_cam_from_world, &terms, &result);
@@ -348,12 +362,6 @@ SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
   result.odometry_scale_sigma = terms.scale_sigma();
   result.gyro_bias_sigma = terms.bias_sigma();
   return result;
-}
-
-std::string gps_frame_problem(const MotionSensors& sensors,
-                              const std::vector<double>& frame_timestamps) {
-  if (sensors.gps.empty() || frame_timestamps.size() < 2) return "";
-  return frame_fix_problem(place_fixes(sensors.gps, frame_timestamps), sensors, "");
 }
 
 GpsResiduals gps_residuals(const std::vector<Eigen::Isometry3d>& world_from_cam,

@@ -241,10 +241,14 @@ TEST(FusedAccuracy, CraneWithGyroOnly) {
   EXPECT_NEAR(online.alignment.scale / similarity.alignment.scale, 1, 0.06);
 }
 
-TEST(FusedPipeline, WithoutSensorsIsTheVisionPipeline) {
+sim::Dataset simulated_lab() {
   sim::SimulationOptions options;
   options.scenario = "lab";
-  const sim::Dataset d = sim::simulate(options);
+  return sim::simulate(options);
+}
+
+TEST(FusedPipeline, WithoutSensorsIsTheVisionPipeline) {
+  const sim::Dataset d = simulated_lab();
   // The filter only: the batch's threaded sums differ from run to run in their last bits.
   SfmSettings settings = fast_settings();
   settings.run_batch = false;
@@ -258,9 +262,7 @@ TEST(FusedPipeline, WithoutSensorsIsTheVisionPipeline) {
 }
 
 TEST(FusedPipeline, RefusesBadTimestampsAndCollinearFixes) {
-  sim::SimulationOptions options;
-  options.scenario = "lab";
-  const sim::Dataset d = sim::simulate(options);
+  const sim::Dataset d = simulated_lab();
   MotionSensors sensors;
   for (int i = 0; i < 10; ++i) sensors.gps.push_back({i * 2.0, Eigen::Vector3d(0.3 * i, 0, 0)});
   std::vector<double> short_times(d.timestamps.begin(), d.timestamps.end() - 1);
@@ -276,6 +278,36 @@ TEST(FusedPipeline, RefusesBadTimestampsAndCollinearFixes) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("on a line"), std::string::npos) << e.what();
   }
+}
+
+// Left out instead (as `omnisfm run` asks): fixes on a line, and fixes that lie on a line once
+// one at odds with the rest is refused, leave the estimate in the first camera's frame and say
+// why, where they threw.
+TEST(FusedPipeline, LeavesOutFixesThatCannotPlaceTheEstimateWhenAsked) {
+  const sim::Dataset d = simulated_lab();
+  SfmSettings settings = fast_settings();
+  settings.run_batch = false;
+  settings.leave_out_unplaceable_gps = true;
+  // A receiver of 2 cm, its fixes 0.3 m apart along x.
+  MotionSensors line;
+  for (int i = 0; i < 10; ++i)
+    line.gps.push_back({i * 2.0, Eigen::Vector3d(0.3 * i, 0, 0), 0.02, 0.04});
+  const SfmResult on_line = run_fused_sfm(d.camera, d.observations, d.timestamps, line, settings);
+  EXPECT_NE(on_line.gps_left_out.find("GPS: the fixes lie on a line"), std::string::npos)
+      << on_line.gps_left_out;
+  EXPECT_FALSE(on_line.world_is_enu);
+  EXPECT_TRUE(on_line.refused_gps_fixes.empty());
+
+  MotionSensors one_off = line;
+  one_off.gps.push_back({9.0, Eigen::Vector3d(1.35, 50, 0), 0.02, 0.04});
+  const SfmResult off = run_fused_sfm(d.camera, d.observations, d.timestamps, one_off, settings);
+  EXPECT_NE(off.gps_left_out.find("once the 1 at odds with the rest are left out"),
+            std::string::npos)
+      << off.gps_left_out;
+  EXPECT_FALSE(off.world_is_enu);
+  settings.leave_out_unplaceable_gps = false;
+  EXPECT_THROW(run_fused_sfm(d.camera, d.observations, d.timestamps, one_off, settings),
+               std::invalid_argument);
 }
 
 }  // namespace

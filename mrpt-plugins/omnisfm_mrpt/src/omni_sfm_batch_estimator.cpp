@@ -49,6 +49,7 @@ OmniSfmBatchResult OmniSfmBatchEstimator::estimate(ReplayInput in,
   settings.filter = options_.filter;
   settings.batch = batch_;
   settings.run_batch = true;
+  settings.leave_out_unplaceable_gps = true;  // estimate.gps_left_out says why
 
   OmniSfmBatchResult out;
   out.problem = in.read.problem;

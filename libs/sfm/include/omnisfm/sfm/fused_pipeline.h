@@ -9,7 +9,9 @@
 //     in the first camera's frame; its estimate is then moved into ENU by the similarity (rigid,
 //     with odometry) that best fits its antenna positions to the fixes, and the batch holds no
 //     pose: the fixes fix the gauge. They must span at least 3 non-collinear positions (the
-//     rotation about a straight path is not observable otherwise). A fix at odds with the rest
+//     rotation about a straight path is not observable otherwise): where they do not, it throws,
+//     or with SfmSettings::leave_out_unplaceable_gps leaves them all out (the world is then the
+//     first camera's frame; SfmResult::gps_left_out says why). A fix at odds with the rest
 //     as the filter's trajectory places them (beyond its own noise's 1 - 1e-6 bound, and five
 //     times the fixes' robust spread about the fit) is left out of both, and listed in
 //     result.refused_gps_fixes.
@@ -32,18 +34,13 @@ namespace omnisfm::sfm {
 
 // frame_timestamps: one per frame (at least as many as the tracks span), increasing, on the
 // sensors' clock. With empty sensors this is run_sfm. Throws as run_sfm does, and
-// std::invalid_argument for missing or non-increasing timestamps and for GPS fixes too few or
-// all on a line within the frames' time span.
+// std::invalid_argument for missing or non-increasing timestamps and, unless
+// settings.leave_out_unplaceable_gps, for GPS fixes too few or all on a line within the frames'
+// time span.
 SfmResult run_fused_sfm(const camera::CatadioptricCamera& camera,
                         const std::vector<core::TrackObservation>& tracks,
                         const std::vector<double>& frame_timestamps, const MotionSensors& sensors,
                         const SfmSettings& settings, const Progress& progress = nullptr);
-
-// Why the GPS fixes within the frames' time span cannot place the estimate in ENU (fewer than 3,
-// or all on a line within their noise: a straight drive), the message run_fused_sfm would throw;
-// "" when they can or there are none. A caller may then leave them out instead.
-std::string gps_frame_problem(const MotionSensors& sensors,
-                              const std::vector<double>& frame_timestamps);
 
 // The GPS fixes within the frames' time span (but the `refused_fixes`, indices into
 // sensors.gps) against an estimate in their ENU frame: each fix against the antenna's position

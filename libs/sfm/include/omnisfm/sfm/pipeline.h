@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "omnisfm/core/track_observation.h"
@@ -37,6 +38,12 @@ struct SfmSettings {
   // back only if it passes (track_consistency.h): a slow drift stays within the residual limit
   // at every frame. 0 turns it off; run_sfm refuses 1 or more.
   double batch_track_false_alarm = 1e-4;
+  // GPS fixes too few or on a line (within their noise) to place the estimate in ENU, a straight
+  // drive or a rawlog cut short, also once those at odds with the rest are left out
+  // (run_fused_sfm): false throws; true leaves every fix out of the move into ENU and of the
+  // batch, the estimate staying in the first camera's frame, and says why in
+  // SfmResult::gps_left_out.
+  bool leave_out_unplaceable_gps = false;
   // The batch's limit on a residual: 0 when its test is off, else batch_outlier_threshold_px
   // with the paper's test and FilterSettings::residual_limit_px() with the chi-square one.
   double batch_residual_limit_px() const;
@@ -70,6 +77,8 @@ struct SfmResult {
   double online_noise_px = NAN;
   BatchResult batch;
   // With the vehicle's motion sensors (run_fused_sfm, fused_pipeline.h):
+  // Why the GPS fixes were all left out (SfmSettings::leave_out_unplaceable_gps); "" otherwise.
+  std::string gps_left_out;
   bool world_is_enu = false;           // the world is the GPS's local ENU frame, else the first camera's
   double odometry_scale = 1;           // estimated: true distance per distance the odometry read
   Eigen::Vector3d gyro_bias{0, 0, 0};  // estimated, rad/s about the body's axes

@@ -7,8 +7,10 @@
 //
 // Frames: as OmniSfmEstimator's, the map is the robot's frame at the first camera frame (x
 // forward, y left, z up), or with GPS fixes the local east-north-up frame the fixes define
-// (map_is_enu). Each pose's covariance is the batch's, carried to MRPT's (x, y, z, yaw, pitch,
-// roll); the first frame's is zero in the robot's map, which it defines.
+// (map_is_enu); fixes too few or on a line to place the map (a straight drive) are left out, the
+// map then the robot's, and estimate.gps_left_out says why. Each pose's covariance is the batch's,
+// carried to MRPT's (x, y, z, yaw, pitch, roll); the first frame's is zero in the robot's map,
+// which it defines.
 //
 // MRPT headers: the including target must link MRPT (mrpt::obs, mrpt::poses, mrpt::maps) itself.
 
