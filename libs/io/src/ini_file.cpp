@@ -68,7 +68,8 @@ std::string IniSection::get_string(const std::string& key) const { return requir
 double IniSection::get_double(const std::string& key) const {
   const IniEntry& entry = require(key);
   double value = 0;
-  if (!parse_double(entry.value, &value)) fail(key, in_quotes(entry.value) + " is not a number");
+  if (!parse_double(entry.value, &value))
+    fail(key, in_quotes(entry.value) + " " + not_a_double_reason(entry.value));
   return value;
 }
 
@@ -86,7 +87,8 @@ std::vector<double> IniSection::get_doubles(const std::string& key) const {
   std::string field;
   while (fields >> field) {
     double value = 0;
-    if (!parse_double(field, &value)) fail(key, in_quotes(field) + " is not a number");
+    if (!parse_double(field, &value))
+      fail(key, in_quotes(field) + " " + not_a_double_reason(field));
     values.push_back(value);
   }
   return values;

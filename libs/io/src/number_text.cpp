@@ -25,6 +25,15 @@ bool parse_double(std::string_view text, double* value) {
   return true;
 }
 
+std::string not_a_double_reason(std::string_view text) {
+  text = without_plus(text);
+  double parsed = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), parsed);
+  return error == std::errc::result_out_of_range && end == text.data() + text.size()
+             ? "is out of range"
+             : "is not a number";
+}
+
 bool parse_int(std::string_view text, int* value) {
   text = without_plus(text);
   if (text.empty()) return false;

@@ -56,7 +56,8 @@ double number_of(const std::string& file, int line, const std::string& column,
   if (VnlogTable::is_missing(field)) return std::numeric_limits<double>::quiet_NaN();
   double value = 0;
   if (!parse_double(field, &value))
-    throw InputError(file, line, "column '" + column + "': '" + field + "' is not a number");
+    throw InputError(file, line,
+                     "column '" + column + "': '" + field + "' " + not_a_double_reason(field));
   return value;
 }
 

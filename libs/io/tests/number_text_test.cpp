@@ -27,6 +27,16 @@ TEST(NumberText, ParsesWholeFieldsOnly) {
   EXPECT_EQ(value, 42);
 }
 
+// A number beyond a double's range is said to be so, not to be no number at all.
+TEST(NumberText, SaysWhyAFieldIsNotADouble) {
+  EXPECT_EQ(not_a_double_reason("1e400"), "is out of range");
+  EXPECT_EQ(not_a_double_reason("-1e400"), "is out of range");
+  EXPECT_EQ(not_a_double_reason("+1e400"), "is out of range");
+  EXPECT_EQ(not_a_double_reason("1e400x"), "is not a number");
+  EXPECT_EQ(not_a_double_reason("abc"), "is not a number");
+  EXPECT_EQ(not_a_double_reason(""), "is not a number");
+}
+
 TEST(NumberText, ParsesIntegers) {
   int value = 0;
   EXPECT_TRUE(parse_int("1024", &value));
