@@ -14,6 +14,8 @@
 #include <cstdlib>
 #include <map>
 
+#include "omnisfm/core/pose_vector.h"
+#include "omnisfm/eval/filter_consistency.h"
 #include "omnisfm/sfm/batch_adjustment.h"
 #include "omnisfm/sfm/blas_threads.h"
 #include "omnisfm/sim/endless_drive.h"
@@ -70,10 +72,11 @@ int main(int argc, char** argv) {
     }
     const Eigen::Matrix3d C =
         J * r.cam_from_world_covariances[f].topLeftCorner<3, 3>() * J.transpose();
-    // Both in the first frame's gauge, which the batch holds at the truth.
-    const Eigen::Matrix3d truth = d.world_from_cam[f].linear().transpose();
-    // As eval::filter_pose_error takes it (drive_nees): the truth against the estimate.
-    const Eigen::Vector3d e = log_so3(truth * R.transpose());
+    // As drive_nees takes it, both in the first frame's gauge (the batch holds it at the truth).
+    const Eigen::Vector3d e =
+        eval::filter_pose_error(d.world_from_cam[f].inverse(),
+                                core::isometry_of(r.cam_from_world_parameters[f]))
+            .head<3>();
     std::printf("%d  %.3f %.3f %.3f  %.3f %.3f %.3f\n", f, e(0) * kDeg, e(1) * kDeg, e(2) * kDeg,
                 std::sqrt(C(0, 0)) * kDeg, std::sqrt(C(1, 1)) * kDeg, std::sqrt(C(2, 2)) * kDeg);
   }

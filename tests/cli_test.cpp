@@ -620,21 +620,20 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
     for (int t = 0; t < 7; ++t)
       later_rows += std::to_string(f) + " " + std::to_string(t) + " " +
                     std::to_string(400 + 20 * t + f) + " 400\n";
+  // Tracks refused with `message`, and nothing written.
+  const auto refused = [&](const std::string& tracks, const std::string& message) {
+    const Outcome run = omnisfm("sfm --camera lab/camera.ini --tracks " + tracks + " --out result");
+    EXPECT_EQ(run.status, 2) << tracks;
+    EXPECT_NE(run.err.find(message), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir_ / "result")) << tracks;
+  };
   write("later.vnl", later_rows);
-  const Outcome later = omnisfm("sfm --camera lab/camera.ini --tracks later.vnl --out result");
-  EXPECT_EQ(later.status, 2);
-  EXPECT_NE(later.err.find("later.vnl: frame 0 has 0 tracks; at least 6 are needed to start "
-                           "(frames count the images from 0; the first with tracks is 10)"),
-            std::string::npos)
-      << later.err;
-  EXPECT_FALSE(fs::exists(dir_ / "result"));
+  refused("later.vnl",
+          "later.vnl: frame 0 has 0 tracks; at least 6 are needed to start (frames count the "
+          "images from 0; the first with tracks is 10)");
   write("huge.vnl", "# frame track u v\n0 2147483647 500 400\n");
-  const Outcome huge = omnisfm("sfm --camera lab/camera.ini --tracks huge.vnl --out result");
-  EXPECT_EQ(huge.status, 2);
-  EXPECT_NE(huge.err.find("huge.vnl:2: column 'track': '2147483647' is not a whole number from 0 "
-                          "to 2000000000"),
-            std::string::npos)
-      << huge.err;
+  refused("huge.vnl",
+          "huge.vnl:2: column 'track': '2147483647' is not a whole number from 0 to 2000000000");
   write("start.ini", "[sfm]\nsmoothed_start_frames = 1\n");
   const Outcome start = omnisfm(
       "sfm --camera lab/camera.ini --tracks lab/tracks.vnl --out result --config start.ini");

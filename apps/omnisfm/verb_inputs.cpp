@@ -1,12 +1,11 @@
 #include "verb_inputs.h"
 
-#include <unistd.h>
-
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
 
+#include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/camera_covariance.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/input_error.h"
@@ -131,23 +130,9 @@ CLI::Validator seed_number() {
                     });
 }
 
-void require_writable_folder(const std::string& path, const std::filesystem::path& folder) {
-  std::error_code ec;
-  const bool exists = std::filesystem::exists(folder, ec);
-  if (ec)  // a folder above it that cannot be searched, say
-    throw io::InputError(path, 0, "cannot write here: " + folder.string() + ": " + ec.message());
-  if (!exists)
-    throw io::InputError(path, 0,
-                         "cannot write here: the folder " + folder.string() + " does not exist");
-  if (!std::filesystem::is_directory(folder, ec))
-    throw io::InputError(path, 0, "cannot write here: " + folder.string() + " is not a folder");
-  if (::access(folder.c_str(), W_OK) != 0)
-    throw io::InputError(path, 0,
-                         "cannot write here: the folder " + folder.string() + " is not writable");
-}
-
 void require_writable_folder_of(const std::string& path) {
-  require_writable_folder(path, std::filesystem::absolute(path).lexically_normal().parent_path());
+  io::require_writable_folder(path,
+                              std::filesystem::absolute(path).lexically_normal().parent_path());
 }
 
 }  // namespace omnisfm::app
@@ -159,8 +144,8 @@ void check_output_file(const std::string& given, const std::filesystem::path& ou
       out.filename() == "..")
     throw io::InputError(given, 0, "is a folder; give the file's name");
   const std::filesystem::path folder = out.parent_path();
-  require_writable_folder(given,
-                          std::filesystem::exists(folder) ? folder : folder.parent_path());
+  io::require_writable_folder(given,
+                              std::filesystem::exists(folder) ? folder : folder.parent_path());
 }
 
 void require_not_an_input(const std::string& output, const std::vector<std::string>& inputs) {

@@ -36,11 +36,7 @@ io::VnlogTable read_table_or_stdin(const std::string& path);
 // Flushes standard output; throws std::runtime_error when anything written was lost.
 void finish_stdout();
 
-// Throws io::InputError naming `path` ("cannot write here: the folder FOLDER does not exist", "...
-// is not a folder", "... is not writable") unless `folder`, where `path` goes, is a folder this
-// process may write in.
-void require_writable_folder(const std::string& path, const std::filesystem::path& folder);
-// The same for the folder that holds `path` (a file, or a folder to be made).
+// io::require_writable_folder for the folder that holds `path` (a file, or a folder to be made).
 void require_writable_folder_of(const std::string& path);
 
 // A file the verb writes into a folder that is made when missing, as sfm makes its --out folder:

@@ -132,6 +132,21 @@ bool lies_within(const fs::path& path, const fs::path& folder) {
   return std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end()).first == outer.end();
 }
 
+void require_writable_folder(const std::string& path, const fs::path& folder) {
+  std::error_code ec;
+  const bool exists = fs::exists(folder, ec);
+  if (ec)  // a folder above it that cannot be searched, say
+    throw InputError(path, 0, "cannot write here: " + folder.string() + ": " + ec.message());
+  if (!exists)
+    throw InputError(path, 0,
+                     "cannot write here: the folder " + folder.string() + " does not exist");
+  if (!fs::is_directory(folder, ec))
+    throw InputError(path, 0, "cannot write here: " + folder.string() + " is not a folder");
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw InputError(path, 0,
+                     "cannot write here: the folder " + folder.string() + " is not writable");
+}
+
 void check_folder_replaceable(const std::string& dir, const std::vector<std::string>& inputs) {
   if (dir.empty()) throw InputError("--out", 0, "is empty; give a folder");
   const fs::path target = folder_path(dir);
@@ -143,19 +158,8 @@ void check_folder_replaceable(const std::string& dir, const std::vector<std::str
                      "its name is " + std::to_string(target.filename().string().size()) +
                          " bytes long; at most " + std::to_string(kMaxName));
   if (!target.has_relative_path()) throw InputError(dir, 0, "is the root folder");
-  const fs::path parent = target.parent_path();
+  require_writable_folder(dir, target.parent_path());
   std::error_code ec;
-  const bool parent_exists = fs::exists(parent, ec);
-  if (ec)  // a folder above it that cannot be searched, say
-    throw InputError(dir, 0, "cannot write here: " + parent.string() + ": " + ec.message());
-  if (!parent_exists)
-    throw InputError(dir, 0,
-                     "cannot write here: the folder " + parent.string() + " does not exist");
-  if (!fs::is_directory(parent, ec))
-    throw InputError(dir, 0, "cannot write here: " + parent.string() + " is not a folder");
-  if (::access(parent.c_str(), W_OK) != 0)
-    throw InputError(dir, 0,
-                     "cannot write here: the folder " + parent.string() + " is not writable");
   // A link would be replaced by a folder of its own, its target left as it was.
   if (fs::is_symlink(fs::symlink_status(target, ec)))
     throw InputError(dir, 0, "is a symbolic link: give the folder it names");

@@ -37,6 +37,11 @@ std::filesystem::path folder_path(const std::string& given);
 // missing).
 bool lies_within(const std::filesystem::path& path, const std::filesystem::path& folder);
 
+// Throws InputError naming `path` ("cannot write here: the folder FOLDER does not exist", "... is
+// not a folder", "... is not writable", or why it cannot be searched) unless `folder`, where
+// `path` goes, is a folder this process may write in.
+void require_writable_folder(const std::string& path, const std::filesystem::path& folder);
+
 // What write_folder_atomically(dir) would refuse or lose, checked before a verb's work (the
 // write checks the folder again): throws InputError naming `dir` when the path is empty, names a
 // file, or lies in a folder that is missing or not writable; when the folder exists holding
