@@ -231,9 +231,16 @@ TEST_F(CliTest, MalformedPointsFileExitsWithTwoAndNamesTheLine) {
   EXPECT_EQ(run.err.rfind("omnisfm: points.vnl:4: ", 0), 0u) << run.err;
   EXPECT_NE(run.err.find("'y'"), std::string::npos) << run.err;
 
+  EXPECT_EQ(run.out, "") << "a partial table before the error";
+
   run = omnisfm("project", "# x y z\n1 0 -1\n1 0\n");
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(run.err.rfind("omnisfm: <stdin>:3: ", 0), 0u) << run.err;
+
+  run = omnisfm("unproject", "# u v\n600 400\n600 x\n");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err.rfind("omnisfm: <stdin>:3: ", 0), 0u) << run.err;
+  EXPECT_EQ(run.out, "") << "a partial table before the error";
 
   run = omnisfm("unproject", "# x y\n1 2\n");
   EXPECT_EQ(run.status, 2);

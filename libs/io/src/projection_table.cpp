@@ -14,10 +14,13 @@ constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 void write_projected_points(const camera::CatadioptricCamera& camera, const VnlogTable& points,
                             std::ostream& out) {
   const std::vector<std::size_t> xyz = points.columns({"x", "y", "z"});
+  // Every row read before anything is written: a bad row leaves no partial table.
+  std::vector<Eigen::Vector3d> rows;
+  for (std::size_t row = 0; row < points.num_rows(); ++row)
+    rows.emplace_back(points.number(row, xyz[0]), points.number(row, xyz[1]),
+                      points.number(row, xyz[2]));
   VnlogWriter writer(out, {"u", "v"});
-  for (std::size_t row = 0; row < points.num_rows(); ++row) {
-    const Eigen::Vector3d X(points.number(row, xyz[0]), points.number(row, xyz[1]),
-                            points.number(row, xyz[2]));
+  for (const Eigen::Vector3d& X : rows) {
     Eigen::Vector2d pixel;
     if (X.allFinite() && camera.project(X, &pixel)) {
       writer.row({pixel.x(), pixel.y()});
@@ -30,9 +33,11 @@ void write_projected_points(const camera::CatadioptricCamera& camera, const Vnlo
 void write_unprojected_pixels(const camera::CatadioptricCamera& camera, const VnlogTable& pixels,
                               std::ostream& out) {
   const std::vector<std::size_t> uv = pixels.columns({"u", "v"});
+  std::vector<Eigen::Vector2d> rows;
+  for (std::size_t row = 0; row < pixels.num_rows(); ++row)
+    rows.emplace_back(pixels.number(row, uv[0]), pixels.number(row, uv[1]));
   VnlogWriter writer(out, {"ox", "oy", "oz", "dx", "dy", "dz"});
-  for (std::size_t row = 0; row < pixels.num_rows(); ++row) {
-    const Eigen::Vector2d pixel(pixels.number(row, uv[0]), pixels.number(row, uv[1]));
+  for (const Eigen::Vector2d& pixel : rows) {
     Eigen::Vector3d origin, direction;
     if (pixel.allFinite() && camera.unproject(pixel, &origin, &direction)) {
       writer.row({origin.x(), origin.y(), origin.z(), direction.x(), direction.y(), direction.z()});
