@@ -5,10 +5,19 @@
 // scale fixed), no motion or depth priors: at a few frames, the pose's rotation error and
 // standard deviation about each of the camera's axes (z up), as a left perturbation of
 // cam_from_world in the first frame's gauge, as drive_nees prints them with axes=1.
-//   drive_truth_batch [FRAMES=4000] [SEED=1] [NOISE=0.2]
+//   drive_truth_batch [FRAMES=4000] [SEED=1] [NOISE=0.2] [SIGMAS=1] [START=0] [ITERATIONS=200]
+//   [HOLD=1]
+// HOLD 0 leaves the scale free (every scale kept, however weakly the images fix it); 2 as the
+// batch decides by default (held at the start's where the images fix it to worse than a factor 2).
+// START 1 starts the batch at the online filter's estimate instead (vision alone, its settings'
+// defaults, as drive_nees runs it with SENSORS 0), brought to the first pose and the true distance:
+// whether the minimum the truth's start finds is the one a start the truth does not know reaches.
+// SIGMAS 0 leaves the covariances out (they are dense: beyond about 5,000 frames they do not fit).
+// At the end, the mean rotation error after a similarity alignment, as drive_nees prints it.
 // 4,000 frames take about 6-7 minutes on one core; 1,000 frames 16 s and 170 MB.
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,8 +25,11 @@
 
 #include "omnisfm/core/pose_vector.h"
 #include "omnisfm/eval/filter_consistency.h"
+#include "omnisfm/eval/filter_run.h"
+#include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/sfm/batch_adjustment.h"
 #include "omnisfm/sfm/blas_threads.h"
+#include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/sim/endless_drive.h"
 
 namespace {
@@ -41,24 +53,80 @@ int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 4000;
   const std::uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
   const double noise = argc > 3 ? std::atof(argv[3]) : 0.2;
+  const bool sigmas = argc > 4 ? std::atoi(argv[4]) != 0 : true;
+  const bool from_filter = argc > 5 && std::atoi(argv[5]) != 0;
+  const int iterations = argc > 6 ? std::atoi(argv[6]) : 200;
+  const int hold = argc > 7 ? std::atoi(argv[7]) : 1;
+  const bool hold_distance = hold == 1;
   if (frames < 8) {
     std::fprintf(stderr, "drive_truth_batch: at least 8 frames\n");
     return 2;
   }
   const sim::Dataset d = sim::long_drive(frames, noise, seed);
   std::map<int, Eigen::Vector3d> points;
-  for (const core::TrackObservation& o : d.observations) points[o.track] = d.track_points[o.track];
+  std::vector<Eigen::Isometry3d> start = d.world_from_cam;
+  std::vector<core::TrackObservation> observations = d.observations;
+  if (from_filter) {
+    sfm::FilterSettings filter_settings;
+    sfm::OnlineFilter filter(d.camera, filter_settings);
+    filter.on_point_ended([&](int track, const Eigen::Vector3d& p) { points[track] = p; });
+    std::vector<Eigen::Isometry3d> first_from_cam;
+    eval::run_filter(d, nullptr, filter_settings, &filter,
+                     [&](int) { first_from_cam.push_back(filter.cam_from_world().inverse()); });
+    for (const auto& [track, p] : filter.points()) points[track] = p;
+    // The filter's map in the first camera's frame at its own scale: to the truth's first pose,
+    // and where the distance is held, to it.
+    const double scale =
+        hold_distance
+            ? (d.world_from_cam.back().translation() - d.world_from_cam.front().translation())
+                      .norm() /
+                  (first_from_cam.back().translation() - first_from_cam.front().translation())
+                      .norm()
+            : 1.0;
+    const auto to_world = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+      return d.world_from_cam[0] * (scale * p);
+    };
+    for (size_t f = 0; f < start.size(); ++f) {
+      start[f] = first_from_cam[f];
+      start[f].translation() *= scale;
+      start[f] = d.world_from_cam[0] * start[f];
+    }
+    for (auto& [track, p] : points) p = to_world(p);
+    observations.erase(
+        std::remove_if(observations.begin(), observations.end(),
+                       [&](const core::TrackObservation& o) { return !points.count(o.track); }),
+        observations.end());
+    std::printf(
+        "# started at the filter's estimate (its map %.3f times the truth's), %zu points\n",
+        (first_from_cam.back().translation() - first_from_cam.front().translation()).norm() /
+            (d.world_from_cam.back().translation() - d.world_from_cam.front().translation()).norm(),
+        points.size());
+  } else {
+    for (const core::TrackObservation& o : observations) points[o.track] = d.track_points[o.track];
+  }
   sfm::BatchSettings settings;
   settings.pixel_sigma = noise > 0 ? noise : 0.2;
-  settings.scale_start = false;
-  settings.known_distance_m =
+  settings.scale_start = from_filter && !hold_distance;
+  const double distance =
       (d.world_from_cam.back().translation() - d.world_from_cam.front().translation()).norm();
+  if (hold_distance)
+    settings.known_distance_m = distance;
+  else if (hold == 0)
+    settings.max_free_scale_sigma = INFINITY;
   settings.threads = 1;
-  const sfm::BatchResult r =
-      sfm::batch_adjust(d.camera, d.observations, d.world_from_cam, points, settings);
+  settings.covariances = sigmas;
+  settings.max_iterations = iterations;
+  const sfm::BatchResult r = sfm::batch_adjust(d.camera, observations, start, points, settings);
   std::printf("# seed %d, %d frames: converged %d after %d iterations, %.4f px, %.0f s\n",
               static_cast<int>(seed), frames, r.converged, r.iterations, r.final_rms_px, r.seconds);
-  if (!r.usable() || r.cam_from_world_covariances.size() != d.world_from_cam.size()) return 1;
+  if (!r.usable() || (sigmas && r.cam_from_world_covariances.size() != d.world_from_cam.size()))
+    return 1;
+  std::printf(
+      "# scale %.3f of the truth's (%s), the images' relative sigma %.3f\n",
+      (r.world_from_cam.back().translation() - r.world_from_cam.front().translation()).norm() /
+          distance,
+      r.scale_source == sfm::BatchScale::kFromImages ? "the images'" : "held",
+      r.scale_sigma_relative);
   std::printf("# frame  error about x y z (deg)  sigma about x y z (deg)\n");
   constexpr double kDeg = 180 / M_PI;
   for (const int f : {frames / 8, frames / 4, frames / 2, frames - 1}) {
@@ -71,7 +139,9 @@ int main(int argc, char** argv) {
       J.col(k) = log_so3(exp_so3(aa + kStep * Eigen::Vector3d::Unit(k)) * R.transpose()) / kStep;
     }
     const Eigen::Matrix3d C =
-        J * r.cam_from_world_covariances[f].topLeftCorner<3, 3>() * J.transpose();
+        sigmas ? Eigen::Matrix3d(J * r.cam_from_world_covariances[f].topLeftCorner<3, 3>() *
+                                 J.transpose())
+               : Eigen::Matrix3d::Constant(NAN);
     // As drive_nees takes it, both in the first frame's gauge (the batch holds it at the truth).
     const Eigen::Vector3d e =
         eval::filter_pose_error(d.world_from_cam[f].inverse(),
@@ -80,4 +150,11 @@ int main(int argc, char** argv) {
     std::printf("%d  %.3f %.3f %.3f  %.3f %.3f %.3f\n", f, e(0) * kDeg, e(1) * kDeg, e(2) * kDeg,
                 std::sqrt(C(0, 0)) * kDeg, std::sqrt(C(1, 1)) * kDeg, std::sqrt(C(2, 2)) * kDeg);
   }
+  std::vector<Eigen::Isometry3d> estimate;
+  for (const core::PoseVector& p : r.cam_from_world_parameters)
+    estimate.push_back(core::isometry_of(p).inverse());
+  const eval::TrajectoryErrors similar = eval::trajectory_errors(estimate, d.world_from_cam, true);
+  std::printf("# after a similarity %.2f %% of %.0f m, mean rotation error %.2f deg\n",
+              similar.translation_error_percent, similar.distance_travelled_m,
+              similar.mean_rotation_error_deg);
 }
