@@ -108,7 +108,8 @@ bool VnlogReader::next() {
     if (is_blank(text)) continue;
     const std::string content = from_first_nonblank(text);
     if (content.front() == '#') continue;  // comments, after the header
-    fields_ = split(content);
+    // As vnlog's own readers take it: a '#' ends a row's fields, the rest is a comment.
+    fields_ = split(content.substr(0, content.find('#')));
     if (fields_.size() != columns_.size())
       throw InputError(file_, line_,
                        "expected " + std::to_string(columns_.size()) + " fields, found " +

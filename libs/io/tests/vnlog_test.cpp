@@ -69,6 +69,15 @@ TEST(Vnlog, BadNumberNamesFileLineAndColumn) {
   EXPECT_EQ(table.numbers("x"), (std::vector<double>{1, 3}));
 }
 
+TEST(Vnlog, TrailingCommentEndsARow) {
+  const VnlogTable table = parsed("# x y\n1 2 # measured twice\n3 4#\n");
+  ASSERT_EQ(table.num_rows(), 2u);
+  EXPECT_EQ(table.numbers("y"), (std::vector<double>{2, 4}));
+  // The comment's words are not fields.
+  const std::string message = error_of([] { parsed("# x y z\n1 2 # 3\n"); });
+  EXPECT_NE(message.find("table.vnl:2: expected 3 fields, found 2"), std::string::npos) << message;
+}
+
 TEST(Vnlog, WrongFieldCountIsAnError) {
   std::string message = error_of([] { parsed("# x y z\n1 2 3\n1 2\n"); });
   EXPECT_NE(message.find("table.vnl:3:"), std::string::npos) << message;
