@@ -1176,6 +1176,16 @@ TEST_F(CliTest, DetectCornersThenCalibrateOnRealCheckerboards) {
   ASSERT_EQ(through.status, 0) << through.err;
   EXPECT_NE(through.out.find("found a 6x7 board in 2 of 2 images"), std::string::npos)
       << through.out;
+  // A name corners.vnl cannot hold: a '#' would begin a comment there.
+  fs::create_directories(dir_ / "hashed");
+  fs::copy_file(data / "vmr" / "VMRImage3.jpg", dir_ / "hashed" / "VMR#3.jpg");
+  const Outcome hashed = omnisfm(
+      "detect-corners --images hashed --camera vmr.ini"
+      " --object-width-n 6 --object-height-n 7 --out hashed.vnl");
+  EXPECT_EQ(hashed.status, 2);
+  EXPECT_NE(hashed.err.find("VMR#3.jpg: has whitespace or '#' in its name"), std::string::npos)
+      << hashed.err;
+  EXPECT_FALSE(fs::exists(dir_ / "hashed.vnl"));
   const auto generic = omnisfm::io::read_corners((dir_ / "found/corners.vnl").string());
   for (const auto& image : omnisfm::io::read_corners((dir_ / "two.vnl").string()))
     for (const auto& other : generic)

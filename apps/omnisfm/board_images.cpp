@@ -107,9 +107,9 @@ std::vector<io::ImageCorners> detect_boards(const std::string& images,
                                std::to_string(camera_size->width) + "x" +
                                std::to_string(camera_size->height));
     BoardImage image{image_name(sequence, frame), frame.image, std::nullopt, {}};
-    if (image.name.find_first_of(" \t\r\n\v\f") != std::string::npos)
+    if (image.name.find_first_of(" \t\r\n\v\f#") != std::string::npos)
       throw io::InputError(frame.file, 0,
-                           "has whitespace in its name, which corners.vnl cannot hold");
+                           "has whitespace or '#' in its name, which corners.vnl cannot hold");
     image.board = detector->detect(frame.image, &image.board_seen);
     found.push_back(calib::image_corners(image.name, image.board));
     if (each) each(image);

@@ -19,7 +19,7 @@ calib::MirrorImage mirror_of(const std::string& images);
 
 // Each image searched in order: its corners (one missing corner where no whole board was found),
 // `each` told of every image as it is searched. Image names are the files' names, or for a
-// video's frames the video's stem and the frame's index; a name with whitespace is refused
+// video's frames the video's stem and the frame's index; a name with whitespace or '#' is refused
 // (io::InputError naming the image), as corners.vnl cannot hold it.
 struct BoardImage {
   std::string name;

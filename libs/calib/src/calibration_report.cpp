@@ -37,10 +37,10 @@ std::string padded(const std::string& text, std::size_t width) {
   return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
 }
 
-// A vnlog field may hold no whitespace.
+// A vnlog field may hold no whitespace, nor a '#', which begins a comment.
 std::string field_text(std::string text) {
   for (char& c : text) {
-    if (std::isspace(static_cast<unsigned char>(c))) c = '_';
+    if (std::isspace(static_cast<unsigned char>(c)) || c == '#') c = '_';
   }
   return text.empty() ? "-" : text;
 }

@@ -231,8 +231,9 @@ void VnlogWriter::row_texts(const std::vector<std::string>& fields) {
                                 " fields for " + std::to_string(num_columns_) + " columns");
   }
   for (std::size_t i = 0; i < fields.size(); ++i) {
-    if (fields[i].find_first_of(" \t\r\n") != std::string::npos) {
-      throw std::invalid_argument("vnlog field '" + fields[i] + "' contains whitespace");
+    // Whitespace would split the field, and a '#' begins a comment that ends the row.
+    if (fields[i].find_first_of(" \t\r\n#") != std::string::npos) {
+      throw std::invalid_argument("vnlog field '" + fields[i] + "' contains whitespace or '#'");
     }
     if (i) out_ << ' ';
     out_ << (fields[i].empty() ? "-" : fields[i]);

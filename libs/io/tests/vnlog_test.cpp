@@ -164,6 +164,8 @@ TEST(Vnlog, WriterWritesTextFields) {
   writer.row_texts({"b.png", ""});
   EXPECT_EQ(out.str(), "# filename x\na.png 1.5\nb.png -\n");
   EXPECT_THROW(writer.row_texts({"with space", "1"}), std::invalid_argument);
+  // It would read back as a comment.
+  EXPECT_THROW(writer.row_texts({"board#1.png", "1"}), std::invalid_argument);
 }
 
 }  // namespace
