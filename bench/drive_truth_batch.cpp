@@ -7,6 +7,7 @@
 // cam_from_world in the first frame's gauge, as drive_nees prints them with axes=1.
 //   drive_truth_batch [FRAMES=4000] [SEED=1] [NOISE=0.2] [SIGMAS=1] [START=0] [ITERATIONS=200]
 //   [HOLD=1]
+// or each by name, anywhere: frames=20000 seed=2 sigmas=0 hold=0 (lower case).
 // HOLD 0 leaves the scale free (every scale kept, however weakly the images fix it); 2 as the
 // batch decides by default (held at the start's where the images fix it to worse than a factor 2).
 // START 1 starts the batch at the online filter's estimate instead (vision alone, its settings'
@@ -21,7 +22,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <iterator>
 #include <map>
+#include <string>
+#include <vector>
 
 #include "omnisfm/core/pose_vector.h"
 #include "omnisfm/eval/filter_consistency.h"
@@ -31,6 +36,7 @@
 #include "omnisfm/sfm/blas_threads.h"
 #include "omnisfm/sfm/online_filter.h"
 #include "omnisfm/sim/endless_drive.h"
+#include "setting_assignment.h"
 
 namespace {
 
@@ -50,13 +56,43 @@ Eigen::Vector3d log_so3(const Eigen::Matrix3d& R) {
 int main(int argc, char** argv) {
   using namespace omnisfm;
   sfm::use_one_blas_thread();
-  const int frames = argc > 1 ? std::atoi(argv[1]) : 4000;
-  const std::uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
-  const double noise = argc > 3 ? std::atof(argv[3]) : 0.2;
-  const bool sigmas = argc > 4 ? std::atoi(argv[4]) != 0 : true;
-  const bool from_filter = argc > 5 && std::atoi(argv[5]) != 0;
-  const int iterations = argc > 6 ? std::atoi(argv[6]) : 200;
-  const int hold = argc > 7 ? std::atoi(argv[7]) : 1;
+  // Positional, or by name anywhere (frames=4000 seed=2 ...; a name overrides its position).
+  double frames_value = 4000, seed_value = 1, noise = 0.2, sigmas_value = 1, start_value = 0,
+         iterations_value = 200, hold_value = 1;
+  const bench::Setters settable = {
+      {"frames", [&](double v) { frames_value = v; }},
+      {"seed", [&](double v) { seed_value = v; }},
+      {"noise", [&](double v) { noise = v; }},
+      {"sigmas", [&](double v) { sigmas_value = v; }},
+      {"start", [&](double v) { start_value = v; }},
+      {"iterations", [&](double v) { iterations_value = v; }},
+      {"hold", [&](double v) { hold_value = v; }},
+  };
+  double* const by_position[] = {&frames_value, &seed_value,       &noise,     &sigmas_value,
+                                 &start_value,  &iterations_value, &hold_value};
+  std::vector<std::string> assignments;
+  size_t position = 0;
+  for (int k = 1; k < argc; ++k) {
+    if (std::strchr(argv[k], '=')) {
+      assignments.push_back(argv[k]);
+    } else if (position < std::size(by_position)) {
+      *by_position[position++] = std::atof(argv[k]);
+    } else {
+      std::fprintf(stderr, "drive_truth_batch: too many arguments at %s\n", argv[k]);
+      return 2;
+    }
+  }
+  for (const std::string& assignment : assignments)
+    if (!bench::apply_assignment(assignment, settable)) {
+      std::fprintf(stderr, "drive_truth_batch: unknown setting %s\n", assignment.c_str());
+      return 2;
+    }
+  const int frames = static_cast<int>(frames_value);
+  const auto seed = static_cast<std::uint64_t>(seed_value);
+  const bool sigmas = sigmas_value != 0;
+  const bool from_filter = start_value != 0;
+  const int iterations = static_cast<int>(iterations_value);
+  const int hold = static_cast<int>(hold_value);
   const bool hold_distance = hold == 1;
   if (frames < 8) {
     std::fprintf(stderr, "drive_truth_batch: at least 8 frames\n");
