@@ -11,7 +11,9 @@
 // CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
 // NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px); which inputs the filter gets (vision,
 // gyro, odometry: 0 or 1; axes=1 adds a line per block with the rotation's error and sigma about
-// each of the camera's axes, z up); the simulated sensors' noise (gyro_noise_density,
+// each of the camera's axes, z up; noisy_before_age=A or noisy_from_age=A: the noise only on each
+// track's observations less than A frames after its first, or only on the others, the rest
+// exact); the simulated sensors' noise (gyro_noise_density,
 // gyro_bias_sigma, gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting
 // of the filter (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth,
 // inverse_depth_sigma, predicted_settle_sigmas, outlier_chi2, smoothed_start_frames,
@@ -28,6 +30,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -65,7 +68,29 @@ struct Study {
   bool with_gyro = true;
   bool with_odometry = true;
   bool per_axis = false;  // the rotation's error and sigma about each of the camera's axes too
+  // The noise only on each track's observations from this age on (frames since its first), or
+  // only before it; the others exact (0: everywhere).
+  int noisy_from_age = 0;
+  int noisy_before_age = 0;
 };
+
+// Where the tracks' noise moves the filter: `drive`'s pixels set back to `exact`'s (the same drive
+// without noise) outside the ages the study keeps noisy. False where the two drives' tracks differ.
+bool keep_noise_by_age(const omnisfm::sim::Dataset& exact, const Study& study,
+                       omnisfm::sim::Dataset* drive) {
+  if (exact.observations.size() != drive->observations.size()) return false;
+  std::map<int, int> first_frame;
+  for (size_t k = 0; k < drive->observations.size(); ++k) {
+    omnisfm::core::TrackObservation& o = drive->observations[k];
+    if (o.track != exact.observations[k].track || o.frame != exact.observations[k].frame)
+      return false;
+    const int age = o.frame - first_frame.emplace(o.track, o.frame).first->second;
+    const bool noisy =
+        study.noisy_before_age > 0 ? age < study.noisy_before_age : age >= study.noisy_from_age;
+    if (!noisy) o.pixel = exact.observations[k].pixel;
+  }
+  return true;
+}
 
 bool apply(const std::string& assignment, Study* study) {
   omnisfm::sfm::FilterSettings& settings = study->settings;
@@ -76,6 +101,8 @@ bool apply(const std::string& assignment, Study* study) {
       {"gyro", [&](double v) { study->with_gyro = v != 0; }},
       {"odometry", [&](double v) { study->with_odometry = v != 0; }},
       {"axes", [&](double v) { study->per_axis = v != 0; }},
+      {"noisy_from_age", [&](double v) { study->noisy_from_age = static_cast<int>(v); }},
+      {"noisy_before_age", [&](double v) { study->noisy_before_age = static_cast<int>(v); }},
       {"gyro_noise_density", [&](double v) { options.gyro_noise_density = v; }},
       {"gyro_bias_sigma", [&](double v) { options.gyro_bias_sigma = v; }},
       {"gyro_bias_walk", [&](double v) { options.gyro_bias_walk = v; }},
@@ -143,6 +170,15 @@ int main(int argc_given, char** argv_given) {
   sim::Dataset drive =
       argc > 9 ? sim::long_drive(frames, study.pixel_noise, seed, io::read_camera_file(argv[9]))
                : sim::long_drive(frames, study.pixel_noise, seed);
+  if (study.noisy_from_age > 0 || study.noisy_before_age > 0) {
+    const sim::Dataset exact =
+        argc > 9 ? sim::long_drive(frames, 0.0, seed, io::read_camera_file(argv[9]))
+                 : sim::long_drive(frames, 0.0, seed);
+    if (!keep_noise_by_age(exact, study, &drive)) {
+      std::fprintf(stderr, "drive_nees: the exact drive's tracks differ from the noisy one's\n");
+      return 2;
+    }
+  }
   const sim::DeadReckoning dead_reckoning = sim::simulate_dead_reckoning(drive, options);
   sfm::MotionSensors sensors = eval::motion_sensors(&dead_reckoning, options, nullptr);
   if (!study.with_gyro) sensors.gyro.clear();
