@@ -16,6 +16,7 @@
 #include "marginal_variance.h"
 #include "omnisfm/core/pose_direction.h"
 #include "projection_cost.h"
+#include "track_points.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -70,17 +71,16 @@ int solver_threads(int requested, std::size_t residuals) {
 // projection each, on two threads when there are threads to spare.
 std::vector<char> projectable(const camera::CatadioptricCamera& camera,
                               const std::vector<core::TrackObservation>& observations,
-                              const std::vector<PoseVector>& poses,
-                              const std::map<int, Eigen::Vector3d>& points, int threads) {
+                              const std::vector<PoseVector>& poses, const TrackPoints& points,
+                              int threads) {
   std::vector<char> ok(observations.size(), 0);
   const auto check = [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       const auto& o = observations[i];
-      auto point = points.find(o.track);
-      if (point == points.end() || o.frame < 0 || o.frame >= static_cast<int>(poses.size()))
-        continue;
+      const Eigen::Vector3d* point = points.find(o.track);
+      if (!point || o.frame < 0 || o.frame >= static_cast<int>(poses.size())) continue;
       double residual[2];
-      ok[i] = evaluate_projection(camera, o.pixel, poses[o.frame].data(), point->second.data(), 1,
+      ok[i] = evaluate_projection(camera, o.pixel, poses[o.frame].data(), point->data(), 1,
                                   residual, nullptr, nullptr, nullptr);
     }
   };
@@ -98,7 +98,7 @@ std::vector<char> projectable(const camera::CatadioptricCamera& camera,
 // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels): they never share a residual,
 // extra terms included, so they are an independent set.
 std::shared_ptr<ceres::ParameterBlockOrdering> points_eliminated_first(
-    const ceres::Problem& problem, std::map<int, Eigen::Vector3d>* points) {
+    const ceres::Problem& problem, TrackPoints* points) {
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (auto& [track, p] : *points)
     if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), 0);
@@ -111,8 +111,7 @@ std::shared_ptr<ceres::ParameterBlockOrdering> points_eliminated_first(
 
 // The world scaled by k about the first camera's centre c0: p' = c0 + k (p - c0) and
 // t' = k t + R c0 (k - 1), which keeps the first pose.
-void scale_about_first_camera(double k, std::vector<PoseVector>* poses,
-                              std::map<int, Eigen::Vector3d>* points) {
+void scale_about_first_camera(double k, std::vector<PoseVector>* poses, TrackPoints* points) {
   const Eigen::Isometry3d first = isometry_of((*poses)[0]);
   const Eigen::Vector3d c0 = -first.linear().transpose() * first.translation();
   for (size_t f = 1; f < poses->size(); ++f) {
@@ -130,9 +129,8 @@ double distance_from_first(const std::vector<PoseVector>& poses, size_t f) {
 }
 
 // Element by element: the problem holds the addresses of these values.
-void restore(const std::vector<PoseVector>& start_poses,
-             const std::map<int, Eigen::Vector3d>& start_points, std::vector<PoseVector>* poses,
-             std::map<int, Eigen::Vector3d>* points) {
+void restore(const std::vector<PoseVector>& start_poses, const TrackPoints& start_points,
+             std::vector<PoseVector>* poses, TrackPoints* points) {
   std::copy(start_poses.begin(), start_poses.end(), poses->begin());
   for (auto& [track, p] : *points) p = start_points.at(track);
 }
@@ -166,7 +164,7 @@ void hold(ceres::Problem* problem, const ScaleGauge& gauge) {
 // marginal standard deviation of the inverse scale u (at 1) with the gauge's coordinate held,
 // times sqrt(variance). Infinite when the information is singular: nothing fixes the scale.
 double scale_sigma_relative(ceres::Problem* problem, const ScaleGauge& gauge, double* u,
-                            std::map<int, Eigen::Vector3d>* points, double variance) {
+                            TrackPoints* points, double variance) {
   hold(problem, gauge);
   problem->SetParameterBlockVariable(u);
   std::vector<double*> point_blocks;
@@ -193,15 +191,14 @@ struct ScaleSolve {
 };
 
 ScaleSolve solve_with_scale(ceres::Problem* problem, ceres::Solver::Options options,
-                            std::vector<PoseVector>* poses,
-                            std::map<int, Eigen::Vector3d>* points, double* u,
+                            std::vector<PoseVector>* poses, TrackPoints* points, double* u,
                             ceres::Solver::Summary* summary) {
   // Beyond it the scene has run toward infinity or collapsed: the data hold no scale.
   constexpr double kScaleRange = 1000;
   const ScaleGauge gauge = scale_gauge(*problem, poses);
   if (!gauge.pose) return {};  // no motion: no scale to find
   const std::vector<PoseVector> start_poses = *poses;
-  const std::map<int, Eigen::Vector3d> start_points = *points;
+  const TrackPoints start_points = *points;
   hold(problem, gauge);
   problem->SetParameterBlockVariable(u);
   // The plain problem's forcing term is for its slow scale direction. With the scale a parameter,
@@ -263,9 +260,8 @@ KnownDistanceFactor known_distance_factor(const std::vector<PoseVector>& poses,
 std::vector<ceres::ResidualBlockId> add_projections(
     const camera::CatadioptricCamera& camera, const std::vector<core::TrackObservation>& used,
     const BatchSettings& settings, bool with_extra_terms, std::vector<PoseVector>* poses,
-    std::map<int, Eigen::Vector3d>* points, double* inverse_scale,
-    const camera::SharedCamera* shared, double* camera_block,
-    ceres::Problem* problem) {
+    TrackPoints* points, double* inverse_scale, const camera::SharedCamera* shared,
+    double* camera_block, ceres::Problem* problem) {
   const double pixel_weight = 1 / (settings.pixel_sigma * settings.pixel_sigma);
   std::vector<ceres::ResidualBlockId> projections;
   for (const auto& o : used) {
@@ -302,13 +298,11 @@ void add_camera_block(const camera::CatadioptricCamera& camera, const BatchSetti
 // (CameraPriorCost), from where the scale's solves left the problem. False when that solve's
 // result is not usable: the poses, points and camera are then put back and the camera held again.
 bool refine_camera_last(ceres::Problem* problem, ceres::Solver::Options options,
-                        const camera::CatadioptricCamera& calibrated,
-                        const CameraPrior& prior, double pixel_sigma,
-                        double* camera_block,
-                        std::vector<PoseVector>* poses, std::map<int, Eigen::Vector3d>* points,
-                        ceres::Solver::Summary* summary) {
+                        const camera::CatadioptricCamera& calibrated, const CameraPrior& prior,
+                        double pixel_sigma, double* camera_block, std::vector<PoseVector>* poses,
+                        TrackPoints* points, ceres::Solver::Summary* summary) {
   const std::vector<PoseVector> saved_poses = *poses;
-  const std::map<int, Eigen::Vector3d> saved_points = *points;
+  const TrackPoints saved_points = *points;
   problem->AddResidualBlock(
       new CameraPriorCost(calibrated.params(), prior.parameters, prior.covariance, pixel_sigma),
       nullptr, camera_block);
@@ -327,8 +321,7 @@ bool refine_camera_last(ceres::Problem* problem, ceres::Solver::Options options,
 
 // The batch's problem in Ceres: the linear solver by how densely frames share points, the
 // stopping rule in chi-square. `dof`: residuals less free parameters.
-ceres::Solver::Options batch_solver_options(ceres::Problem* problem,
-                                            std::map<int, Eigen::Vector3d>* points,
+ceres::Solver::Options batch_solver_options(ceres::Problem* problem, TrackPoints* points,
                                             const std::vector<core::TrackObservation>& used,
                                             int num_poses, const BatchSettings& settings,
                                             int threads, double dof) {
@@ -376,7 +369,7 @@ double degrees_of_freedom(const ceres::Problem& problem, bool gauge_fixed, int h
 // The solution's poses and the points the problem held: a start point whose observations were all
 // left out was not adjusted, and its track is not the batch's.
 void take_estimates(const ceres::Problem& problem, const std::vector<PoseVector>& poses,
-                    const std::map<int, Eigen::Vector3d>& points, BatchResult* result) {
+                    const TrackPoints& points, BatchResult* result) {
   for (const auto& v : poses) {
     result->world_from_cam.push_back(isometry_of(v).inverse());
     result->cam_from_world_parameters.push_back(v);
@@ -388,10 +381,10 @@ void take_estimates(const ceres::Problem& problem, const std::vector<PoseVector>
 // The solution's covariances into `result`: the poses, consecutive poses, points, each point
 // with the poses that saw it (when asked), and the extra terms' blocks.
 void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>& poses,
-                         const std::map<int, Eigen::Vector3d>& points,
+                         const TrackPoints& points,
                          const std::vector<core::TrackObservation>& used_observations,
-                         const BatchSettings& settings, ExtraTerms* extra,
-                         double* camera_block, int threads, BatchResult* result) {
+                         const BatchSettings& settings, ExtraTerms* extra, double* camera_block,
+                         int threads, BatchResult* result) {
   ceres::Covariance::Options covariance_options;
   // Sparse QR: the gauge is fixed by the first pose (and the scale, when held, by a coordinate
   // of a far one), so the problem is of full rank.
@@ -413,11 +406,11 @@ void compute_covariances(ceres::Problem* problem, const std::vector<PoseVector>&
   std::set<std::pair<int, int>> seen_from;  // (track, frame)
   if (settings.point_cam_from_world_covariances)
     for (const auto& o : used_observations) {
-      const auto point = points.find(o.track);
-      if (point == points.end() || !problem->HasParameterBlock(point->second.data()) ||
-          !variable(poses[o.frame]) || !seen_from.emplace(o.track, o.frame).second)
+      const Eigen::Vector3d* point = points.find(o.track);
+      if (!point || !problem->HasParameterBlock(point->data()) || !variable(poses[o.frame]) ||
+          !seen_from.emplace(o.track, o.frame).second)
         continue;
-      blocks.emplace_back(point->second.data(), poses[o.frame].data());
+      blocks.emplace_back(point->data(), poses[o.frame].data());
     }
   std::vector<std::pair<double*, int>> extra_blocks;
   if (extra)
@@ -504,7 +497,7 @@ namespace {
 // tally. Ceres holds pointers into it: it stays where it was made.
 struct BatchProblem {
   std::vector<PoseVector> poses;
-  std::map<int, Eigen::Vector3d> points;
+  TrackPoints points;
   // The scene's inverse scale: a parameter only while solve_with_scale runs, 1 and held otherwise.
   double inverse_scale = 1;
   Eigen::VectorXd camera_block;
@@ -540,7 +533,7 @@ struct BatchProblem {
 // Where the start was, which a scale held at it goes back to.
 struct BatchStart {
   std::vector<PoseVector> poses;
-  std::map<int, Eigen::Vector3d> points;
+  TrackPoints points;
   KnownDistanceFactor known;
 };
 
@@ -648,7 +641,7 @@ BatchResult batch_adjust_with_terms(const camera::CatadioptricCamera& camera,
   BatchResult result;
   BatchProblem b;
   for (const auto& T : start_cam_from_world) b.poses.push_back(pose_vector_of(T));
-  b.points = start_points;
+  b.points = TrackPoints(start_points);
   BatchStart start{b.poses, b.points, {}};
   if (settings.known_distance_m != 0 && !b.poses.empty()) {
     start.known = known_distance_factor(b.poses, settings.known_distance_m);

@@ -72,6 +72,10 @@ const std::vector<CountRange>& count_ranges() {
        [](SfmSettings& s) -> int& { return s.filter.max_live_points; }},
       {"max_iterations", 1, 1000000, false, "",
        [](SfmSettings& s) -> int& { return s.batch.max_iterations; }},
+      // Ceres' threads sum the reduced system in whatever order they finish: on two, the rover's
+      // batch positions differ between runs from their seventh digit on; on one, not at all.
+      {"threads", 1, 1024, true, "the batch's threads (0: one per core)",
+       [](SfmSettings& s) -> int& { return s.batch.threads; }},
   };
   return ranges;
 }

@@ -47,9 +47,10 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
       "batch = 1\nbatch_outlier_threshold_px = 3\nhuber_px = 1.5\ncovariances = 0\n"
       "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n"
       "refine_camera = 1\nconsider_camera = 1\nbatch_track_false_alarm = 0.001\n"
-      "max_live_points = 40\n");
+      "max_live_points = 40\nthreads = 1\n");
   EXPECT_EQ(s.filter.pixel_sigma, 0.5);
   EXPECT_EQ(s.filter.max_live_points, 40);
+  EXPECT_EQ(s.batch.threads, 1);
   EXPECT_EQ(s.batch_track_false_alarm, 0.001);
   EXPECT_EQ(s.filter.update_iterations, 3);
   EXPECT_EQ(s.filter.smoothed_start_frames, 0);
