@@ -315,7 +315,8 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
                           "batch_scale_start",
                           "known_distance_m",
                           "refine_camera",
-                          "consider_camera"})
+                          "consider_camera",
+                          "threads"})
     EXPECT_TRUE(section.has(key)) << key;
   const SfmSettings read = read_sfm_settings(section);
   const SfmSettings defaults;
@@ -344,6 +345,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(read.consider_camera, defaults.consider_camera);
   EXPECT_EQ(read.batch.scale_start, defaults.batch.scale_start);
   EXPECT_EQ(read.batch.known_distance_m, defaults.batch.known_distance_m);
+  EXPECT_EQ(read.batch.threads, defaults.batch.threads);
 }
 
 }  // namespace
