@@ -170,6 +170,14 @@ int main(int argc_given, char** argv_given) {
   sim::Dataset drive =
       argc > 9 ? sim::long_drive(frames, study.pixel_noise, seed, io::read_camera_file(argv[9]))
                : sim::long_drive(frames, study.pixel_noise, seed);
+  if (study.noisy_from_age != 0 && study.noisy_before_age != 0) {
+    std::fprintf(stderr, "drive_nees: noisy_before_age or noisy_from_age, not both\n");
+    return 2;
+  }
+  if (study.noisy_from_age < 0 || study.noisy_before_age < 0) {
+    std::fprintf(stderr, "drive_nees: a track's age is 0 or more frames\n");
+    return 2;
+  }
   if (study.noisy_from_age > 0 || study.noisy_before_age > 0) {
     const sim::Dataset exact =
         argc > 9 ? sim::long_drive(frames, 0.0, seed, io::read_camera_file(argv[9]))

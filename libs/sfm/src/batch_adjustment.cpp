@@ -96,16 +96,20 @@ std::vector<char> projectable(const camera::CatadioptricCamera& camera,
 }
 
 // Points are eliminated (Ceres' specialised 2 x 3 x 6 Schur kernels): they never share a residual,
-// extra terms included, so they are an independent set.
+// extra terms included, so they are an independent set. Then the poses, then the rest (the camera,
+// the sensors' states). Ceres orders each group by address: the points and the poses are one
+// array each, and apart they keep the order from depending on where the heap put the camera.
 std::shared_ptr<ceres::ParameterBlockOrdering> points_eliminated_first(
-    const ceres::Problem& problem, TrackPoints* points) {
+    const ceres::Problem& problem, TrackPoints* points, std::vector<PoseVector>* poses) {
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (auto& [track, p] : *points)
     if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), 0);
+  for (PoseVector& pose : *poses)
+    if (problem.HasParameterBlock(pose.data())) ordering->AddElementToGroup(pose.data(), 1);
   std::vector<double*> blocks;
   problem.GetParameterBlocks(&blocks);
   for (double* block : blocks)
-    if (!ordering->IsMember(block)) ordering->AddElementToGroup(block, 1);
+    if (!ordering->IsMember(block)) ordering->AddElementToGroup(block, 2);
   return ordering;
 }
 
@@ -308,7 +312,7 @@ bool refine_camera_last(ceres::Problem* problem, ceres::Solver::Options options,
       nullptr, camera_block);
   problem->SetParameterBlockVariable(camera_block);
   // Ceres drops held blocks from the ordering it is given: the camera's goes back in.
-  options.linear_solver_ordering = points_eliminated_first(*problem, points);
+  options.linear_solver_ordering = points_eliminated_first(*problem, points, poses);
   ceres::Solve(options, problem, summary);
   if (summary->IsSolutionUsable()) return true;
   *poses = saved_poses;
@@ -322,11 +326,12 @@ bool refine_camera_last(ceres::Problem* problem, ceres::Solver::Options options,
 // The batch's problem in Ceres: the linear solver by how densely frames share points, the
 // stopping rule in chi-square. `dof`: residuals less free parameters.
 ceres::Solver::Options batch_solver_options(ceres::Problem* problem, TrackPoints* points,
+                                            std::vector<PoseVector>* poses,
                                             const std::vector<core::TrackObservation>& used,
                                             int num_poses, const BatchSettings& settings,
                                             int threads, double dof) {
   ceres::Solver::Options options;
-  options.linear_solver_ordering = points_eliminated_first(*problem, points);
+  options.linear_solver_ordering = points_eliminated_first(*problem, points, poses);
   const double fill = reduced_system_fill(used, num_poses);
   if (fill > 0.25) {
     // When most frames share points (short sequences, long tracks) the reduced camera system is
@@ -694,7 +699,7 @@ BatchResult batch_adjust_with_terms(const camera::CatadioptricCamera& camera,
 
   const double dof =
       degrees_of_freedom(problem, gauge_fixed, refine_camera ? optimised.num_params() : 0);
-  b.options = batch_solver_options(&problem, &b.points, used_observations,
+  b.options = batch_solver_options(&problem, &b.points, &b.poses, used_observations,
                                    static_cast<int>(b.poses.size()), settings, threads, dof);
   // With extra residuals or the camera's prior, the pixel figures are the reprojections' alone.
   const double initial_reprojection_cost = extra ? b.reprojection_cost(pixel_weight) : 0;

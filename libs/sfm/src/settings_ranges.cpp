@@ -74,7 +74,7 @@ const std::vector<CountRange>& count_ranges() {
        [](SfmSettings& s) -> int& { return s.batch.max_iterations; }},
       // Ceres' threads sum the reduced system in whatever order they finish: on two, the rover's
       // batch positions differ between runs from their seventh digit on; on one, not at all.
-      {"threads", 1, 1024, true, "the batch's threads (0: one per core)",
+      {"threads", 0, 1024, false, "the batch's threads (0: one per core)",
        [](SfmSettings& s) -> int& { return s.batch.threads; }},
   };
   return ranges;

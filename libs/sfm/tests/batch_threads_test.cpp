@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-
 #include <random>
 
+#include "imperfect_calibration.h"
 #include "omnisfm/sfm/batch_adjustment.h"
 #include "omnisfm/sim/endless_drive.h"
 #include "omnisfm/sim/track_simulator.h"
@@ -85,26 +85,37 @@ TEST(BatchThreads, OneThreadGivesTheSameDigitsWhereverTheHeapPutsThePoints) {
   BatchSettings settings;
   settings.threads = 1;
   settings.covariances = false;
-  const BatchResult first =
-      batch_adjust(drive.camera, drive.observations, start.poses, start.points, settings);
-  ASSERT_TRUE(first.converged) << first.message;
-  // Blocks of assorted sizes left between freed ones, held through the second run: its
-  // allocations land elsewhere, in another order.
-  std::vector<std::vector<char>> kept;
-  for (int k = 0; k < 3000; ++k) {
-    std::vector<char> block(static_cast<size_t>(24 + (k * 37) % 200));
-    if (k % 3 == 0) kept.push_back(std::move(block));
+  // The camera refined too (its block is wherever the heap put it), at the true distance.
+  BatchSettings refining = settings;
+  refining.camera_prior = lab_target_calibration_prior(drive.camera);
+  refining.known_distance_m =
+      (drive.world_from_cam.back().translation() - drive.world_from_cam.front().translation())
+          .norm();
+  for (const BatchSettings& s : {settings, refining}) {
+    const BatchResult first =
+        batch_adjust(drive.camera, drive.observations, start.poses, start.points, s);
+    ASSERT_TRUE(first.converged) << first.message;
+    // Blocks of assorted sizes left between freed ones, held through the second run: its
+    // allocations land elsewhere, in another order.
+    std::vector<std::vector<char>> kept;
+    for (int k = 0; k < 3000; ++k) {
+      std::vector<char> block(static_cast<size_t>(24 + (k * 37) % 200));
+      if (k % 3 == 0) kept.push_back(std::move(block));
+    }
+    const BatchResult second =
+        batch_adjust(drive.camera, drive.observations, start.poses, start.points, s);
+    ASSERT_TRUE(second.converged) << second.message;
+    EXPECT_EQ(first.camera_refined, !s.camera_prior.empty());
+    EXPECT_EQ(second.camera_refined, first.camera_refined);
+    EXPECT_EQ(first.iterations, second.iterations);
+    EXPECT_EQ(first.camera_params, second.camera_params);
+    ASSERT_EQ(first.cam_from_world_parameters.size(), second.cam_from_world_parameters.size());
+    for (size_t f = 0; f < first.cam_from_world_parameters.size(); ++f)
+      EXPECT_EQ(first.cam_from_world_parameters[f], second.cam_from_world_parameters[f])
+          << "frame " << f;
+    ASSERT_EQ(first.points.size(), second.points.size());
+    for (const auto& [track, p] : first.points) EXPECT_EQ(p, second.points.at(track)) << track;
   }
-  const BatchResult second =
-      batch_adjust(drive.camera, drive.observations, start.poses, start.points, settings);
-  ASSERT_TRUE(second.converged) << second.message;
-  EXPECT_EQ(first.iterations, second.iterations);
-  ASSERT_EQ(first.cam_from_world_parameters.size(), second.cam_from_world_parameters.size());
-  for (size_t f = 0; f < first.cam_from_world_parameters.size(); ++f)
-    EXPECT_EQ(first.cam_from_world_parameters[f], second.cam_from_world_parameters[f])
-        << "frame " << f;
-  ASSERT_EQ(first.points.size(), second.points.size());
-  for (const auto& [track, p] : first.points) EXPECT_EQ(p, second.points.at(track)) << track;
 }
 
 }  // namespace
