@@ -163,7 +163,8 @@ int main(int argc_given, char** argv_given) {
   if (argc > 8) settings.take_back_depth_priors = std::atoi(argv[8]) != 0;
   for (const std::string& assignment : assignments)
     if (!apply(assignment, &study)) {
-      std::fprintf(stderr, "drive_nees: unknown setting %s\n", assignment.c_str());
+      std::fprintf(stderr, "drive_nees: unknown setting, or not a number: %s\n",
+                   assignment.c_str());
       return 2;
     }
 

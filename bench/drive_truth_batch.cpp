@@ -76,7 +76,10 @@ int main(int argc, char** argv) {
     if (std::strchr(argv[k], '=')) {
       assignments.push_back(argv[k]);
     } else if (position < std::size(by_position)) {
-      *by_position[position++] = std::atof(argv[k]);
+      if (!bench::parse_number(argv[k], by_position[position++])) {
+        std::fprintf(stderr, "drive_truth_batch: %s is not a number\n", argv[k]);
+        return 2;
+      }
     } else {
       std::fprintf(stderr, "drive_truth_batch: too many arguments at %s\n", argv[k]);
       return 2;
@@ -84,9 +87,21 @@ int main(int argc, char** argv) {
   }
   for (const std::string& assignment : assignments)
     if (!bench::apply_assignment(assignment, settable)) {
-      std::fprintf(stderr, "drive_truth_batch: unknown setting %s\n", assignment.c_str());
+      std::fprintf(stderr, "drive_truth_batch: unknown setting, or not a number: %s\n",
+                   assignment.c_str());
       return 2;
     }
+  // Whole numbers within their types' ranges (a seed of 2^53 or more would lose digits).
+  const auto whole = [](double v, double high) {
+    return v == std::floor(v) && v >= 0 && v <= high;
+  };
+  if (!whole(frames_value, 1e8) || !whole(seed_value, 9007199254740992.0) ||
+      !whole(iterations_value, 1e8) || !whole(hold_value, 2)) {
+    std::fprintf(stderr,
+                 "drive_truth_batch: frames, seed, iterations and hold are whole numbers "
+                 "of 0 or more (hold at most 2)\n");
+    return 2;
+  }
   const int frames = static_cast<int>(frames_value);
   const auto seed = static_cast<std::uint64_t>(seed_value);
   const bool sigmas = sigmas_value != 0;

@@ -198,7 +198,7 @@ int main(int argc, char** argv) {
                          &options.image_height) == 2)
       continue;
     else if (!set(argv[next], &settings)) {
-      std::fprintf(stderr, "track_truth: unknown setting %s\n", argv[next]);
+      std::fprintf(stderr, "track_truth: unknown setting, or not a number: %s\n", argv[next]);
       return 2;
     }
   const sim::Dataset dataset = sim::simulate(options);
