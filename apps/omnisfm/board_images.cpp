@@ -10,6 +10,7 @@
 
 #include "omnisfm/calib/board_seen.h"
 #include "omnisfm/io/input_error.h"
+#include "omnisfm/io/vnlog.h"
 #include "omnisfm/track/image_sequence.h"
 #include "terminal_progress.h"
 
@@ -107,7 +108,7 @@ std::vector<io::ImageCorners> detect_boards(const std::string& images,
                                std::to_string(camera_size->width) + "x" +
                                std::to_string(camera_size->height));
     BoardImage image{image_name(sequence, frame), frame.image, std::nullopt, {}};
-    if (image.name.find_first_of(" \t\r\n\v\f#") != std::string::npos)
+    if (!io::fits_vnlog_field(image.name))
       throw io::InputError(frame.file, 0,
                            "has whitespace or '#' in its name, which corners.vnl cannot hold");
     image.board = detector->detect(frame.image, &image.board_seen);

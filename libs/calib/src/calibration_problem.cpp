@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <thread>
 
 #include "omnisfm/camera/shared_camera.h"
+#include "omnisfm/core/solver_threads.h"
 #include "pose_jacobian.h"
 
 namespace omnisfm::calib {
@@ -118,18 +118,16 @@ std::vector<bool> estimate_mask(const camera::CatadioptricCamera& camera,
 
 namespace {
 
-// The solver's options for a calibration of `num_views` views.
+// The solver's options for a calibration of `num_views` views and `residuals` residuals.
 ceres::Solver::Options calibration_solver_options(const CalibrationSettings& settings,
-                                                  std::size_t num_views) {
+                                                  std::size_t num_views, std::size_t residuals) {
   ceres::Solver::Options options;
   options.linear_solver_type = num_views > 20 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
   options.max_num_iterations = settings.max_iterations;
   options.function_tolerance = 1e-12;
   options.parameter_tolerance = 1e-12;
   options.gradient_tolerance = 1e-12;
-  options.num_threads = settings.threads > 0
-                            ? settings.threads
-                            : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  options.num_threads = core::solver_threads(settings.threads, residuals);
   options.logging_type = ceres::SILENT;
   return options;
 }
@@ -310,7 +308,8 @@ CalibrationReport calibrate(camera::CatadioptricCamera* camera, std::vector<Cali
       problem.SetManifold(params.data(), new ceres::SubsetManifold(n, fixed));
     }
 
-    ceres::Solver::Options options = calibration_solver_options(settings, views->size());
+    ceres::Solver::Options options =
+        calibration_solver_options(settings, views->size(), 2 * static_cast<std::size_t>(used));
     ProgressCallback progress(settings.progress, used, report.iterations);
     if (settings.progress) options.callbacks.push_back(&progress);
     ceres::Solver::Summary summary;

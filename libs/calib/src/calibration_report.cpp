@@ -37,14 +37,6 @@ std::string padded(const std::string& text, std::size_t width) {
   return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
 }
 
-// A vnlog field may hold no whitespace, nor a '#', which begins a comment.
-std::string field_text(std::string text) {
-  for (char& c : text) {
-    if (std::isspace(static_cast<unsigned char>(c)) || c == '#') c = '_';
-  }
-  return text.empty() ? "-" : text;
-}
-
 int point_id(const CalibrationView& view, int index) {
   return view.point_ids.empty() ? index : view.point_ids[index];
 }
@@ -340,11 +332,11 @@ std::string write_calibration_report(const std::string& folder, const Calibratio
     writer.comment("residual (du, dv) = projected - observed (x, y), pixels");
     for (const ObservationResidual& o : outcome.report->final.residuals) {
       const Eigen::Vector2d& pixel = views[o.view].pixels[o.index];
-      writer.row_texts({std::to_string(o.view), field_text(views[o.view].name),
+      writer.row_texts({std::to_string(o.view), io::as_vnlog_field(views[o.view].name),
                         std::to_string(point_id(views[o.view], o.index)),
                         io::VnlogWriter::field(pixel.x()), io::VnlogWriter::field(pixel.y()),
-                        io::VnlogWriter::field(o.residual.x()), io::VnlogWriter::field(o.residual.y()),
-                        o.outlier ? "1" : "0"});
+                        io::VnlogWriter::field(o.residual.x()),
+                        io::VnlogWriter::field(o.residual.y()), o.outlier ? "1" : "0"});
     }
   });
   if (outcome.uncertainty) {

@@ -1,5 +1,7 @@
 #include "omnisfm/io/vnlog.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -225,14 +227,29 @@ void VnlogWriter::row(const std::vector<double>& values) {
   out_ << '\n';
 }
 
+namespace {
+
+// Splits a field (what `istream >> std::string` stops at) or ends its row.
+bool breaks_vnlog_field(char c) { return std::isspace(static_cast<unsigned char>(c)) || c == '#'; }
+
+}  // namespace
+
+bool fits_vnlog_field(const std::string& text) {
+  return std::none_of(text.begin(), text.end(), breaks_vnlog_field);
+}
+
+std::string as_vnlog_field(std::string text) {
+  std::replace_if(text.begin(), text.end(), breaks_vnlog_field, '_');
+  return text.empty() ? "-" : text;
+}
+
 void VnlogWriter::row_texts(const std::vector<std::string>& fields) {
   if (fields.size() != num_columns_) {
     throw std::invalid_argument("vnlog row of " + std::to_string(fields.size()) +
                                 " fields for " + std::to_string(num_columns_) + " columns");
   }
   for (std::size_t i = 0; i < fields.size(); ++i) {
-    // Whitespace would split the field, and a '#' begins a comment that ends the row.
-    if (fields[i].find_first_of(" \t\r\n#") != std::string::npos) {
+    if (!fits_vnlog_field(fields[i])) {
       throw std::invalid_argument("vnlog field '" + fields[i] + "' contains whitespace or '#'");
     }
     if (i) out_ << ' ';

@@ -166,6 +166,26 @@ TEST(Vnlog, WriterWritesTextFields) {
   EXPECT_THROW(writer.row_texts({"with space", "1"}), std::invalid_argument);
   // It would read back as a comment.
   EXPECT_THROW(writer.row_texts({"board#1.png", "1"}), std::invalid_argument);
+  // A form feed splits a field as a space does.
+  EXPECT_THROW(writer.row_texts({"a\fb.png", "1"}), std::invalid_argument);
+}
+
+// What a field can hold is what reads back as one field; as_vnlog_field makes any text fit.
+TEST(Vnlog, FieldsHoldNoWhitespaceNorHash) {
+  for (const char* text : {"a b", "a\tb", "a\vb", "a\fb", "a\nb", "a#b"}) {
+    EXPECT_FALSE(fits_vnlog_field(text)) << text;
+    const std::string field = as_vnlog_field(text);
+    EXPECT_EQ(field, "a_b");
+    std::ostringstream out;
+    VnlogWriter writer(out, {"name", "x"});
+    writer.row_texts({field, "1"});
+    std::istringstream in(out.str());
+    VnlogReader reader(in, "written.vnl");
+    ASSERT_TRUE(reader.next());
+    EXPECT_EQ(reader.text(0), field);
+  }
+  EXPECT_TRUE(fits_vnlog_field("VMRImage0.jpg"));
+  EXPECT_EQ(as_vnlog_field(""), "-");
 }
 
 }  // namespace

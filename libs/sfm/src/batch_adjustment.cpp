@@ -15,6 +15,7 @@
 #include "camera_refinement.h"
 #include "marginal_variance.h"
 #include "omnisfm/core/pose_direction.h"
+#include "omnisfm/core/solver_threads.h"
 #include "projection_cost.h"
 #include "track_points.h"
 
@@ -53,18 +54,6 @@ double reduced_system_fill(const std::vector<core::TrackObservation>& observatio
     }
   }
   return pairs / (0.5 * frames * (frames + 1.0));
-}
-
-// Problems under this many residuals run on one thread, as COLMAP's bundle adjuster does below its
-// own threshold: each of Ceres' steps must have enough work to split. The figure is a rule of
-// thumb, not measured here; BatchSettings::threads overrides it.
-constexpr int kSmallProblemResiduals = 5000;
-
-// The threads BatchSettings::threads asks for, for a problem of `residuals` residuals.
-int solver_threads(int requested, std::size_t residuals) {
-  if (requested > 0) return requested;
-  if (residuals < kSmallProblemResiduals) return 1;
-  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
 // Which observations project from the start (the others are left out of the problem): a
@@ -315,8 +304,7 @@ bool refine_camera_last(ceres::Problem* problem, ceres::Solver::Options options,
   options.linear_solver_ordering = points_eliminated_first(*problem, points, poses);
   ceres::Solve(options, problem, summary);
   if (summary->IsSolutionUsable()) return true;
-  *poses = saved_poses;
-  for (auto& [track, p] : *points) p = saved_points.at(track);
+  restore(saved_poses, saved_points, poses, points);
   const Eigen::VectorXd params = calibrated.params();
   std::copy(params.data(), params.data() + params.size(), camera_block);
   problem->SetParameterBlockConstant(camera_block);
@@ -662,7 +650,7 @@ BatchResult batch_adjust_with_terms(const camera::CatadioptricCamera& camera,
   }
 
   const camera::CatadioptricCamera optimised = batch_camera(camera);
-  const int threads = solver_threads(settings.threads, 2 * observations.size());
+  const int threads = core::solver_threads(settings.threads, 2 * observations.size());
   const std::vector<char> ok = projectable(optimised, observations, b.poses, b.points, threads);
   std::vector<core::TrackObservation> used_observations;
   for (size_t i = 0; i < observations.size(); ++i)

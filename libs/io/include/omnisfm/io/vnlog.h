@@ -4,6 +4,7 @@
 //   # x y z          <- the header: the first other line starting with '#'
 //   1.5 - 3          <- whitespace-separated fields; '-' is a missing value (NaN)
 //   # a comment
+//   4 5 6 # a note   <- a '#' ends a row's fields, as vnlog's own readers take it
 // Blank lines are skipped; every data line has exactly one field per column.
 
 #include <cstddef>
@@ -86,6 +87,12 @@ class VnlogTable {
   std::vector<int> lines_;
 };
 
+// Whether `text` can be one field: no whitespace, which would split it, and no '#', which would
+// end its row.
+bool fits_vnlog_field(const std::string& text);
+// `text` made a field: each such character '_', empty text '-' (a missing value).
+std::string as_vnlog_field(std::string text);
+
 // Writes a table: the header at construction, then rows. Numbers are written with the shortest
 // text that reads back exactly; NaN as '-'.
 class VnlogWriter {
@@ -95,7 +102,8 @@ class VnlogWriter {
   void comment(const std::string& text);
   // Throws std::invalid_argument when the row's size is not the number of columns.
   void row(const std::vector<double>& values);
-  // Fields written as given (a string column, or numbers already formatted); empty -> '-'.
+  // Fields written as given (a string column, or numbers already formatted); empty -> '-'. Throws
+  // std::invalid_argument for a field that does not fit (fits_vnlog_field).
   void row_texts(const std::vector<std::string>& fields);
 
   static std::string field(double value);
