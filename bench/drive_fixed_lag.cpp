@@ -109,6 +109,15 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "drive_fixed_lag: unknown setting, or not a number: %s\n", argv[k]);
       return 2;
     }
+  // Whole numbers within their types' ranges, as drive_truth_batch takes them.
+  const auto whole = [](double v) { return v == std::floor(v) && v >= 0 && v <= 1e8; };
+  if (!whole(frames_value) || !whole(seed_value) || !whole(window_value) || !whole(step_value) ||
+      !whole(iterations_value) || !whole(first_window_value) || !whole(filter_window)) {
+    std::fprintf(stderr,
+                 "drive_fixed_lag: frames, seed, window, step, iterations, first_window and "
+                 "filter_window are whole numbers of 0 or more\n");
+    return 2;
+  }
   const int frames = static_cast<int>(frames_value);
   const int window = static_cast<int>(window_value);
   const int step = static_cast<int>(step_value);
@@ -140,11 +149,11 @@ int main(int argc, char** argv) {
   }
 
   std::vector<std::vector<core::TrackPixel>> seen(frames);
-  std::map<int, std::vector<int>> frames_of;  // track -> its frames, in order
+  std::map<int, int> last_seen;  // track -> the last frame that sees it
   for (const core::TrackObservation& o : d.observations)
     if (filter_points.count(o.track)) {
       seen[o.frame].push_back({o.track, o.pixel});
-      frames_of[o.track].push_back(o.frame);
+      last_seen[o.track] = std::max(last_seen[o.track], o.frame);
     }
 
   // The estimate: poses (cam_from_world) and points, the solved ones and the rest brought onto
@@ -282,7 +291,7 @@ int main(int argc, char** argv) {
       std::vector<int> kept;
       std::vector<double*> marginal_blocks, kept_blocks;
       for (const int track : touched)
-        if (frames_of[track].back() >= next) {
+        if (last_seen[track] >= next) {
           kept.push_back(track);
           kept_blocks.push_back(point[track].data());
         } else {
