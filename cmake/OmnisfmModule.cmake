@@ -45,9 +45,10 @@ function(omnisfm_add_test name)
     DISCOVERY_TIMEOUT 60)
   # Lists (two labels, several variables) do not survive gtest_discover_tests' PROPERTIES, so
   # they are set by a file CTest reads after the discovered tests.
-  # OpenBLAS on one thread, as the programs set it (omnisfm::sfm::use_one_blas_thread).
+  # OpenBLAS on one thread, as the programs set it (omnisfm::sfm::use_one_blas_thread), and the
+  # command's image work too: the tests share the cores, where OpenCV's spinning threads cost.
   set(environment "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" "OPENBLAS_NUM_THREADS=1"
-      ${OMNISFM_SANITIZER_ENVIRONMENT})
+      "OMNISFM_THREADS=1" ${OMNISFM_SANITIZER_ENVIRONMENT})
   set(cost 0)
   if("long" IN_LIST ARG_LABELS)
     set(cost 100)

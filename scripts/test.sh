@@ -7,6 +7,9 @@
 #   OMNISFM_SANITIZE_LABELS=REGEX     the labels run there (default: sanitize|fuzz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The tests run side by side on every core: the omnisfm command's image work takes one thread
+# each (its OpenCV threads would spin waiting for a core), as the gtest programs are given.
+export OMNISFM_THREADS="${OMNISFM_THREADS:-1}"
 scripts/setup.sh
 (cd "${OMNISFM_BUILD_DIR:-build}" &&
   ctest --output-on-failure --parallel "$(nproc)" --timeout 600 "$@")

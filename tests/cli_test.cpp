@@ -16,6 +16,7 @@
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -629,9 +630,9 @@ TEST_F(CliTest, SfmRejectsMalformedTracksAndWritesNothing) {
                     std::to_string(400 + 20 * t + f) + " 400\n";
   // Tracks refused with `message`, and nothing written.
   const auto refused = [&](const std::string& tracks, const std::string& message) {
-    const Outcome run = omnisfm("sfm --camera lab/camera.ini --tracks " + tracks + " --out result");
-    EXPECT_EQ(run.status, 2) << tracks;
-    EXPECT_NE(run.err.find(message), std::string::npos) << run.err;
+    const Outcome sfm = omnisfm("sfm --camera lab/camera.ini --tracks " + tracks + " --out result");
+    EXPECT_EQ(sfm.status, 2) << tracks;
+    EXPECT_NE(sfm.err.find(message), std::string::npos) << sfm.err;
     EXPECT_FALSE(fs::exists(dir_ / "result")) << tracks;
   };
   write("later.vnl", later_rows);
@@ -1163,6 +1164,65 @@ namespace {
 void copy_images(const fs::path& from, const fs::path& to, const std::vector<std::string>& names) {
   fs::create_directories(to);
   for (const auto& name : names) fs::copy_file(from / name, to / name);
+}
+
+// Sets an environment variable for the commands a test runs, and restores it.
+class ScopedEnvironment {
+ public:
+  ScopedEnvironment(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    ::setenv(name, value, 1);
+  }
+  ~ScopedEnvironment() {
+    if (old_)
+      ::setenv(name_, old_->c_str(), 1);
+    else
+      ::unsetenv(name_);
+  }
+  ScopedEnvironment(const ScopedEnvironment&) = delete;
+  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
+// OMNISFM_THREADS sets the image work's threads and nothing else: the same corners and the same
+// rendered images on one thread as on three. A count it cannot be is refused before any work.
+TEST_F(CliTest, ImageThreadsChangeNoResult) {
+  const fs::path data = real_data_folder();
+  if (!fs::is_directory(data)) GTEST_SKIP() << "no real data at " << data;
+  copy_images(data / "vmr", dir_ / "two", {"VMRImage3.jpg", "VMRImage8.jpg"});
+  for (const char* threads : {"1", "3"}) {
+    const ScopedEnvironment set("OMNISFM_THREADS", threads);
+    const std::string out = std::string("t") + threads;
+    ASSERT_EQ(omnisfm("detect-corners --images two --object-width-n 6 --object-height-n 7 --out " +
+                      out + ".vnl")
+                  .status,
+              0)
+        << threads;
+    ASSERT_EQ(
+        omnisfm("simulate --scenario crane --width 160 --height 120 --render --out " + out).status,
+        0)
+        << threads;
+  }
+  EXPECT_EQ(read_all(dir_ / "t1.vnl"), read_all(dir_ / "t3.vnl"));
+  for (const char* image : {"000000.png", "000070.png"})
+    EXPECT_EQ(read_all(dir_ / "t1/images" / image), read_all(dir_ / "t3/images" / image)) << image;
+
+  for (const char* bad : {"0", "two", "2x", "-1"}) {
+    const ScopedEnvironment set("OMNISFM_THREADS", bad);
+    const Outcome refused = omnisfm("simulate --scenario lab --out refused");
+    EXPECT_EQ(refused.status, 2) << bad;
+    EXPECT_EQ(refused.err.rfind("omnisfm: OMNISFM_THREADS: '" + std::string(bad) +
+                                    "' is not a count of threads (1-1024)\n",
+                                0),
+              0u)
+        << refused.err;
+    EXPECT_FALSE(fs::exists(dir_ / "refused")) << bad;
+  }
+  const ScopedEnvironment empty("OMNISFM_THREADS", "");
+  EXPECT_EQ(omnisfm("simulate --scenario lab --out unset").status, 0);
 }
 
 // A user's path with a real rig: corners found in the raw board images, then calibrated from them.

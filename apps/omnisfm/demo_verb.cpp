@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "image_threads.h"
 #include "omnisfm/eval/track_accuracy.h"
 #include "omnisfm/eval/trajectory_errors.h"
 #include "omnisfm/io/atomic_write.h"
@@ -79,7 +80,7 @@ sfm::SfmResult shape_from_motion(const sim::Dataset& d,
 // The experiment's dataset with its images rendered into dir/dataset.
 void render_dataset(const sim::Dataset& d, const PaperFigures& paper, std::uint64_t seed,
                     const std::string& imaging, const fs::path& dir) {
-  sim::Renderer renderer(d.camera, 4);
+  sim::Renderer renderer(d.camera, 4, renderer_threads());
   sim::Imaging camera(sim::ImagingSettings::named(imaging), &renderer, seed);
   const int frames = static_cast<int>(d.world_from_cam.size());
   TerminalProgress rendering(step(paper.scenario, "rendered"), "images");

@@ -1,13 +1,14 @@
 // omnisfm VERB [options]: exit status 0 on success, 2 on bad usage or bad input, 1 otherwise.
 
-#include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
 
+#include "image_threads.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/sfm/blas_threads.h"
 #include "verbs.h"
@@ -26,6 +27,10 @@ int main(int argc, char** argv) {
                "omnisfm"};
   app.set_version_flag("--version", OMNISFM_VERSION);
   app.require_subcommand(1);
+  app.footer(
+      "Environment: OMNISFM_THREADS=N runs the image work (OpenCV's corner detection and "
+      "tracking, the renderer) on N threads; unset, OpenCV takes one per core and the renderer "
+      "two. OPENBLAS_NUM_THREADS sets OpenBLAS's, one unless set.");
   omnisfm::app::add_project_verb(app);
   omnisfm::app::add_unproject_verb(app);
   omnisfm::app::add_simulate_verb(app);
@@ -55,6 +60,7 @@ int main(int argc, char** argv) {
     }
   }
   try {
+    omnisfm::app::apply_image_threads();
     app.parse(argc, argv);
     return 0;
   } catch (const CLI::ParseError& error) {

@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "image_threads.h"
 #include "omnisfm/io/atomic_write.h"
 #include "omnisfm/io/input_error.h"
 #include "omnisfm/sim/dataset_writer.h"
@@ -72,7 +73,7 @@ void simulate_and_write(const SimulateOptions& o) {
   std::unique_ptr<sim::Renderer> renderer;
   std::unique_ptr<sim::Imaging> camera;
   if (o.render) {
-    renderer = std::make_unique<sim::Renderer>(dataset.camera, o.samples);
+    renderer = std::make_unique<sim::Renderer>(dataset.camera, o.samples, renderer_threads());
     camera = std::make_unique<sim::Imaging>(sim::ImagingSettings::named(o.imaging),
                                             renderer.get(), o.simulation.seed);
     const int image_count = static_cast<int>(dataset.world_from_cam.size());
