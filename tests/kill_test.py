@@ -164,10 +164,10 @@ def main():
                         os.path.join(d, "model.cameramodel")]),
     ]
 
-    # Boards in raw images, where the real ones are at hand: two images, then three others.
+    # Boards in raw images, where the real ones are at hand: an image, then two others.
     if real:
-        for name, images in (("boards1", ["VMRImage0.jpg", "VMRImage1.jpg"]),
-                             ("boards2", ["VMRImage3.jpg", "VMRImage8.jpg", "VMRImage9.jpg"])):
+        for name, images in (("boards1", ["VMRImage0.jpg"]),
+                             ("boards2", ["VMRImage3.jpg", "VMRImage8.jpg"])):
             os.makedirs(os.path.join(inputs, name))
             for image in images:
                 shutil.copy(os.path.join(vmr, image), os.path.join(inputs, name, image))
