@@ -28,18 +28,48 @@ void for_each_view_pixel(const ViewDirection& d, int size, Direction&& at) {
 
 }  // namespace
 
+GenericViewShape::GenericViewShape(const MirrorImage& mirror, double elevation_span,
+                                   double elevation, double field_of_view, int size)
+    : centre_(mirror.centre),
+      elevation_(elevation),
+      field_of_view_(field_of_view),
+      size_(size),
+      radius_(size, size, CV_64F),
+      cosine_(size, size, CV_64F),
+      sine_(size, size, CV_64F) {
+  for_each_view_pixel(
+      {0, elevation, field_of_view}, size, [&](int u, int v, const Eigen::Vector3d& ray) {
+        const double azimuth = std::atan2(ray.y(), ray.x());
+        const double ray_elevation = std::asin(std::clamp(ray.z(), -1.0, 1.0));
+        radius_.at<double>(v, u) =
+            mirror.inner_radius +
+            (ray_elevation / elevation_span + 0.5) * (mirror.outer_radius - mirror.inner_radius);
+        cosine_.at<double>(v, u) = std::cos(azimuth);
+        sine_.at<double>(v, u) = std::sin(azimuth);
+      });
+}
+
+PerspectiveView::PerspectiveView(const GenericViewShape& shape, double azimuth)
+    : direction_{azimuth, shape.elevation_, shape.field_of_view_},
+      map_x_(shape.size_, shape.size_, CV_32F),
+      map_y_(shape.size_, shape.size_, CV_32F) {
+  const double turn_cosine = std::cos(azimuth), turn_sine = std::sin(azimuth);
+  for (int v = 0; v < shape.size_; ++v)
+    for (int u = 0; u < shape.size_; ++u) {
+      const double r = shape.radius_.at<double>(v, u);
+      const double c = shape.cosine_.at<double>(v, u), s = shape.sine_.at<double>(v, u);
+      map_x_.at<float>(v, u) =
+          static_cast<float>(shape.centre_.x() + r * (c * turn_cosine - s * turn_sine));
+      map_y_.at<float>(v, u) =
+          static_cast<float>(shape.centre_.y() + r * (s * turn_cosine + c * turn_sine));
+    }
+}
+
 PerspectiveView::PerspectiveView(const MirrorImage& mirror, double elevation_span,
                                  const ViewDirection& direction, int size)
-    : direction_(direction), map_x_(size, size, CV_32F), map_y_(size, size, CV_32F) {
-  for_each_view_pixel(direction, size, [&](int u, int v, const Eigen::Vector3d& ray) {
-    const double azimuth = std::atan2(ray.y(), ray.x());
-    const double elevation = std::asin(std::clamp(ray.z(), -1.0, 1.0));
-    const double r = mirror.inner_radius + (elevation / elevation_span + 0.5) *
-                                               (mirror.outer_radius - mirror.inner_radius);
-    map_x_.at<float>(v, u) = static_cast<float>(mirror.centre.x() + r * std::cos(azimuth));
-    map_y_.at<float>(v, u) = static_cast<float>(mirror.centre.y() + r * std::sin(azimuth));
-  });
-}
+    : PerspectiveView(GenericViewShape(mirror, elevation_span, direction.elevation,
+                                       direction.field_of_view, size),
+                      direction.azimuth) {}
 
 PerspectiveView::PerspectiveView(const camera::CatadioptricCamera& camera,
                                  const ViewDirection& direction, int size)

@@ -61,6 +61,8 @@ class BoardDetector {
 
  private:
   const PerspectiveView& view(std::size_t index);
+  // Without a model: the shape of the views looking that way at any azimuth.
+  const GenericViewShape& shape(const ViewDirection& direction);
   // The whole board in view `index`, rendered from raw_grey, by the full detector.
   std::optional<DetectedBoard> board_in_view(std::size_t index, const cv::Mat& rendered,
                                              const cv::Mat& raw_grey);
@@ -82,6 +84,8 @@ class BoardDetector {
   BoardSearch search_;
   std::vector<ViewDirection> directions_;
   std::vector<std::optional<PerspectiveView>> views_;
+  // Without a model: the views' shapes, one per field of view and elevation, made as needed.
+  std::vector<GenericViewShape> shapes_;
 };
 
 }  // namespace omnisfm::calib

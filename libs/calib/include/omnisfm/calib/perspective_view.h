@@ -19,10 +19,29 @@ struct ViewDirection {
   double field_of_view = 0;  // radians, across the square view
 };
 
+// The generic table's costly part, shared by views that differ in azimuth alone (a view at
+// azimuth a is the one at azimuth 0 turned by a about the mirror's centre): each view pixel's
+// distance from the centre and the cosine and sine of its azimuth, looking at azimuth 0.
+// Elevations run from -elevation_span/2 at the inner radius to +elevation_span/2 at the outer one.
+class GenericViewShape {
+ public:
+  GenericViewShape(const MirrorImage& mirror, double elevation_span, double elevation,
+                   double field_of_view, int size);
+  double elevation() const { return elevation_; }
+  double field_of_view() const { return field_of_view_; }
+
+ private:
+  friend class PerspectiveView;
+  Eigen::Vector2d centre_;
+  double elevation_, field_of_view_;
+  int size_;
+  cv::Mat radius_, cosine_, sine_;  // CV_64F, per view pixel
+};
+
 class PerspectiveView {
  public:
-  // The generic table: elevations from -elevation_span/2 at the inner radius to +elevation_span/2
-  // at the outer one.
+  // The generic table, looking at `azimuth`.
+  PerspectiveView(const GenericViewShape& shape, double azimuth);
   PerspectiveView(const MirrorImage& mirror, double elevation_span, const ViewDirection& direction,
                   int size);
   // Through the model: each view pixel's direction (frame C, z the mirror's axis) projected at
