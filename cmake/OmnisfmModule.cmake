@@ -29,7 +29,7 @@ endfunction()
 # long drives, which are given a cost so that a first run, with no timings yet, starts them before
 # the short tests and two cores finish together.
 function(omnisfm_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS;NOT_SANITIZED" ${ARGN})
+  cmake_parse_arguments(ARG "ONE_PROCESS_PER_SUITE" "" "SOURCES;DEPS;LABELS;NOT_SANITIZED" ${ARGN})
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
@@ -39,16 +39,20 @@ function(omnisfm_add_test name)
     add_dependencies(omnisfm_sanitizer_checks ${name})
   endif()
   omnisfm_warnings(${name})
+  # OpenBLAS on one thread, as the programs set it (omnisfm::sfm::use_one_blas_thread), and the
+  # command's image work too: the tests share the cores, where OpenCV's spinning threads cost.
+  set(environment "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" "OPENBLAS_NUM_THREADS=1"
+      "OMNISFM_THREADS=1" ${OMNISFM_SANITIZER_ENVIRONMENT})
+  if(ARG_ONE_PROCESS_PER_SUITE)
+    omnisfm_add_suite_tests(${name} "${ARG_LABELS}" "${ARG_NOT_SANITIZED}" "${environment}")
+    return()
+  endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
     TEST_LIST ${name}_tests
     DISCOVERY_TIMEOUT 60)
   # Lists (two labels, several variables) do not survive gtest_discover_tests' PROPERTIES, so
   # they are set by a file CTest reads after the discovered tests.
-  # OpenBLAS on one thread, as the programs set it (omnisfm::sfm::use_one_blas_thread), and the
-  # command's image work too: the tests share the cores, where OpenCV's spinning threads cost.
-  set(environment "OMNISFM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" "OPENBLAS_NUM_THREADS=1"
-      "OMNISFM_THREADS=1" ${OMNISFM_SANITIZER_ENVIRONMENT})
   set(cost 0)
   if("long" IN_LIST ARG_LABELS)
     set(cost 100)
@@ -74,4 +78,24 @@ function(omnisfm_add_test name)
   endif()
   file(APPEND "${properties_file}" "endif()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${properties_file}")
+endfunction()
+
+# One CTest test per gtest suite of `name` (ONE_PROCESS_PER_SUITE), for programs of many short
+# tests whose start costs more than they do: a program linking MRPT starts in 0.4 s of processor
+# time (0.8 s under the sanitizers), a camera contract test runs in milliseconds. The tests of a
+# suite that a NOT_SANITIZED expression matches make a test of their own, without the sanitize
+# label. A failure names its gtest test in the output, as before.
+function(omnisfm_add_suite_tests name labels not_sanitized environment)
+  set(sanitize FALSE)
+  if("sanitize" IN_LIST labels)
+    set(sanitize TRUE)
+  endif()
+  list(REMOVE_ITEM labels sanitize)
+  set(directory ${CMAKE_CURRENT_SOURCE_DIR})
+  configure_file(${PROJECT_SOURCE_DIR}/cmake/GtestSuites.cmake.in
+                 ${CMAKE_CURRENT_BINARY_DIR}/${name}_suites.cmake.in @ONLY)
+  file(GENERATE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/${name}_suites.cmake
+       INPUT ${CMAKE_CURRENT_BINARY_DIR}/${name}_suites.cmake.in)
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES
+               ${CMAKE_CURRENT_BINARY_DIR}/${name}_suites.cmake)
 endfunction()

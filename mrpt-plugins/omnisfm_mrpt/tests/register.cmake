@@ -2,7 +2,7 @@
 # writing, the committed rawlog of version 0; then stock MRPT's rawlog-edit loading the plugin on
 # a rawlog that `omnisfm simulate --rawlog` wrote.
 
-omnisfm_add_test(omnisfm_mrpt_tests
+omnisfm_add_test(omnisfm_mrpt_tests ONE_PROCESS_PER_SUITE
   SOURCES
     tests/camera_model_test.cpp
     tests/observations_test.cpp
