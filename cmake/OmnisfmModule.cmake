@@ -21,7 +21,8 @@ function(omnisfm_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wno-sign-compare)
 endfunction()
 
-# omnisfm_add_test(NAME SOURCES ... DEPS ... [LABELS ...] [NOT_SANITIZED REGEX...])
+# omnisfm_add_test(NAME [ONE_PROCESS_PER_SUITE] SOURCES ... DEPS ... [LABELS ...]
+#                  [NOT_SANITIZED REGEX...])
 # Labels: unit by default; sanitize for the tests the sanitizer build runs in CI (scripts/test.sh),
 # but for those whose whole name a NOT_SANITIZED regular expression matches (whole runs of the
 # estimators, numeric derivatives, statistics over thousands of draws: the sanitizers slow them

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Environment: OMNISFM_THREADS=N runs the image work (OpenCV's corner detection and "
       "tracking, the renderer) on N threads; unset, OpenCV takes one per core and the renderer "
-      "two. OPENBLAS_NUM_THREADS sets OpenBLAS's, one unless set.");
+      "two. OPENBLAS_NUM_THREADS or OMP_NUM_THREADS sets OpenBLAS's, one unless set.");
   omnisfm::app::add_project_verb(app);
   omnisfm::app::add_unproject_verb(app);
   omnisfm::app::add_simulate_verb(app);
@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
     }
   }
   try {
-    omnisfm::app::apply_image_threads();
+    // Checked once the command line is read, so that --help and --version answer whatever it holds.
+    app.parse_complete_callback(omnisfm::app::apply_image_threads);
     app.parse(argc, argv);
     return 0;
   } catch (const CLI::ParseError& error) {

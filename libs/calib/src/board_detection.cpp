@@ -108,6 +108,8 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey,
     rendered[index] = view(index).render(raw_grey);
     (cv::checkChessboard(rendered[index], grid_) ? likely : others).push_back(index);
   }
+  // Every view is made now: their shapes' tables (50 MB) are not needed again.
+  shapes_ = std::vector<GenericViewShape>();
   likely.insert(likely.end(), others.begin(), others.end());
   // The cheap detector (board_seen.h, a third of the full one's time) goes first, for two
   // things. An image where no view shows a board within kRowsShort rows of holding the grid is

@@ -16,9 +16,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
+#include <utility>
 
 #include "omnisfm/calib/board_seen.h"
 #include "omnisfm/calib/checkerboard_grid.h"
+#include "omnisfm/calib/perspective_view.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/checkerboard_files.h"
 
@@ -30,6 +32,37 @@ namespace fs = std::filesystem;
 std::string source_file(const std::string& relative) {
   const char* source = std::getenv("OMNISFM_SOURCE_DIR");
   return source ? (fs::path(source) / relative).string() : relative;
+}
+
+// A generic view at any azimuth is the one at azimuth 0 turned about the mirror's centre: each of
+// its pixels reads the raw pixel of its own ray's azimuth and elevation (the equiangular table),
+// within 1e-3 px.
+TEST(PerspectiveView, AGenericViewAtAnyAzimuthReadsItsRaysOwnPixel) {
+  const MirrorImage mirror{{516.4, 386.0}, 80, 443};
+  constexpr double kDegree = M_PI / 180, kSpan = 100 * kDegree;
+  constexpr int kSize = 480;
+  const GenericViewShape shape(mirror, kSpan, -20 * kDegree, 100 * kDegree, kSize);
+  for (const double azimuth_deg : {0.0, 30.0, 150.0, 330.0}) {
+    const ViewDirection d{azimuth_deg * kDegree, -20 * kDegree, 100 * kDegree};
+    const PerspectiveView view(shape, d.azimuth);
+    const double f = kSize / 2.0 / std::tan(d.field_of_view / 2);
+    const Eigen::Vector3d forward(std::cos(d.elevation) * std::cos(d.azimuth),
+                                  std::cos(d.elevation) * std::sin(d.azimuth),
+                                  std::sin(d.elevation));
+    const Eigen::Vector3d right(-std::sin(d.azimuth), std::cos(d.azimuth), 0);
+    const Eigen::Vector3d up = right.cross(forward);
+    for (const auto& [u, v] : {std::pair{0, 0}, {240, 240}, {479, 13}, {37, 402}}) {
+      const Eigen::Vector3d ray =
+          (((u + 0.5 - kSize / 2.0) / f) * right - ((v + 0.5 - kSize / 2.0) / f) * up + forward)
+              .normalized();
+      const double r = mirror.inner_radius + (std::asin(ray.z()) / kSpan + 0.5) *
+                                                 (mirror.outer_radius - mirror.inner_radius);
+      const double azimuth = std::atan2(ray.y(), ray.x());
+      const cv::Point2f raw = view.raw_pixel(cv::Point2f(u, v));
+      EXPECT_NEAR(raw.x, mirror.centre.x() + r * std::cos(azimuth), 1e-3) << azimuth_deg;
+      EXPECT_NEAR(raw.y, mirror.centre.y() + r * std::sin(azimuth), 1e-3) << azimuth_deg;
+    }
+  }
 }
 
 // The circles found on a drawn mirror: its centre within 0.5 px, the camera's reflection within

@@ -84,7 +84,8 @@ class BoardDetector {
   BoardSearch search_;
   std::vector<ViewDirection> directions_;
   std::vector<std::optional<PerspectiveView>> views_;
-  // Without a model: the views' shapes, one per field of view and elevation, made as needed.
+  // Without a model: the views' shapes, one per field of view and elevation, made as the views
+  // are and freed once all are.
   std::vector<GenericViewShape> shapes_;
 };
 
