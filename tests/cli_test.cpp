@@ -1218,6 +1218,12 @@ TEST_F(CliTest, ImageThreadsChangeNoResult) {
         << refused.err;
     EXPECT_FALSE(fs::exists(dir_ / "refused")) << bad;
   }
+  {
+    // --help and --version answer whatever it holds.
+    const ScopedEnvironment set("OMNISFM_THREADS", "two");
+    EXPECT_EQ(omnisfm("--help").status, 0);
+    EXPECT_EQ(omnisfm("simulate --help").status, 0);
+  }
   const ScopedEnvironment empty("OMNISFM_THREADS", "");
   EXPECT_EQ(omnisfm("simulate --scenario lab --out unset").status, 0);
 }
