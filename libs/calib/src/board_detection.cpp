@@ -100,8 +100,9 @@ const PerspectiveView& BoardDetector::view(std::size_t index) {
 std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey,
                                                    cv::Size* largest_seen) {
   CV_Assert(raw_grey.type() == CV_8UC1);
-  // OpenCV's quick check (8 ms a 480 px view) orders the search: the views it likes first, then
-  // the rest, as it misses a third of the boards the full detector (about 0.1 s a view) finds.
+  // OpenCV's quick check (4.3 ms a 480 px view on the vmr set) orders the search: the views it
+  // likes first, then the rest, as it misses a third of the boards the full detector (0.17-0.24 s
+  // on a view holding the board; bench/detect_bench.cpp) finds.
   std::vector<std::size_t> likely, others;
   std::vector<cv::Mat> rendered(directions_.size());
   for (std::size_t index = 0; index < directions_.size(); ++index) {
