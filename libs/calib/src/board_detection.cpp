@@ -93,6 +93,8 @@ const PerspectiveView& BoardDetector::view(std::size_t index) {
       views_[index].emplace(*camera_, directions_[index], search_.view_size);
     else
       views_[index].emplace(shape(directions_[index]), directions_[index].azimuth);
+    // Once every view is made, their shapes' tables (50 MB) are not needed again.
+    if (++views_made_ == views_.size()) shapes_ = std::vector<GenericViewShape>();
   }
   return *views_[index];
 }
@@ -102,16 +104,25 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey,
   CV_Assert(raw_grey.type() == CV_8UC1);
   // OpenCV's quick check (4.3 ms a 480 px view on the vmr set) orders the search: the views it
   // likes first, then the rest, as it misses a third of the boards the full detector (0.17-0.24 s
-  // on a view holding the board; bench/detect_bench.cpp) finds.
-  std::vector<std::size_t> likely, others;
-  std::vector<cv::Mat> rendered(directions_.size());
-  for (std::size_t index = 0; index < directions_.size(); ++index) {
-    rendered[index] = view(index).render(raw_grey);
-    (cv::checkChessboard(rendered[index], grid_) ? likely : others).push_back(index);
-  }
-  // Every view is made now: their shapes' tables (50 MB) are not needed again.
-  shapes_ = std::vector<GenericViewShape>();
-  likely.insert(likely.end(), others.begin(), others.end());
+  // on a view holding the board; bench/detect_bench.cpp) finds. The order is made only as far as
+  // the search walks it: where the board is found in a view the check liked, the views after it
+  // are neither rendered nor checked, and the search is the same.
+  const std::size_t n = directions_.size();
+  std::vector<cv::Mat> rendered(n);
+  const auto rendered_view = [&](std::size_t index) -> const cv::Mat& {
+    if (rendered[index].empty()) rendered[index] = view(index).render(raw_grey);
+    return rendered[index];
+  };
+  std::vector<std::size_t> order, disliked;
+  std::size_t checked = 0;
+  const auto view_at = [&](std::size_t k) {  // the order's k-th view; n beyond its end
+    while (order.size() <= k && checked < n) {
+      const std::size_t index = checked++;
+      (cv::checkChessboard(rendered_view(index), grid_) ? order : disliked).push_back(index);
+      if (checked == n) order.insert(order.end(), disliked.begin(), disliked.end());
+    }
+    return k < order.size() ? order[k] : n;
+  };
   // The cheap detector (board_seen.h, a third of the full one's time) goes first, for two
   // things. An image where no view shows a board within kRowsShort rows of holding the grid is
   // passed over: it may grow a board a row short (one paracatadioptric 6 x 8 board is 6 x 7 at
@@ -127,20 +138,21 @@ std::optional<DetectedBoard> BoardDetector::detect(const cv::Mat& raw_grey,
   // image's full search below (0.7-1 s at 1024 x 768 to 1280 x 1024).
   std::vector<cv::Size> seen(directions_.size(), cv::Size(-1, -1));  // -1: not yet looked at
   const auto seen_in = [&](std::size_t index) {
-    if (seen[index].width < 0) seen[index] = board_seen(rendered[index]);
+    if (seen[index].width < 0) seen[index] = board_seen(rendered_view(index));
     return seen[index];
   };
-  const bool grid_seen = std::any_of(likely.begin(), likely.end(), [&](std::size_t index) {
+  bool grid_seen = false;
+  for (std::size_t k = 0, index = view_at(0); !grid_seen && index < n; index = view_at(++k)) {
     const cv::Size board = seen_in(index);
-    return holds(board + cv::Size(kRowsShort, 0), grid_) ||
-           holds(board + cv::Size(0, kRowsShort), grid_);
-  });
+    grid_seen = holds(board + cv::Size(kRowsShort, 0), grid_) ||
+                holds(board + cv::Size(0, kRowsShort), grid_);
+  }
   std::optional<DetectedBoard> board;
   if (grid_seen)
     for (const bool with_a_board_seen : {true, false}) {
-      for (std::size_t index : likely)
+      for (std::size_t k = 0, index = view_at(0); index < n; index = view_at(++k))
         if (seen_in(index).empty() != with_a_board_seen &&
-            (board = board_in_view(index, rendered[index], raw_grey)))
+            (board = board_in_view(index, rendered_view(index), raw_grey)))
           break;
       if (board) break;
     }
