@@ -31,6 +31,7 @@
 #include "omnisfm/io/tracks_file.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
+#include "scoped_environment.h"
 #ifdef OMNISFM_WITH_MRPT_PLUGIN
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
 #endif
@@ -1166,26 +1167,7 @@ void copy_images(const fs::path& from, const fs::path& to, const std::vector<std
   for (const auto& name : names) fs::copy_file(from / name, to / name);
 }
 
-// Sets an environment variable for the commands a test runs, and restores it.
-class ScopedEnvironment {
- public:
-  ScopedEnvironment(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    ::setenv(name, value, 1);
-  }
-  ~ScopedEnvironment() {
-    if (old_)
-      ::setenv(name_, old_->c_str(), 1);
-    else
-      ::unsetenv(name_);
-  }
-  ScopedEnvironment(const ScopedEnvironment&) = delete;
-  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
+using omnisfm::test::ScopedEnvironment;
 
 // OMNISFM_THREADS sets the image work's threads and nothing else: the same rendered images and
 // the same tracks on one thread as on three. A count it cannot be is refused before any work.

@@ -12,12 +12,13 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <cstdlib>
-#include <optional>
 #include <functional>
+#include <optional>
 #include <random>
 #include <string>
 
 #include "omnisfm/sfm/blas_threads.h"
+#include "scoped_environment.h"
 
 namespace omnisfm::sfm {
 namespace {
@@ -177,27 +178,7 @@ TEST(FilterLinearAlgebra, CholeskyRefusesAnIndefiniteMatrix) {
   EXPECT_FALSE(cholesky_lower_in_place(&S));
 }
 
-// An environment variable set for the test's scope, restored after it.
-class ScopedEnvironment {
- public:
-  ScopedEnvironment(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value)
-      ::setenv(name, value, 1);
-    else
-      ::unsetenv(name);
-  }
-  ~ScopedEnvironment() {
-    if (old_)
-      ::setenv(name_, old_->c_str(), 1);
-    else
-      ::unsetenv(name_);
-  }
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
+using test::ScopedEnvironment;
 
 TEST(BlasThreads, TheAlgebraLeavesThemAndTheProgramSetsThem) {
   using GetThreads = int (*)();
