@@ -79,9 +79,10 @@ struct FilterSettings {
   // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
   // sensors the fused batch's too (fused_pipeline.h); with measure_noise, where the tracks are
   // well noisier, the noise measured instead (OnlineFilter::pixel_sigma()). Vision alone over
-  // long drives the orientation is best at 1.5-2 times the tracks' noise and worst at the noise
-  // itself: 0.2 px tracks on the 600 m drive, seeds 1-12, 1.46 deg mean error at 0.4, 1.96 at 0.2
-  // (docs/shape-from-motion.md, "Endless sequences").
+  // long drives the orientation is best at about twice the tracks' noise and worst at the noise
+  // itself: 0.2 px tracks on the 600 m drive, seeds 1-24, 1.41 deg mean error (1.98 at most) at
+  // 0.4, 1.56 (2.51) at 0.3, 1.96 at 0.2 over seeds 1-12 (docs/shape-from-motion.md, "Endless
+  // sequences").
   double pixel_sigma = 0.3;
   // Under the chi-square outlier test, whether the filter measures the tracks' noise and takes it
   // where it is well beyond pixel_sigma, for its measurement noise (and so the covariance it
