@@ -81,7 +81,8 @@ struct FilterSettings {
   // well noisier, the noise measured instead (OnlineFilter::pixel_sigma()). Vision alone over
   // long drives the orientation is best at about twice the tracks' noise and worst at the noise
   // itself: 0.2 px tracks on the 600 m drive, seeds 1-24, 1.41 deg mean error (1.98 at most) at
-  // 0.4, 1.56 (2.51) at 0.3, 1.96 at 0.2 over seeds 1-12 (docs/shape-from-motion.md, "Endless
+  // 0.4, 1.56 (2.51) at 0.3, 1.96 at 0.2 over seeds 1-12; on the equiangular rig 3 times the
+  // noise does best, on central rigs it makes no difference (docs/shape-from-motion.md, "Endless
   // sequences").
   double pixel_sigma = 0.3;
   // Under the chi-square outlier test, whether the filter measures the tracks' noise and takes it
