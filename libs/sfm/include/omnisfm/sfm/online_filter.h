@@ -79,11 +79,11 @@ struct FilterSettings {
   // The tracks' noise, pixels per coordinate: the filter's measurement noise, and with motion
   // sensors the fused batch's too (fused_pipeline.h); with measure_noise, where the tracks are
   // well noisier, the noise measured instead (OnlineFilter::pixel_sigma()). Vision alone over
-  // long drives the orientation is best at about twice the tracks' noise and worst at the noise
-  // itself: 0.2 px tracks on the 600 m drive, seeds 1-24, 1.41 deg mean error (1.98 at most) at
-  // 0.4, 1.56 (2.51) at 0.3, 1.96 at 0.2 over seeds 1-12; on the equiangular rig 3 times the
-  // noise does best, on central rigs it makes no difference (docs/shape-from-motion.md, "Endless
-  // sequences").
+  // long drives with a noncentral rig the orientation is best well above the tracks' noise and
+  // worst at the noise itself: 0.2 px tracks on the 600 m drive, seeds 1-24, 1.41 deg mean error
+  // (1.98 at most) at 0.4, 1.56 (2.51) at 0.3, 1.96 at 0.2 over seeds 1-12; 0.1 px tracks do best
+  // at 0.3, share/omnisfm/cameras/equiangular.ini at 0.6, and central rigs barely change
+  // (docs/shape-from-motion.md, "Endless sequences"). The outlier test widens with it.
   double pixel_sigma = 0.3;
   // Under the chi-square outlier test, whether the filter measures the tracks' noise and takes it
   // where it is well beyond pixel_sigma, for its measurement noise (and so the covariance it
