@@ -46,6 +46,7 @@
 #include "omnisfm/io/checkerboard_files.h"
 #include "omnisfm/sim/scenario.h"
 #include "omnisfm/track/image_sequence.h"
+#include "real_data_folder.h"
 
 namespace {
 
@@ -543,11 +544,7 @@ void lab() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string root =
-      argc > 1 ? argv[1]
-               : (fs::path(OMNISFM_SOURCE_DIR) / ".." / "shared" / "data" / "real-catadioptric")
-                     .lexically_normal()
-                     .string();
+  const std::string root = argc > 1 ? argv[1] : omnisfm::test::real_data_folder(OMNISFM_SOURCE_DIR);
   if (fs::is_directory(root)) {
     real_data(root);
   } else {

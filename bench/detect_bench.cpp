@@ -20,6 +20,7 @@
 #include "omnisfm/calib/board_detection.h"
 #include "omnisfm/calib/mirror_image.h"
 #include "omnisfm/calib/perspective_view.h"
+#include "real_data_folder.h"
 
 namespace {
 
@@ -31,10 +32,7 @@ constexpr double kDegree = M_PI / 180;
 
 const std::vector<cv::Mat>& vmr_images() {
   static const std::vector<cv::Mat> images = [] {
-    const char* given = std::getenv("OMNISFM_REAL_DATA");
-    const fs::path root =
-        given ? fs::path(given)
-              : fs::path(OMNISFM_SOURCE_DIR) / ".." / "shared" / "data" / "real-catadioptric";
+    const fs::path root = omnisfm::test::real_data_folder(OMNISFM_SOURCE_DIR);
     std::vector<cv::Mat> read;
     for (int k = 0; k < 10; ++k) {
       const fs::path path = root / "vmr" / ("VMRImage" + std::to_string(k) + ".jpg");

@@ -31,6 +31,7 @@
 #include "omnisfm/io/tracks_file.h"
 #include "omnisfm/io/tum_trajectory.h"
 #include "omnisfm/io/vnlog.h"
+#include "real_data_folder.h"
 #include "scoped_environment.h"
 #ifdef OMNISFM_WITH_MRPT_PLUGIN
 #include "omnisfm/mrpt_plugin/rawlog_replay_input.h"
@@ -754,9 +755,7 @@ double figure_after(const std::string& text, const std::string& key) {
 }
 
 std::string real_data_folder() {
-  const char* source = std::getenv("OMNISFM_SOURCE_DIR");
-  return source ? (fs::path(source) / ".." / "shared" / "data" / "real-catadioptric").string()
-                : "";
+  return omnisfm::test::real_data_folder(std::getenv("OMNISFM_SOURCE_DIR"));
 }
 
 // The report says where the batch's scale comes from, with its standard deviation, and "held"

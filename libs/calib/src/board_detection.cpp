@@ -94,7 +94,8 @@ const PerspectiveView& BoardDetector::view(std::size_t index) {
     else
       views_[index].emplace(shape(directions_[index]), directions_[index].azimuth);
     // Once every view is made, their shapes' tables (50 MB) are not needed again.
-    if (++views_made_ == views_.size()) shapes_ = std::vector<GenericViewShape>();
+    if (std::all_of(views_.begin(), views_.end(), [](const auto& v) { return v.has_value(); }))
+      shapes_ = std::vector<GenericViewShape>();
   }
   return *views_[index];
 }

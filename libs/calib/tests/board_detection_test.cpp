@@ -23,6 +23,7 @@
 #include "omnisfm/calib/perspective_view.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/checkerboard_files.h"
+#include "real_data_folder.h"
 
 namespace omnisfm::calib {
 namespace {
@@ -355,8 +356,7 @@ TEST(BoardDetection, OfABoardLargerThanTheGridTheLeastSqueezedBlockIsTaken) {
 class RealImages : public ::testing::Test {
  protected:
   void SetUp() override {
-    const char* given = std::getenv("OMNISFM_REAL_DATA");
-    folder_ = given ? fs::path(given) : fs::path(source_file("../shared/data/real-catadioptric"));
+    folder_ = test::real_data_folder(std::getenv("OMNISFM_SOURCE_DIR"));
     if (!fs::is_directory(folder_)) GTEST_SKIP() << "no real data at '" << folder_ << "'";
   }
 

@@ -11,18 +11,14 @@
 #include "omnisfm/calib/staged_calibration.h"
 #include "omnisfm/io/camera_file.h"
 #include "omnisfm/io/checkerboard_files.h"
+#include "real_data_folder.h"
 
 namespace omnisfm::calib {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string real_data_folder() {
-  if (const char* folder = std::getenv("OMNISFM_REAL_DATA")) return folder;
-  const char* source = std::getenv("OMNISFM_SOURCE_DIR");
-  return source ? (fs::path(source) / ".." / "shared" / "data" / "real-catadioptric").string()
-                : "";
-}
+std::string real_data_folder() { return test::real_data_folder(std::getenv("OMNISFM_SOURCE_DIR")); }
 
 struct RealCalibration {
   camera::CatadioptricCamera camera;

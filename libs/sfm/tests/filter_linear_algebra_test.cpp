@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
-#include <optional>
 #include <random>
 #include <string>
 
