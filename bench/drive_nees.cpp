@@ -11,9 +11,9 @@
 // CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
 // NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px); which inputs the filter gets (vision,
 // gyro, odometry: 0 or 1; axes=1 adds a line per block with the rotation's error and sigma about
-// each of the camera's axes, z up; noisy_before_age=A or noisy_from_age=A: the noise only on each
-// track's observations less than A frames after its first, or only on the others, the rest
-// exact); the simulated sensors' noise (gyro_noise_density,
+// each of the camera's axes, z up, and its error about the first frame's; noisy_before_age=A or
+// noisy_from_age=A: the noise only on each track's observations less than A frames after its first,
+// or only on the others, the rest exact); the simulated sensors' noise (gyro_noise_density,
 // gyro_bias_sigma, gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting
 // of the filter (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth,
 // inverse_depth_sigma, predicted_settle_sigmas, outlier_chi2, smoothed_start_frames,
@@ -234,10 +234,16 @@ int main(int argc_given, char** argv_given) {
                   nees / counted, nees_rotation / counted, nees_translation / counted,
                   filter.wheel_scale(), std::sqrt(filter.wheel_scale_variance()),
                   spans > 0 ? direction_error / spans : NAN, spans > 0 ? scale / spans : NAN);
-      if (study.per_axis)
-        std::printf("#   about x y z: error %.3f %.3f %.3f deg, sigma %.3f %.3f %.3f deg\n",
-                    e(0) * kDeg, e(1) * kDeg, e(2) * kDeg, std::sqrt(P(0, 0)) * kDeg,
-                    std::sqrt(P(1, 1)) * kDeg, std::sqrt(P(2, 2)) * kDeg);
+      if (study.per_axis) {
+        // The same error about the first frame's axes, which stay put as the vehicle turns.
+        const Eigen::Vector3d first_axes = truth.linear().transpose() * e.head<3>() * kDeg;
+        std::printf(
+            "#   about x y z: error %.3f %.3f %.3f deg, sigma %.3f %.3f %.3f deg; about the "
+            "first frame's: %.3f %.3f %.3f deg\n",
+            e(0) * kDeg, e(1) * kDeg, e(2) * kDeg, std::sqrt(P(0, 0)) * kDeg,
+            std::sqrt(P(1, 1)) * kDeg, std::sqrt(P(2, 2)) * kDeg, first_axes.x(), first_axes.y(),
+            first_axes.z());
+      }
       nees = nees_rotation = nees_translation = 0;
       counted = 0;
     }
