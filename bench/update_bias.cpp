@@ -17,7 +17,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <random>
-#include <string>
 #include <vector>
 
 #include "omnisfm/eval/filter_consistency.h"
@@ -79,6 +78,7 @@ int main(int argc, char** argv) {
   for (size_t k = 2; k < positional.size(); ++k) studied.push_back(std::atoi(positional[k]));
   if (studied.empty()) studied = {1000, 2000, 3000};
   std::sort(studied.begin(), studied.end());
+  studied.erase(std::unique(studied.begin(), studied.end()), studied.end());
   if (studied.front() < 1) {
     std::fprintf(stderr, "update_bias: the frames studied are 1 or later\n");
     return 2;
