@@ -11,7 +11,7 @@
 // CAMERA.ini: another rig than the simulator's (its mirror below the camera, as the drive needs).
 // NAME=VALUE, anywhere: the tracks' noise (noise=0.2 px); which inputs the filter gets (vision,
 // gyro, odometry: 0 or 1; axes=1 adds a line per block with the rotation's error and sigma about
-// each of the camera's axes, z up, and its error about the first frame's; noisy_before_age=A or
+// each of the camera's axes, z up, and about the first frame's; noisy_before_age=A or
 // noisy_from_age=A: the noise only on each track's observations less than A frames after its first,
 // or only on the others, the rest exact); the simulated sensors' noise (gyro_noise_density,
 // gyro_bias_sigma, gyro_bias_walk, odometry_position_noise, odometry_heading_noise); or a setting
@@ -121,8 +121,8 @@ bool apply(const std::string& assignment, Study* study) {
        [&](double v) { settings.smoothing_window_frames = static_cast<int>(v); }},
       {"origin_turns",
        [&](double v) {
-         settings.origin_turns_with_camera =
-             static_cast<omnisfm::sfm::OriginTurnsWithCamera>(std::clamp(static_cast<int>(v), 0, 2));
+         settings.origin_turns_with_camera = static_cast<omnisfm::sfm::OriginTurnsWithCamera>(
+             std::clamp(static_cast<int>(v), 0, 2));
        }},
       {"wheel_scale_from_images", [&](double v) { settings.wheel_scale_from_images = v != 0; }},
       {"measure_noise", [&](double v) { settings.measure_noise = v != 0; }},
@@ -158,8 +158,8 @@ int main(int argc_given, char** argv_given) {
   if (argc > 5) settings.estimate_wheel_scale = std::atoi(argv[5]) != 0;
   const bool with_sensors = argc > 6 ? std::atoi(argv[6]) != 0 : true;
   if (argc > 7)
-    settings.origin_follows_camera = static_cast<sfm::OriginFollowsCamera>(
-        std::clamp(std::atoi(argv[7]), 0, 2));
+    settings.origin_follows_camera =
+        static_cast<sfm::OriginFollowsCamera>(std::clamp(std::atoi(argv[7]), 0, 2));
   if (argc > 8) settings.take_back_depth_priors = std::atoi(argv[8]) != 0;
   for (const std::string& assignment : assignments)
     if (!apply(assignment, &study)) {
@@ -193,20 +193,20 @@ int main(int argc_given, char** argv_given) {
   if (!study.with_gyro) sensors.gyro.clear();
   if (!study.with_odometry) sensors.odometry.clear();
   if (!study.with_vision)  // the first frame's tracks only, and the last's to keep the length
-    drive.observations.erase(
-        std::remove_if(drive.observations.begin(), drive.observations.end(),
-                       [&](const core::TrackObservation& o) {
-                         return o.frame != 0 && o.frame != frames - 1;
-                       }),
-        drive.observations.end());
+    drive.observations.erase(std::remove_if(drive.observations.begin(), drive.observations.end(),
+                                            [&](const core::TrackObservation& o) {
+                                              return o.frame != 0 && o.frame != frames - 1;
+                                            }),
+                             drive.observations.end());
   sfm::OnlineFilter filter(drive.camera, settings);
   const Eigen::Isometry3d first_from_world = drive.world_from_cam[0].inverse();
   std::vector<Eigen::Isometry3d> estimate;
   double nees = 0, nees_rotation = 0, nees_translation = 0;
   int counted = 0;
-  std::printf("# frame rotation_error_deg rotation_sigma_deg position_error_m position_sigma_m "
-              "nees nees_rotation nees_translation wheel_scale wheel_scale_sigma "
-              "travel_direction_error_deg travel_scale\n");
+  std::printf(
+      "# frame rotation_error_deg rotation_sigma_deg position_error_m position_sigma_m "
+      "nees nees_rotation nees_translation wheel_scale wheel_scale_sigma "
+      "travel_direction_error_deg travel_scale\n");
   eval::run_filter(drive, with_sensors ? &sensors : nullptr, settings, &filter, [&](int f) {
     const Eigen::Isometry3d truth = (first_from_world * drive.world_from_cam[f]).inverse();
     const Eigen::Isometry3d est = filter.cam_from_world();
@@ -225,7 +225,8 @@ int main(int argc_given, char** argv_given) {
       double direction_error = 0, scale = 0;
       int spans = 0;
       for (int g = std::max(0, f + 1 - block - kSpan); g + kSpan <= f; ++g, ++spans) {
-        direction_error += eval::travel_direction_error_deg(estimate, drive.world_from_cam, g, kSpan);
+        direction_error +=
+            eval::travel_direction_error_deg(estimate, drive.world_from_cam, g, kSpan);
         scale += travel_scale(estimate, drive.world_from_cam, g);
       }
       std::printf("%d %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.4f %.4f %.1f %.3f\n", f + 1,
@@ -235,14 +236,21 @@ int main(int argc_given, char** argv_given) {
                   filter.wheel_scale(), std::sqrt(filter.wheel_scale_variance()),
                   spans > 0 ? direction_error / spans : NAN, spans > 0 ? scale / spans : NAN);
       if (study.per_axis) {
-        // The same error about the first frame's axes, which stay put as the vehicle turns.
-        const Eigen::Vector3d first_axes = truth.linear().transpose() * e.head<3>() * kDeg;
+        // The same error and sigma about the first frame's axes, which stay put as the vehicle
+        // turns.
+        const Eigen::Matrix3d first_from_cam = truth.linear().transpose();
+        const Eigen::Vector3d first_error = first_from_cam * e.head<3>() * kDeg;
+        const Eigen::Vector3d first_sigma =
+            (first_from_cam * P.topLeftCorner<3, 3>() * first_from_cam.transpose())
+                .diagonal()
+                .cwiseSqrt() *
+            kDeg;
         std::printf(
             "#   about x y z: error %.3f %.3f %.3f deg, sigma %.3f %.3f %.3f deg; about the "
-            "first frame's: %.3f %.3f %.3f deg\n",
+            "first frame's: error %.3f %.3f %.3f deg, sigma %.3f %.3f %.3f deg\n",
             e(0) * kDeg, e(1) * kDeg, e(2) * kDeg, std::sqrt(P(0, 0)) * kDeg,
-            std::sqrt(P(1, 1)) * kDeg, std::sqrt(P(2, 2)) * kDeg, first_axes.x(), first_axes.y(),
-            first_axes.z());
+            std::sqrt(P(1, 1)) * kDeg, std::sqrt(P(2, 2)) * kDeg, first_error.x(), first_error.y(),
+            first_error.z(), first_sigma.x(), first_sigma.y(), first_sigma.z());
       }
       nees = nees_rotation = nees_translation = 0;
       counted = 0;
@@ -252,11 +260,12 @@ int main(int argc_given, char** argv_given) {
                                              drive.world_from_cam.begin() + frames);
   const eval::TrajectoryErrors rigid = eval::trajectory_errors(estimate, truth, false);
   const eval::TrajectoryErrors similar = eval::trajectory_errors(estimate, truth, true);
-  std::printf("# seed %d, %.0f m: %.2f %% of the distance after a rigid alignment, mean rotation "
-              "error %.2f deg; after a similarity %.2f %%, %.2f deg\n",
-              static_cast<int>(seed), rigid.distance_travelled_m,
-              rigid.translation_error_percent, rigid.mean_rotation_error_deg,
-              similar.translation_error_percent, similar.mean_rotation_error_deg);
+  std::printf(
+      "# seed %d, %.0f m: %.2f %% of the distance after a rigid alignment, mean rotation "
+      "error %.2f deg; after a similarity %.2f %%, %.2f deg\n",
+      static_cast<int>(seed), rigid.distance_travelled_m, rigid.translation_error_percent,
+      rigid.mean_rotation_error_deg, similar.translation_error_percent,
+      similar.mean_rotation_error_deg);
   if (settings.smoothing_window_frames > 0)
     std::printf("# sliding window: %ld solves taken, %ld refused\n", filter.window_solves(),
                 filter.window_refusals());

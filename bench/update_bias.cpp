@@ -2,17 +2,21 @@
 // benchmark: one run, a line per frame studied). The filter runs vision alone over
 // sim::long_drive to each frame F given; there, copies of it take frame F + 1's exact pixels
 // (the reference) and, SAMPLES times, those pixels with fresh Gaussian noise. A linear update is
-// unbiased: the noisy updates' mean is the reference's. Printed per frame: the mean rotation
-// error against the reference about the camera's axes (z up, as drive_nees axes=1 prints it)
-// and its standard error, and the mean change of the step since frame F along the reference's
-// step, as a fraction of that step.
-//   update_bias [SEED=2] [SAMPLES=4000] F... [NAME=VALUE...]
+// unbiased: the noisy updates' mean is the reference's. Printed per frame F + 1: the mean
+// rotation error about the camera's axes (z up) and its standard error, the reference's
+// rotation relative to the noisy update's as drive_nees axes=1 prints the truth's relative to
+// the estimate's; then the mean change of the step since frame F along the reference's step (the
+// noisy update's less the reference's, a fraction of that step) and its standard error; the
+// reference's step, metres in the filter's units; the tracks frame F + 1 sees.
+//   update_bias [SEED=2] [SAMPLES=4000] [F...=1000 2000 3000] [NAME=VALUE...]
+// F: from FilterSettings::smoothed_start_frames on (before it, the smoothed start's solve).
 // NAME=VALUE: noise (0.2 px, frame F + 1's), state_noise (the tracks' noise up to frame F; 0,
 // exact tracks, by default), update_iterations, pixel_sigma.
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -42,7 +46,9 @@ struct Moments {
   }
   Eigen::Matrix<double, N, 1> mean() const { return sum / count; }
   Eigen::Matrix<double, N, 1> standard_error() const {
-    return ((sum_squares / count - mean().cwiseAbs2()) / count).cwiseMax(0).cwiseSqrt();
+    const Eigen::Matrix<double, N, 1> variance =
+        (sum_squares - count * mean().cwiseAbs2()) / (count - 1);
+    return (variance.cwiseMax(0) / count).cwiseSqrt();
   }
 };
 
@@ -72,19 +78,40 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const int seed = positional.size() > 0 ? std::atoi(positional[0]) : 2;
-  const int samples = positional.size() > 1 ? std::max(2, std::atoi(positional[1])) : 4000;
-  std::vector<int> studied;
-  for (size_t k = 2; k < positional.size(); ++k) studied.push_back(std::atoi(positional[k]));
+  // Positional arguments, whole numbers: the seed, the samples, then the frames studied.
+  std::vector<int> numbers;
+  for (const char* text : positional) {
+    double value = 0;
+    if (!bench::parse_number(text, &value) || value != std::floor(value)) {
+      std::fprintf(stderr, "update_bias: not a whole number: %s\n", text);
+      return 2;
+    }
+    numbers.push_back(static_cast<int>(value));
+  }
+  const int seed = numbers.size() > 0 ? numbers[0] : 2;
+  const int samples = numbers.size() > 1 ? numbers[1] : 4000;
+  std::vector<int> studied(numbers.begin() + std::min<size_t>(numbers.size(), 2), numbers.end());
   if (studied.empty()) studied = {1000, 2000, 3000};
   std::sort(studied.begin(), studied.end());
   studied.erase(std::unique(studied.begin(), studied.end()), studied.end());
-  if (studied.front() < 1) {
-    std::fprintf(stderr, "update_bias: the frames studied are 1 or later\n");
+  if (samples < 2) {
+    std::fprintf(stderr, "update_bias: at least 2 samples, for a standard error\n");
+    return 2;
+  }
+  if (studied.front() < settings.smoothed_start_frames) {
+    std::fprintf(stderr,
+                 "update_bias: the frames studied are %d or later (before, the smoothed "
+                 "start's solve)\n",
+                 settings.smoothed_start_frames);
+    return 2;
+  }
+  if (!(noise > 0) || !(state_noise >= 0)) {
+    std::fprintf(stderr, "update_bias: noise above 0 and state_noise 0 or above, in pixels\n");
     return 2;
   }
 
-  const int frames = studied.back() + 2;
+  // One frame past the last studied, so that frame F + 1 keeps the tracks that start there.
+  const int frames = studied.back() + 3;
   const sim::Dataset exact = sim::long_drive(frames, 0.0, seed);
   const auto exact_frames = sfm::observations_by_frame(exact.observations);
   const auto state_frames =
@@ -96,8 +123,8 @@ int main(int argc, char** argv) {
   std::normal_distribution<double> pixel_noise(0, noise);
   constexpr double kDeg = 180 / M_PI;
   std::printf(
-      "# frame rotation_bias_about_x_y_z_deg standard_error_deg step_bias "
-      "step_standard_error step_m points\n");
+      "# frame rotation_x_deg rotation_y_deg rotation_z_deg standard_error_x standard_error_y "
+      "standard_error_z step_change step_change_standard_error step tracks\n");
   size_t next = 0;
   for (int f = 0; next < studied.size(); ++f) {
     filter.process_frame(f, state_frames[f]);
@@ -114,18 +141,18 @@ int main(int argc, char** argv) {
       for (core::TrackPixel& p : pixels)
         p.pixel += Eigen::Vector2d(pixel_noise(random), pixel_noise(random));
       noisy.process_frame(f + 1, pixels);
-      Eigen::Vector4d x;
-      x.head<3>() =
+      Eigen::Vector4d sample;
+      sample.head<3>() =
           eval::filter_pose_error(reference.cam_from_world(), noisy.cam_from_world()).head<3>() *
           kDeg;
-      x[3] = (camera_centre(noisy) - centre - reference_step).dot(reference_step) /
-             reference_step.squaredNorm();
-      bias.add(x);
+      sample[3] = (camera_centre(noisy) - centre - reference_step).dot(reference_step) /
+                  reference_step.squaredNorm();
+      bias.add(sample);
     }
-    const Eigen::Vector4d mean = bias.mean(), error = bias.standard_error();
+    const Eigen::Vector4d mean = bias.mean(), standard_error = bias.standard_error();
     std::printf("%d %.2e %.2e %.2e %.1e %.1e %.1e %.2e %.1e %.4f %zu\n", f + 1, mean[0], mean[1],
-                mean[2], error[0], error[1], error[2], mean[3], error[3], reference_step.norm(),
-                exact_frames[f + 1].size());
+                mean[2], standard_error[0], standard_error[1], standard_error[2], mean[3],
+                standard_error[3], reference_step.norm(), exact_frames[f + 1].size());
     std::fflush(stdout);
   }
 }
