@@ -18,6 +18,7 @@
 // of the filter (pixel_sigma, rotation_walk_sigma, translation_walk_sigma, initial_depth,
 // inverse_depth_sigma, predicted_settle_sigmas, outlier_chi2, smoothed_start_frames,
 // wheel_scale_from_images, origin_turns: 0 never, 1 with the sensors, 2 always; update_iterations,
+// linearise_at_constant_velocity,
 // measure_noise, smoothing_window_frames: the sliding window, 0 off). With the window, the solves
 // it took and refused are printed at the end.
 //   drive_nees [FRAMES=20000] [SEED=1] [BLOCK=2000] [WHEEL_SCALE_ERROR=0.015]
@@ -127,6 +128,8 @@ bool apply(const std::string& assignment, Study* study) {
       {"wheel_scale_from_images", [&](double v) { settings.wheel_scale_from_images = v != 0; }},
       {"measure_noise", [&](double v) { settings.measure_noise = v != 0; }},
       {"update_iterations", [&](double v) { settings.update_iterations = static_cast<int>(v); }},
+      {"linearise_at_constant_velocity",
+       [&](double v) { settings.linearise_at_constant_velocity = v != 0; }},
   };
   return omnisfm::bench::apply_assignment(assignment, settable);
 }
@@ -262,10 +265,10 @@ int main(int argc_given, char** argv_given) {
   const eval::TrajectoryErrors similar = eval::trajectory_errors(estimate, truth, true);
   std::printf(
       "# seed %d, %.0f m: %.2f %% of the distance after a rigid alignment, mean rotation "
-      "error %.2f deg; after a similarity %.2f %%, %.2f deg\n",
+      "error %.2f deg; after a similarity %.2f %%, %.2f deg; %zu tracks rejected\n",
       static_cast<int>(seed), rigid.distance_travelled_m, rigid.translation_error_percent,
       rigid.mean_rotation_error_deg, similar.translation_error_percent,
-      similar.mean_rotation_error_deg);
+      similar.mean_rotation_error_deg, filter.rejected().size());
   if (settings.smoothing_window_frames > 0)
     std::printf("# sliding window: %ld solves taken, %ld refused\n", filter.window_solves(),
                 filter.window_refusals());

@@ -319,11 +319,32 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   for (int k = 0; k < m; ++k) point_columns[k] = state_.point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
-  const int linearisations = at_given_points() ? 1 : std::max(1, settings_.update_iterations);
+  // Under the random walk with FilterSettings::linearise_at_constant_velocity, once a frame's
+  // motion is known: one linearisation, at the propagated pose moved by the last frame's motion,
+  // a point the frame's own pixels did not choose.
+  const bool at_constant_velocity = settings_.linearise_at_constant_velocity && !predicted &&
+                                    !at_given_points() &&
+                                    !last_motion_.isApprox(Eigen::Isometry3d::Identity(), 0);
+  const int linearisations =
+      at_given_points() || at_constant_velocity ? 1 : std::max(1, settings_.update_iterations);
   bool warm_step = false;
   Iterate at = first_iterate(meas, point_columns, predicted, linearisations, &warm_step);
   Iterate next;
   next.allocate(m, state_.num_camera_params());
+  if (at_constant_velocity) {
+    // cam_from_state moved by M = last_motion_: R' = R_M R (a left perturbation log R_M),
+    // t' = R_M t + t_M.
+    const Eigen::Isometry3d& motion = last_motion_;
+    next.offset = Eigen::VectorXd::Zero(n);
+    next.offset.head<3>() = so3::log(motion.linear());
+    next.offset.segment<3>(3) =
+        motion.linear() * state_.mean.t + motion.translation() - state_.mean.t;
+    next.g = Eigen::VectorXd::Zero(n);
+    next.cost = 0;
+    const FilterMean predicted_mean = state_.mean.plus(next.offset, kMinInverseDepth);
+    project_iterate(meas, point_columns, predicted_mean, true, false, 0, at, &next);
+    std::swap(at, next);
+  }
   c->residuals.resize(m);
 
   // P H^T and S's factor are built in the candidate: every step is taken (the warm start's is

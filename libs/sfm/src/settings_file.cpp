@@ -46,6 +46,8 @@ SfmSettings read_sfm_settings(const io::IniSection& s) {
            "must be chi2 (the residual against its covariance) or pixels (the "
            "paper's fixed outlier_threshold_px)");
   f.measure_noise = s.get_flag("measure_noise", f.measure_noise);
+  f.linearise_at_constant_velocity =
+      s.get_flag("linearise_at_constant_velocity", f.linearise_at_constant_velocity);
   for (const CountRange& r : count_ranges()) {
     int& field = r.field(settings);
     field = s.get_positive_int(r.key, field, r.zero_off || r.low == 0);

@@ -47,8 +47,9 @@ TEST(SfmSettings, EveryKeyLandsInItsField) {
       "batch = 1\nbatch_outlier_threshold_px = 3\nhuber_px = 1.5\ncovariances = 0\n"
       "max_iterations = 50\nbatch_scale_start = 0\nknown_distance_m = 4.08\n"
       "refine_camera = 1\nconsider_camera = 1\nbatch_track_false_alarm = 0.001\n"
-      "max_live_points = 40\nthreads = 1\n");
+      "max_live_points = 40\nthreads = 1\nlinearise_at_constant_velocity = 1\n");
   EXPECT_EQ(s.filter.pixel_sigma, 0.5);
+  EXPECT_TRUE(s.filter.linearise_at_constant_velocity);
   EXPECT_EQ(s.filter.max_live_points, 40);
   EXPECT_EQ(s.batch.threads, 1);
   EXPECT_EQ(s.batch_track_false_alarm, 0.001);
@@ -302,6 +303,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
                           "outlier_threshold_px",
                           "innovation_gate_chi2",
                           "update_iterations",
+                          "linearise_at_constant_velocity",
                           "smoothed_start_frames",
                           "smoothing_window_frames",
                           "max_live_points",
@@ -331,6 +333,7 @@ TEST(SfmSettings, ShippedExampleHoldsEveryKeyAtItsDefault) {
   EXPECT_EQ(f.outlier_threshold_px, defaults.filter.outlier_threshold_px);
   EXPECT_EQ(f.innovation_gate_chi2, defaults.filter.innovation_gate_chi2);
   EXPECT_EQ(f.update_iterations, defaults.filter.update_iterations);
+  EXPECT_EQ(f.linearise_at_constant_velocity, defaults.filter.linearise_at_constant_velocity);
   EXPECT_EQ(f.smoothed_start_frames, defaults.filter.smoothed_start_frames);
   EXPECT_EQ(f.smoothing_window_frames, defaults.filter.smoothing_window_frames);
   EXPECT_EQ(f.max_live_points, defaults.filter.max_live_points);
