@@ -319,12 +319,12 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   for (int k = 0; k < m; ++k) point_columns[k] = state_.point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
-  // Under the random walk with FilterSettings::linearise_at_constant_velocity, once a frame's
-  // motion is known: one linearisation, at the propagated pose moved by the last frame's motion,
-  // a point the frame's own pixels did not choose.
-  const bool at_constant_velocity = settings_.linearise_at_constant_velocity && !predicted &&
-                                    !at_given_points() &&
-                                    !last_motion_.isApprox(Eigen::Isometry3d::Identity(), 0);
+  // FilterSettings::linearise_at_constant_velocity, in a frame the walk propagated, once a frame's
+  // motion is known: one linearisation, at the propagated pose moved by that motion, a point the
+  // frame's own pixels did not choose.
+  const bool at_constant_velocity = settings_.linearise_at_constant_velocity &&
+                                    propagated_by_walk_ && !predicted && !at_given_points() &&
+                                    walk_linearisation_known_;
   const int linearisations =
       at_given_points() || at_constant_velocity ? 1 : std::max(1, settings_.update_iterations);
   bool warm_step = false;
@@ -332,17 +332,18 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   Iterate next;
   next.allocate(m, state_.num_camera_params());
   if (at_constant_velocity) {
-    // cam_from_state moved by M = last_motion_: R' = R_M R (a left perturbation log R_M),
-    // t' = R_M t + t_M.
-    const Eigen::Isometry3d& motion = last_motion_;
+    // M is camera to camera, so it moves cam_from_state in whatever frame the state is:
+    // R' = R_M R (a left perturbation log R_M), t' = R_M t + t_M.
+    const Eigen::Isometry3d& motion = walk_linearisation_motion_;
     next.offset = Eigen::VectorXd::Zero(n);
     next.offset.head<3>() = so3::log(motion.linear());
     next.offset.segment<3>(3) =
         motion.linear() * state_.mean.t + motion.translation() - state_.mean.t;
+    // g and the cost serve only the damping between linearisations, and there is one.
     next.g = Eigen::VectorXd::Zero(n);
     next.cost = 0;
-    const FilterMean predicted_mean = state_.mean.plus(next.offset, kMinInverseDepth);
-    project_iterate(meas, point_columns, predicted_mean, true, false, 0, at, &next);
+    const FilterMean constant_velocity_mean = state_.mean.plus(next.offset, kMinInverseDepth);
+    project_iterate(meas, point_columns, constant_velocity_mean, true, false, 0, at, &next);
     std::swap(at, next);
   }
   c->residuals.resize(m);
@@ -799,6 +800,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   const SensorStates predicted_at = state_.mean.sensors;
   const MotionPrediction* given = motion;
   std::vector<Measurement> measurements;
+  propagated_by_walk_ = !motion;
   if (motion) {
     measurements = propagate_checked(seen, &motion);
   } else {
@@ -836,6 +838,10 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   record_start_frame(frame, observations, motion, predicted_at);
   record_window_frame(seen, window_tracks);
   note_pose();
+  if (updated) {
+    walk_linearisation_motion_ = last_motion_;
+    walk_linearisation_known_ = true;
+  }
   // A frame the images did not update has the sensors' own motion: no judge of them.
   if (given && updated && !smoothing_start_ && !at_given_points()) judge_motion_parts(*given);
   return updated;

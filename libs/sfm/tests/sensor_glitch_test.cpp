@@ -329,5 +329,36 @@ TEST(SensorGlitch, GpsFixesAtOddsWithTheRestAreRefused) {
   }
 }
 
+// FilterSettings::linearise_at_constant_velocity acts only in frames the random walk propagates:
+// with the sensors predicting, in the trial updates that judge them and in a refused frame's
+// fallback (the odometry a metre off at one frame, refused with the next), the online estimate
+// is the default's to the last digit.
+TEST(SensorGlitch, TheConstantVelocityLinearisationLeavesTheSensorsFramesAlone) {
+  const Rover r = rover(1);
+  const int k = static_cast<int>(r.dataset.timestamps.size()) / 2;
+  MotionSensors outlier = r.sensors;
+  const auto after =
+      std::upper_bound(outlier.odometry.begin(), outlier.odometry.end(), r.dataset.timestamps[k],
+                       [](double t, const OdometrySample& sample) { return t < sample.timestamp; });
+  ASSERT_TRUE(after != outlier.odometry.begin() && after != outlier.odometry.end());
+  after->pose.x() += 1.0;
+  std::prev(after)->pose.x() += 1.0;
+  SfmSettings iterated;
+  iterated.run_batch = false;
+  SfmSettings at_constant_velocity = iterated;
+  at_constant_velocity.filter.linearise_at_constant_velocity = true;
+  const auto online = [&](const SfmSettings& settings) {
+    return run_fused_sfm(r.dataset.camera, r.dataset.observations, r.dataset.timestamps, outlier,
+                         settings);
+  };
+  const SfmResult a = online(iterated), b = online(at_constant_velocity);
+  EXPECT_FALSE(a.refused_motion_frames.empty()) << "the fallback was not exercised";
+  EXPECT_EQ(a.refused_motion_frames, b.refused_motion_frames);
+  ASSERT_EQ(a.online_world_from_cam.size(), b.online_world_from_cam.size());
+  for (size_t f = 0; f < a.online_world_from_cam.size(); ++f)
+    EXPECT_EQ(a.online_world_from_cam[f].matrix(), b.online_world_from_cam[f].matrix())
+        << "frame " << f;
+}
+
 }  // namespace
 }  // namespace omnisfm::sfm

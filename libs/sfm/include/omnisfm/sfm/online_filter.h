@@ -119,16 +119,19 @@ struct FilterSettings {
   // new points, the first linearisation point is the posterior's minimum along the pose (one
   // Gauss-Newton step in six parameters), where one linearisation usually settles.
   int update_iterations = 8;
-  // Under the random walk, linearise each update once, at the constant-velocity prediction (the
-  // propagated pose moved by the last frame's motion), instead of iterating toward the frame's own
-  // minimum. That minimum, the posterior's mode, is biased in the square of the pixels' noise: on
-  // the long drive at 0.2 px each step comes out 0.1-1.5 % long (bench/update_bias), which grows
-  // the map vision alone to 3.5 times the truth's over 600 m, and through a noncentral mirror a
-  // map at the wrong scale tilts. Linearised at the constant velocity the drive's map stays at
-  // 0.93-0.95 of the truth's and the tilt's mean over seeds at zero, and the rover's map at
-  // 0.85-1.18 (5.6-6.6 iterated); the orientation's random walk over long drives remains
-  // (docs/shape-from-motion.md, "Endless sequences"). Off by default until every figure is
-  // measured with it.
+  // In frames the random walk propagates (vision alone), linearise each update once, at the
+  // constant-velocity prediction (the propagated pose moved by the last updated frame's motion),
+  // instead of iterating toward the frame's own minimum; update_iterations then applies only to
+  // the first updated frame. That minimum, the posterior's mode, is biased in the square of the
+  // pixels' noise: on the long drive at 0.2 px each step comes out 0.12-1.5 % long
+  // (bench/update_bias), which grows the map vision alone to 3.5 times the truth's over 600 m,
+  // and through a noncentral mirror a map at the wrong scale tilts. Linearised at the constant
+  // velocity the drive's map stays at 0.93-0.95 of the truth's, the tilt's mean over seeds stays
+  // at zero over the first 2,000 frames (+1.6 deg at 600 m, -3.4 iterated), and the rover's map
+  // is 0.85-1.18 times the truth's (5.6-6.6 iterated); the orientation's random walk over long
+  // drives remains (docs/shape-from-motion.md, "Endless sequences"). With the sliding window, the
+  // frame after each of its solves is linearised at a motion that holds the solve's correction
+  // too. Off by default until every figure is measured with it.
   bool linearise_at_constant_velocity = false;
   // With the motion predicted by the vehicle's sensors, the update starts at the prediction and
   // relinearises only where its linear model missed the new iterate's pixels by more than this
@@ -683,6 +686,12 @@ class OnlineFilter {
   // The last two frames' estimated poses in the world (constant_velocity()).
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
+  // FilterSettings::linearise_at_constant_velocity: whether the frame at hand was propagated by
+  // the random walk alone (not by the sensors, nor by a fallback for their refused motion), and the
+  // last updated frame's motion, where its update is linearised (none before the first).
+  bool propagated_by_walk_ = false;
+  bool walk_linearisation_known_ = false;
+  Eigen::Isometry3d walk_linearisation_motion_ = Eigen::Isometry3d::Identity();
   MotionPrediction fallback_motion_;  // the refused frame's prediction
   int refused_in_a_row_ = 0;          // frames up to the last whose sensors were refused
   // The distance the wheels measured at the last frame they were taken unsuspected, metres.
