@@ -308,8 +308,9 @@ void OnlineFilter::Iterate::allocate(int m, int camera_params) {
   H_offset.resize(2 * m);
 }
 
-void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
+void OnlineFilter::update(const std::vector<Measurement>& meas, LinearisedAt linearised_at,
                           Candidate* c) const {
+  const bool predicted = linearised_at == LinearisedAt::kPrediction;
   const int m = static_cast<int>(meas.size());
   const Eigen::MatrixXd& P = state_.P;
   const int n = static_cast<int>(P.rows());
@@ -319,12 +320,9 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   for (int k = 0; k < m; ++k) point_columns[k] = state_.point_column(meas[k].slot);
   // The iterated EKF: x_{i+1} = x_prior + K_i (z - h(x_i) + H_i (x_i - x_prior)), K_i and H_i
   // at x_i.
-  // FilterSettings::linearise_at_constant_velocity, in a frame the walk propagated, once a frame's
-  // motion is known: one linearisation, at the propagated pose moved by that motion, a point the
-  // frame's own pixels did not choose.
-  const bool at_constant_velocity = settings_.linearise_at_constant_velocity &&
-                                    propagated_by_walk_ && !predicted && !at_given_points() &&
-                                    walk_linearisation_known_;
+  // At the constant velocity: one linearisation, at the propagated pose moved by the last updated
+  // frame's motion, a point the frame's own pixels did not choose.
+  const bool at_constant_velocity = linearised_at == LinearisedAt::kConstantVelocity;
   const int linearisations =
       at_given_points() || at_constant_velocity ? 1 : std::max(1, settings_.update_iterations);
   bool warm_step = false;
@@ -334,7 +332,7 @@ void OnlineFilter::update(const std::vector<Measurement>& meas, bool predicted,
   if (at_constant_velocity) {
     // M is camera to camera, so it moves cam_from_state in whatever frame the state is:
     // R' = R_M R (a left perturbation log R_M), t' = R_M t + t_M.
-    const Eigen::Isometry3d& motion = walk_linearisation_motion_;
+    const Eigen::Isometry3d& motion = *walk_linearisation_motion_;
     next.offset = Eigen::VectorXd::Zero(n);
     next.offset.head<3>() = so3::log(motion.linear());
     next.offset.segment<3>(3) =
@@ -568,7 +566,7 @@ double OnlineFilter::misfit_after_update(const std::vector<Measurement>& measure
       established.push_back(static_cast<int>(k));
   if (static_cast<int>(established.size()) < kMinPointsToJudgeMotion) return kNotJudged;
   Candidate candidate;
-  update(measurements, false, &candidate);
+  update(measurements, LinearisedAt::kIterates, &candidate);
   if (candidate.PHt.size() == 0) return kNotJudged;
   const std::vector<double> all =
       posterior_chi2(candidate.S_factor, candidate.residual, pixel_sigma() * pixel_sigma(),
@@ -701,7 +699,8 @@ void OnlineFilter::take_noise(double implied_scale2) {
 }
 
 bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measurements,
-                                             bool predicted, std::set<int>* rejected_slots) {
+                                             LinearisedAt linearised_at,
+                                             std::set<int>* rejected_slots) {
   if (settings_.innovation_gate_chi2 > 0) {
     std::vector<Measurement> kept;
     for (const auto& m : measurements) {
@@ -715,7 +714,7 @@ bool OnlineFilter::update_rejecting_outliers(std::vector<Measurement> measuremen
   Candidate candidate;
   bool first_pass = true;  // the frame's scores before any is rejected measure the noise
   while (!measurements.empty()) {
-    update(measurements, predicted, &candidate);
+    update(measurements, linearised_at, &candidate);
     linearisations_ += candidate.linearisations;
     // Without a factor of S (P not positive definite) only the pixels can be judged.
     const bool chi2 = settings_.outlier_test == OutlierTest::kChiSquare && candidate.PHt.size() > 0;
@@ -800,7 +799,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   const SensorStates predicted_at = state_.mean.sensors;
   const MotionPrediction* given = motion;
   std::vector<Measurement> measurements;
-  propagated_by_walk_ = !motion;
+  const bool propagated_by_walk = !motion;
   if (motion) {
     measurements = propagate_checked(seen, &motion);
   } else {
@@ -811,6 +810,14 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   // A refused motion's fallback, the constant velocity or the random walk, is as loose as the
   // random walk, and updated as under it.
   const bool sensors_predicted = motion != nullptr && motion == given;
+  // FilterSettings::linearise_at_constant_velocity acts where the walk alone propagated, once a
+  // frame's motion is known.
+  LinearisedAt linearised_at = LinearisedAt::kIterates;
+  if (sensors_predicted)
+    linearised_at = LinearisedAt::kPrediction;
+  else if (settings_.linearise_at_constant_velocity && propagated_by_walk && !at_given_points() &&
+           walk_linearisation_motion_)
+    linearised_at = LinearisedAt::kConstantVelocity;
 
   std::set<int> rejected_slots;
   // The window's pixels, while one is open: those measured (the rejected leave it) and the new
@@ -820,7 +827,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
     for (const Measurement& m : measurements) window_tracks.insert(state_.track_of(m.slot));
   if (motion) predicted_ = true;
   const bool updated =
-      update_rejecting_outliers(std::move(measurements), sensors_predicted, &rejected_slots);
+      update_rejecting_outliers(std::move(measurements), linearised_at, &rejected_slots);
   // Named by track: removing a slot moves another into its place.
   std::vector<int> rejected_tracks;
   for (int slot : rejected_slots) rejected_tracks.push_back(state_.track_of(slot));
@@ -838,10 +845,7 @@ bool OnlineFilter::process(int frame, const std::vector<TrackPixel>& observation
   record_start_frame(frame, observations, motion, predicted_at);
   record_window_frame(seen, window_tracks);
   note_pose();
-  if (updated) {
-    walk_linearisation_motion_ = last_motion_;
-    walk_linearisation_known_ = true;
-  }
+  if (updated) walk_linearisation_motion_ = last_motion_;
   // A frame the images did not update has the sensors' own motion: no judge of them.
   if (given && updated && !smoothing_start_ && !at_given_points()) judge_motion_parts(*given);
   return updated;

@@ -38,11 +38,12 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <vector>
 
-#include "omnisfm/core/track_observation.h"
 #include "omnisfm/camera/catadioptric_camera.h"
+#include "omnisfm/core/track_observation.h"
 #include "omnisfm/sfm/camera_prior.h"
 #include "omnisfm/sfm/filter_state.h"
 
@@ -408,6 +409,10 @@ class OnlineFilter {
     Eigen::Vector2d pixel;
     Linearisation at_prior;  // at the propagated state, shared by the outlier test's re-runs
   };
+  // Where a frame's update is linearised: at iterates it chooses (the iterated EKF), first at the
+  // vehicle's sensors' prediction, or once at the constant velocity
+  // (FilterSettings::linearise_at_constant_velocity).
+  enum class LinearisedAt { kIterates, kPrediction, kConstantVelocity };
   // An update not yet accepted: the new mean, its residuals, and what the covariance downdate
   // needs, so that an update the outlier test refuses costs no covariance work.
   struct Candidate {
@@ -458,7 +463,7 @@ class OnlineFilter {
   // The innovation gate, then the update with the outlier test: the worst track dropped and the
   // update redone until every residual passes. The dropped tracks' slots go to rejected_slots.
   // False when no measurement is left to update with.
-  bool update_rejecting_outliers(std::vector<Measurement> measurements, bool predicted,
+  bool update_rejecting_outliers(std::vector<Measurement> measurements, LinearisedAt linearised_at,
                                  std::set<int>* rejected_slots);
   void propagate();
   void propagate(const MotionPrediction& motion);
@@ -546,9 +551,8 @@ class OnlineFilter {
   double take_step(const Iterate& at, const std::vector<int>& point_columns,
                    const Eigen::MatrixXd& PHt, const Eigen::MatrixXd& S_factor, double mu,
                    Iterate* next) const;
-  // The iterated update from the current (propagated) state; `predicted`: propagated by the
-  // vehicle's sensors, not the random walk.
-  void update(const std::vector<Measurement>& measurements, bool predicted,
+  // The update from the current (propagated) state, linearised where `linearised_at` says.
+  void update(const std::vector<Measurement>& measurements, LinearisedAt linearised_at,
               Candidate* candidate) const;
   void accept(Candidate* candidate);
   void add_point(int track, const Eigen::Vector2d& pixel);
@@ -686,12 +690,9 @@ class OnlineFilter {
   // The last two frames' estimated poses in the world (constant_velocity()).
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
-  // FilterSettings::linearise_at_constant_velocity: whether the frame at hand was propagated by
-  // the random walk alone (not by the sensors, nor by a fallback for their refused motion), and the
-  // last updated frame's motion, where its update is linearised (none before the first).
-  bool propagated_by_walk_ = false;
-  bool walk_linearisation_known_ = false;
-  Eigen::Isometry3d walk_linearisation_motion_ = Eigen::Isometry3d::Identity();
+  // FilterSettings::linearise_at_constant_velocity: the last updated frame's motion, where a frame
+  // the random walk propagated is linearised (none before the first update).
+  std::optional<Eigen::Isometry3d> walk_linearisation_motion_;
   MotionPrediction fallback_motion_;  // the refused frame's prediction
   int refused_in_a_row_ = 0;          // frames up to the last whose sensors were refused
   // The distance the wheels measured at the last frame they were taken unsuspected, metres.
