@@ -71,10 +71,11 @@ TEST(FilterConsistency, VisionAloneThePoseCovarianceHoldsTheScale) {
 }
 
 // Linearised once at the constant velocity (FilterSettings::linearise_at_constant_velocity), vision
-// alone keeps the map's scale near the truth's, where the iterated update grows it to 5.6-6.6
-// times: measured over seeds 1-25 0.85-1.18 at the last frame (1-10: 0.89-1.18), the pose's mean
-// NEES 2.15 with every frame inside the 95 % bound, and along the scale the published sigma
-// larger than the error (the linearised NEES along it 0.01).
+// alone keeps the map at the depth priors' scale, near the truth's on the rover (its points about
+// initial_depth away), where the iterated update grows it to 5.6-6.6 times: measured over seeds
+// 1-25 0.85-1.18 at the last frame (1-10: 0.89-1.18), the pose's mean NEES 2.15 with every frame
+// inside the 95 % bound, and along the scale the published sigma larger than the error (the
+// linearised NEES along it 0.01).
 TEST(FilterConsistency, VisionAloneAtTheConstantVelocityTheMapKeepsItsScale) {
   eval::RoverStudy camera_alone;
   camera_alone.with_sensors = false;
