@@ -65,8 +65,8 @@ TEST(BatchAdjustment, LongDriveConvergesWithSparseCholesky) {
   EXPECT_LT(errors.translation_error_percent, 0.05);
 }
 
-// Rover seed 2 from the filter, on its inliers, its path and points scaled 7x about the first
-// camera: a 24.2 m path where the batch finds 3.46 m, right in shape. Scaled by hand, so that the
+// Rover seed 2 from the filter, on its inliers, its path and points scaled about the first camera
+// to 24.2 m, 7 times the 3.46 m the batch finds, right in shape. Scaled by hand, so that the
 // test does not rest on the filter's own scale (linearised at the constant velocity its map is
 // near the truth's).
 const FilterStart& rover_filter_start() {
@@ -91,7 +91,7 @@ BatchResult batch_from_filter(bool scale_start) {
                       s.online.online_points, settings);
 }
 
-// With the scene's inverse scale a parameter of its own, the filter's scale (7x too large) is
+// With the scene's inverse scale a parameter of its own, the start's scale (7x too large) is
 // left in two steps; the plain problem walks it in eight (measured: 3 iterations in all against
 // 9, to the same cost).
 TEST(BatchAdjustment, ScaleSolvedAsAParameterConvergesInFewSteps) {
@@ -130,7 +130,7 @@ TEST(BatchAdjustment, UnfinishedScaleSolveGoesOnInThePlainProblem) {
   EXPECT_EQ(one.iterations, 4);
   EXPECT_FALSE(one.converged);
   EXPECT_LT(one.final_rms_px, one.initial_rms_px);
-  // Its one step already took the scale: from a path 7x too long (24.1 m) to within 5 % of the
+  // Its one step already took the scale: from a path 7x too long (24.2 m) to within 5 % of the
   // converged one's (measured 3.6 %; two steps of the plain problem leave it near 23 m).
   const BatchResult converged = batch_from_filter(true);
   EXPECT_NEAR(sim::path_length(one.world_from_cam), sim::path_length(converged.world_from_cam),
