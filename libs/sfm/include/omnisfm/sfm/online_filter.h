@@ -122,21 +122,21 @@ struct FilterSettings {
   int update_iterations = 8;
   // In frames the random walk propagates (vision alone), linearise each update once, at the
   // constant-velocity prediction (the propagated pose moved by the last updated frame's motion),
-  // instead of iterating toward the frame's own minimum; update_iterations then applies only to
-  // the first updated frame. That minimum, the posterior's mode, is biased in the square of the
-  // pixels' noise: on the long drive at 0.2 px each step comes out 0.12-1.5 % long
-  // (bench/update_bias), which grows the map vision alone to 3.5 times the truth's over 600 m,
-  // and through a noncentral mirror a map at the wrong scale tilts. Linearised at the constant
-  // velocity the map keeps the scale the new points' depth priors gave it (initial_depth), near
-  // the truth's where the scene is about initial_depth away: the drive's map stays at 0.93-0.95
-  // of the truth's, the tilt's mean over seeds stays at zero over the first 2,000 frames (+1.6
-  // deg at 600 m, -3.4 iterated), and the rover's map is 0.85-1.18 times the truth's (5.6-6.6
-  // iterated), but the lab's and crane's 0.59-0.66 (iterated 1.14-1.28 and 3.5-3.9). The
-  // orientation's random walk over long drives remains (docs/shape-from-motion.md, "Endless
-  // sequences"). With the sliding window, the frame after each of its solves is linearised at a
-  // motion that holds the solve's correction too. Off by default: on with the other settings as
-  // they are, ten tests fail, among them the lab's and crane's held-scale pose-graph NEES (8.0 and
-  // 12.6, 82 and 65 % inside, against 4.4 and 9.3) and tracks with their noise understated 20
+  // instead of iterating toward the frame's own minimum; update_iterations then applies only until
+  // a frame has been updated, and in frames the sensors propagate. That minimum, the posterior's
+  // mode, is biased in the square of the pixels' noise: on the long drive at 0.2 px each step comes
+  // out 0.12-1.5 % long (bench/update_bias), which grows the map vision alone to 3.5 times the
+  // truth's over 600 m, and through a noncentral mirror a map at the wrong scale tilts. Linearised
+  // at the constant velocity the map keeps the scale the new points' depth priors gave it
+  // (initial_depth), near the truth's where the scene is about initial_depth away: the drive's map
+  // stays at 0.93-0.95 of the truth's, the tilt's mean over seeds stays at zero over the first
+  // 2,000 frames (+1.6 deg at 600 m, -3.4 iterated), and the rover's map is 0.85-1.18 times the
+  // truth's (5.6-6.6 iterated), but the lab's and crane's 0.59-0.66 (iterated 1.14-1.28 and
+  // 3.5-3.9). The orientation's random walk over long drives remains (docs/shape-from-motion.md,
+  // "Endless sequences"). With the sliding window, the frame after each of its solves is linearised
+  // at a motion that holds the solve's correction too. Off by default: on with the other settings
+  // as they are, ten tests fail, among them the lab's and crane's held-scale pose-graph NEES (8.0
+  // and 12.6, 82 and 65 % inside, against 4.4 and 9.3) and tracks with their noise understated 20
   // times, of which it rejects every one (docs/shape-from-motion.md, "Endless sequences").
   bool linearise_at_constant_velocity = false;
   // With the motion predicted by the vehicle's sensors, the update starts at the prediction and
